@@ -1,0 +1,152 @@
+"""Named exceptions of ``course_lib`` and the small input checks that raise them.
+
+Every message names the offending input and its value, so that a student who
+passes a wrong argument learns *which* one and *why*.
+
+>>> from course_lib.errors import require_positive, InvalidGeometryError
+>>> require_positive("crank", 0.05)
+0.05
+>>> try:
+...     require_positive("crank", -1.0)
+... except InvalidGeometryError as err:
+...     print(err)
+crank must be a positive, finite length in metres; got -1.0
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "CourseLibError",
+    "UnreachableError",
+    "ConvergenceError",
+    "SingularJacobianError",
+    "InvalidGeometryError",
+    "require_positive",
+    "require_finite",
+    "require_choice",
+    "report_unreachable",
+]
+
+
+class CourseLibError(Exception):
+    """Base class of every error raised on purpose by ``course_lib``."""
+
+
+class InvalidGeometryError(CourseLibError, ValueError):
+    """A length, angle, time, branch or mode label that makes no sense."""
+
+
+class UnreachableError(CourseLibError, ValueError):
+    """The mechanism cannot be assembled for this input (no real solution)."""
+
+    def __init__(self, message: str, mask: np.ndarray | None = None):
+        super().__init__(message)
+        self.mask = mask
+
+
+class SingularJacobianError(CourseLibError, ArithmeticError):
+    """A Jacobian is singular or numerically singular, so a Newton step is undefined."""
+
+    def __init__(self, message: str, x: Any = None, condition_number: float = np.inf):
+        super().__init__(message)
+        self.x = x
+        self.condition_number = condition_number
+
+
+class ConvergenceError(CourseLibError, RuntimeError):
+    """An iteration stopped without converging; ``.result`` holds what it did."""
+
+    def __init__(self, message: str, result: Any = None):
+        super().__init__(message)
+        self.result = result
+
+
+def require_positive(name: str, value: float, allow_zero: bool = False) -> float:
+    """Return ``value`` as a float if it is a finite length > 0 (or >= 0), else raise.
+
+    >>> require_positive("l5", 0.0, allow_zero=True)
+    0.0
+    """
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InvalidGeometryError(f"{name} must be a number (a length in metres); got {value!r}") from None
+    ok = np.isfinite(number) and (number >= 0 if allow_zero else number > 0)
+    if not ok:
+        kind = "non-negative" if allow_zero else "positive"
+        raise InvalidGeometryError(
+            f"{name} must be a {kind}, finite length in metres; got {value!r}"
+        )
+    return number
+
+
+def require_finite(name: str, value: Any, unit: str = "") -> np.ndarray:
+    """Return ``value`` as a float array if every entry is finite, else raise.
+
+    >>> require_finite("theta2", [0.0, 1.0]).tolist()
+    [0.0, 1.0]
+    """
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidGeometryError(f"{name} must be a number or array of numbers; got {value!r}") from None
+    if not np.all(np.isfinite(array)):
+        bad = np.flatnonzero(~np.isfinite(array))
+        where = f" (entry {bad[0]} of {array.size})" if array.ndim else ""
+        first = array.ravel()[bad[0]]
+        suffix = f" in {unit}" if unit else ""
+        raise InvalidGeometryError(f"{name} must be finite{suffix}; got {first}{where}")
+    return array
+
+
+def require_choice(name: str, value: Any, choices: Iterable[Any]) -> Any:
+    """Return ``value`` if it is one of ``choices``, else raise naming the valid ones.
+
+    >>> require_choice("branch", "open", ("open", "crossed"))
+    'open'
+    """
+    choices = tuple(choices)
+    if not any(value == choice and type(value) is not bool for choice in choices):
+        listed = ", ".join(repr(choice) for choice in choices)
+        raise InvalidGeometryError(f"{name} must be one of {listed}; got {value!r}")
+    return value
+
+
+def report_unreachable(
+    bad: np.ndarray,
+    inputs: Mapping[str, Any],
+    what: str,
+    on_unreachable: str = "raise",
+) -> None:
+    """Raise ``UnreachableError`` if any entry of the boolean mask ``bad`` is set.
+
+    ``inputs`` maps input names to arrays broadcastable to ``bad``; the message
+    names the first bad entry, and for arrays how many entries are bad.
+    With ``on_unreachable="nan"`` nothing is raised (the caller fills NaN).
+
+    >>> import numpy as np
+    >>> try:
+    ...     report_unreachable(np.array([False, True]), {"theta2": [0.1, 2.0]}, "the loop cannot close")
+    ... except UnreachableError as err:
+    ...     print(err)
+    the loop cannot close at theta2=2 (1 of 2 inputs unreachable, first at index 1)
+    """
+    require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+    bad = np.asarray(bad, dtype=bool)
+    if on_unreachable == "nan" or not bad.any():
+        return
+    index = np.unravel_index(np.flatnonzero(bad)[0], bad.shape) if bad.ndim else ()
+    values = []
+    for name, value in inputs.items():
+        entry = np.broadcast_to(np.asarray(value, dtype=float), bad.shape)[index]
+        values.append(f"{name}={entry:.6g}")
+    message = f"{what} at {', '.join(values)}"
+    if bad.ndim:
+        flat = int(np.flatnonzero(bad)[0])
+        message += f" ({int(bad.sum())} of {bad.size} inputs unreachable, first at index {flat})"
+    raise UnreachableError(message, mask=bad)

@@ -1,0 +1,38 @@
+"""Mobility (degrees of freedom) of a planar mechanism: the Gruebler/Kutzbach count.
+
+M = 3(L − 1) − 2·J1 − J2, with L links counting the ground (bancada), J1 full
+joints (pins and sliders, one freedom each) and J2 half joints (pin-in-slot,
+rolling with slip: two freedoms each).
+
+>>> gruebler(links=4, full_joints=4)   # four-bar linkage
+1
+>>> gruebler(links=5, full_joints=5)   # five-bar parallel robot
+2
+"""
+
+from __future__ import annotations
+
+from .errors import InvalidGeometryError
+
+__all__ = ["gruebler"]
+
+
+def _count(name: str, value: int, minimum: int) -> int:
+    if isinstance(value, bool) or not float(value).is_integer() or value < minimum:
+        raise InvalidGeometryError(f"{name} must be an integer >= {minimum}; got {value!r}")
+    return int(value)
+
+
+def gruebler(links: int, full_joints: int, half_joints: int = 0) -> int:
+    """Degrees of freedom M = 3(L − 1) − 2·J1 − J2 of a planar linkage.
+
+    ``links`` counts the ground link.  A result ≤ 0 means a structure (0) or a
+    preloaded / statically indeterminate structure (< 0).
+
+    >>> gruebler(links=3, full_joints=3)   # a triangle: a structure
+    0
+    """
+    L = _count("links", links, 1)
+    J1 = _count("full_joints", full_joints, 0)
+    J2 = _count("half_joints", half_joints, 0)
+    return 3 * (L - 1) - 2 * J1 - J2

@@ -1,0 +1,82 @@
+"""Planar vectors as the course writes them: R = l(cos θ î + sin θ ĵ).
+
+Vectors are numpy arrays whose last axis holds (x, y); every function broadcasts,
+so θ may be an array of angles.  Lengths in metres, angles in radians.
+
+>>> import numpy as np
+>>> np.round(polar(2.0, np.pi / 2), 12).tolist()
+[0.0, 2.0]
+>>> cross_k(np.array([1.0, 0.0])).tolist()   # k̂ × î = ĵ
+[0.0, 1.0]
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["polar", "cross_k", "loop_residual", "wrap_angle", "to_complex", "from_complex"]
+
+
+def polar(length, angle) -> np.ndarray:
+    """The vector of ``length`` at ``angle`` (rad, from +x, counter-clockwise), shape (..., 2).
+
+    >>> polar([1.0, 1.0], [0.0, np.pi]).round(12).tolist()
+    [[1.0, 0.0], [-1.0, 0.0]]
+    """
+    length = np.asarray(length, dtype=float)
+    angle = np.asarray(angle, dtype=float)
+    return np.stack(np.broadcast_arrays(length * np.cos(angle), length * np.sin(angle)), axis=-1)
+
+
+def cross_k(vector) -> np.ndarray:
+    """k̂ × r: the vector r turned +90°; ω k̂ × r is the velocity of a point rotating about the origin.
+
+    >>> cross_k([0.0, 2.0]).tolist()
+    [-2.0, 0.0]
+    """
+    vector = np.asarray(vector, dtype=float)
+    return np.stack([-vector[..., 1], vector[..., 0]], axis=-1)
+
+
+def loop_residual(lengths, angles, signs) -> np.ndarray:
+    """Σ sᵢ lᵢ (cos θᵢ, sin θᵢ): zero when the vector loop closes.
+
+    For the four-bar loop R2 + R3 − R4 − R1 = 0 use signs (+1, +1, −1, −1).
+
+    >>> r = loop_residual([2.0, 1.0, 1.0, 2.0], [0.0, np.pi / 2, np.pi / 2, 0.0], [1, 1, -1, -1])
+    >>> bool(np.abs(r).max() < 1e-15)
+    True
+    """
+    terms = [s * polar(l, a) for l, a, s in zip(lengths, angles, signs, strict=True)]
+    return np.sum(np.broadcast_arrays(*terms), axis=0)
+
+
+def wrap_angle(angle) -> np.ndarray:
+    """Angle(s) wrapped into (−π, π].
+
+    >>> bool(float(wrap_angle(3 * np.pi / 2)) == -np.pi / 2)
+    True
+    """
+    angle = np.asarray(angle, dtype=float)
+    wrapped = np.mod(angle + np.pi, 2 * np.pi) - np.pi
+    return np.where(wrapped == -np.pi, np.pi, wrapped)
+
+
+def to_complex(vector) -> np.ndarray:
+    """(x, y) → x + iy, the complex-number form l·e^{iθ} of a planar vector.
+
+    >>> complex(to_complex([3.0, 4.0]))
+    (3+4j)
+    """
+    vector = np.asarray(vector, dtype=float)
+    return vector[..., 0] + 1j * vector[..., 1]
+
+
+def from_complex(z) -> np.ndarray:
+    """x + iy → (x, y).
+
+    >>> from_complex(1j).tolist()
+    [0.0, 1.0]
+    """
+    z = np.asarray(z, dtype=complex)
+    return np.stack([z.real, z.imag], axis=-1)

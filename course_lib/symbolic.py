@@ -1,0 +1,117 @@
+"""sympy helpers for deriving kinematics the way the course does.
+
+Angles are functions of time θ(t); differentiating a loop equation and
+replacing dθ/dt → ω and d²θ/dt² → α gives the velocity and acceleration
+equations.  The tangent half-angle substitution turns a trigonometric
+equation into a polynomial one.
+
+>>> import sympy as sp
+>>> t = sp.Symbol("t")
+>>> theta2, = time_symbols("theta2")
+>>> d_dt(sp.cos(theta2))
+-omega2*sin(theta2(t))
+>>> static(d_dt(sp.cos(theta2)))
+-omega2*sin(theta2)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import sympy as sp
+
+__all__ = ["TIME", "time_symbols", "d_dt", "static", "half_angle", "jacobian", "lambdify"]
+
+#: The time symbol used by every time-dependent symbol of the course.
+TIME = sp.Symbol("t", real=True)
+
+
+def time_symbols(*names: str) -> tuple[sp.Function, ...]:
+    """θ(t)-style functions of time, one per name.
+
+    >>> time_symbols("theta3", "theta4")
+    (theta3(t), theta4(t))
+    """
+    return tuple(sp.Function(name, real=True)(TIME) for name in names)
+
+
+def _rate_name(name: str, order: int) -> str:
+    """theta2 → omega2 / alpha2; r1 → v_r1 / a_r1; anything else → d_name / dd_name."""
+    if name.startswith("theta"):
+        return ("omega" if order == 1 else "alpha") + name[len("theta") :]
+    return ("v_" if order == 1 else "a_") + name
+
+
+def d_dt(expr: sp.Expr, order: int = 1) -> sp.Expr:
+    """Time derivative of ``expr`` with θ' → ω and θ'' → α substituted.
+
+    Each time-dependent function named ``thetaK`` gets rates ``omegaK`` and
+    ``alphaK``; any other (e.g. ``r1``) gets ``v_r1`` and ``a_r1``.  The rates
+    are plain symbols, so take the second derivative with ``order=2`` on the
+    position expression (as the course does), not by applying ``d_dt`` twice.
+
+    >>> theta, = time_symbols("theta2")
+    >>> static(d_dt(sp.sin(theta), 2))
+    alpha2*cos(theta2) - omega2**2*sin(theta2)
+    """
+    derivative = sp.diff(expr, TIME, order)
+    replacements = {}
+    for function in derivative.atoms(sp.Derivative):
+        base = function.expr
+        count = sum(c for _, c in function.variable_count)
+        name = base.func.__name__
+        replacements[function] = sp.Symbol(_rate_name(name, count), real=True)
+    return derivative.xreplace(replacements)
+
+
+def static(expr):
+    """Replace every θ(t)-style function of time by a plain symbol of the same name.
+
+    Use it to display an equation compactly or to lambdify it.
+
+    >>> theta, = time_symbols("theta4")
+    >>> static(sp.cos(theta) + 1)
+    cos(theta4) + 1
+    """
+    expr = sp.sympify(expr)
+    functions = {f for f in expr.atoms(sp.Function) if f.args == (TIME,)}
+    return expr.xreplace({f: sp.Symbol(f.func.__name__, real=True) for f in functions})
+
+
+def half_angle(expr: sp.Expr, angle: sp.Expr, tangent: sp.Symbol) -> sp.Expr:
+    """Substitute cos θ = (1 − u²)/(1 + u²), sin θ = 2u/(1 + u²) with u = tan(θ/2).
+
+    >>> u, th = sp.symbols("u theta")
+    >>> sp.simplify(half_angle(sp.sin(th)**2 + sp.cos(th)**2, th, u))
+    1
+    """
+    return expr.subs(
+        {
+            sp.cos(angle): (1 - tangent**2) / (1 + tangent**2),
+            sp.sin(angle): 2 * tangent / (1 + tangent**2),
+        }
+    )
+
+
+def jacobian(expressions: Sequence[sp.Expr], variables: Sequence[sp.Expr]) -> sp.Matrix:
+    """∂Fᵢ/∂xⱼ as a sympy Matrix (variables may be θ(t) functions or symbols).
+
+    >>> x, y = sp.symbols("x y")
+    >>> jacobian([x * y, x + y], [x, y])
+    Matrix([
+    [y, x],
+    [1, 1]])
+    """
+    return sp.Matrix(expressions).jacobian(sp.Matrix(variables))
+
+
+def lambdify(variables: Sequence[sp.Expr], expr) -> Callable:
+    """sympy.lambdify to numpy, accepting θ(t) functions as arguments.
+
+    >>> x = sp.Symbol("x")
+    >>> float(lambdify([x], sp.sin(x) ** 2)(0.5)) == __import__("math").sin(0.5) ** 2
+    True
+    """
+    dummies = [sp.Dummy() for _ in variables]
+    expr = sp.sympify(expr).xreplace(dict(zip(variables, dummies, strict=True)))
+    return sp.lambdify(dummies, expr, modules="numpy")

@@ -201,12 +201,13 @@ def newton(
                 x=where,
                 condition_number=condition,
             )
-        step = np.linalg.solve(J, -fx)
-        x = x + step
-        fx = F_vec(x)
-        history.append(x.copy())
-        steps.append(step)
-        residuals.append(float(np.linalg.norm(fx)))
+        with np.errstate(over="ignore", invalid="ignore"):  # divergence is reported below
+            step = np.linalg.solve(J, -fx)
+            x = x + step
+            fx = F_vec(x)
+            history.append(x.copy())
+            steps.append(step)
+            residuals.append(float(np.linalg.norm(fx)))
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(fx))):
             raise ConvergenceError(
                 f"Newton diverged: a non-finite value appeared after {len(steps)} iterations",

@@ -1,0 +1,189 @@
+"""Newton–Raphson: scalars, systems, batches, and the ways it must fail loudly."""
+
+import numpy as np
+import pytest
+import scipy.optimize
+from hypothesis import given
+from hypothesis import strategies as st
+
+from course_lib.errors import ConvergenceError, InvalidGeometryError, SingularJacobianError
+from course_lib.newton import finite_difference_jacobian, newton, newton_batch
+
+
+def test_sqrt2_to_1e12_from_one():
+    result = newton(lambda x: x**2 - 2.0, 1.0, jac=lambda x: 2.0 * x)
+    assert result.converged
+    assert abs(result.x - np.sqrt(2.0)) < 1e-12
+    assert len(result.history) == result.iterations + 1
+    assert result.history[0] == 1.0
+    assert len(result.step_norms) == result.iterations
+    assert len(result.residual_norms) == result.iterations + 1
+    # the course's rule: the last step is below tol, the one before is not
+    assert result.step_norms[-1] < 1e-6 <= result.step_norms[-2]
+
+
+def test_hand_iterates_of_sqrt2():
+    # x_{n+1} = (x_n + 2/x_n)/2 written out by hand: 1, 3/2, 17/12, 577/408
+    result = newton(lambda x: x**2 - 2.0, 1.0, jac=lambda x: 2.0 * x)
+    np.testing.assert_allclose(result.history[:4], [1.0, 1.5, 17 / 12, 577 / 408], rtol=1e-15)
+
+
+def test_finite_difference_jacobian_when_none_given():
+    result = newton(lambda x: np.cos(x) - x, 1.0)
+    reference = scipy.optimize.brentq(lambda x: np.cos(x) - x, 0.0, 1.0, xtol=1e-15)
+    assert abs(result.x - reference) < 1e-10
+
+
+def test_zero_derivative_start_raises_singular():
+    with pytest.raises(SingularJacobianError, match=r"x=0\.0"):
+        newton(lambda x: x**2 - 2.0, 0.0, jac=lambda x: 2.0 * x)
+
+
+def test_no_real_root_raises_convergence_error_with_history():
+    with pytest.raises(ConvergenceError) as info:
+        newton(lambda x: x**2 + 1.0, 2.0, jac=lambda x: 2.0 * x, max_iter=30)
+    result = info.value.result
+    assert not result.converged
+    assert result.iterations == 30
+    assert len(result.history) == 31
+    assert np.all(result.residual_norms >= 1.0)  # x² + 1 ≥ 1 everywhere
+
+
+def test_divergence_to_infinity_is_a_convergence_error():
+    # arctan: Newton from |x0| > 1.3917 overshoots further every step
+    with pytest.raises(ConvergenceError) as info:
+        newton(np.arctan, 2.0, jac=lambda x: 1 / (1 + x**2), max_iter=8)
+    assert np.all(np.diff(np.abs(info.value.result.history)) > 0)
+    # left to run, the derivative 1/(1 + x²) underflows to zero: a singular Jacobian far away
+    with pytest.raises(SingularJacobianError) as info, np.errstate(over="ignore"):
+        newton(np.arctan, 2.0, jac=lambda x: 1 / (1 + x**2), max_iter=200)
+    assert abs(info.value.x) > 1e100
+
+
+def test_system_matches_closed_form_intersection():
+    # circle x² + y² = 4 meets the line y = x + 1 at x = (−1 + √7)/2
+    def F(v):
+        return np.array([v[0] ** 2 + v[1] ** 2 - 4.0, v[1] - v[0] - 1.0])
+
+    def J(v):
+        return np.array([[2 * v[0], 2 * v[1]], [-1.0, 1.0]])
+
+    result = newton(F, np.array([1.0, 1.0]), jac=J, tol=1e-12)
+    x = (-1 + np.sqrt(7)) / 2
+    np.testing.assert_allclose(result.x, [x, x + 1], atol=1e-14)
+    assert result.history.shape == (result.iterations + 1, 2)
+    assert result.step_components.shape == (result.iterations, 2)
+    np.testing.assert_allclose(np.linalg.norm(result.step_components, axis=1), result.step_norms)
+
+
+def test_singular_system_names_condition_number():
+    def F(v):
+        return np.array([v[0] + v[1] - 1.0, 2 * v[0] + 2 * v[1] - 3.0])
+
+    with pytest.raises(SingularJacobianError, match="condition number"):
+        newton(F, np.zeros(2), jac=lambda v: np.array([[1.0, 1.0], [2.0, 2.0]]))
+
+
+def test_residual_check_refuses_tiny_steps_far_from_a_root():
+    # a wrong, far too steep Jacobian makes every step tiny (3e-8 < tol) while F = x − 3 stays ≈ −3
+    with pytest.raises(ConvergenceError) as info:
+        newton(lambda x: x - 3.0, 0.0, jac=lambda x: 1e8, max_iter=5)
+    result = info.value.result
+    assert np.all(result.step_norms < 1e-6)
+    assert np.all(result.residual_norms > 2.9)
+
+
+@pytest.mark.parametrize("kwargs", [{"tol": 0.0}, {"tol": np.nan}, {"max_iter": 0}, {"max_iter": 2.5}])
+def test_bad_settings(kwargs):
+    with pytest.raises(InvalidGeometryError):
+        newton(lambda x: x, 1.0, **kwargs)
+
+
+def test_bad_seed_and_shape():
+    with pytest.raises(InvalidGeometryError, match="x0"):
+        newton(lambda x: x, np.nan)
+    with pytest.raises(InvalidGeometryError, match="residuals"):
+        newton(lambda v: np.array([v[0]]), np.zeros(2))
+
+
+def test_finite_difference_jacobian_batched():
+    x = np.array([[1.0, 2.0], [0.5, -1.0]])
+    J = finite_difference_jacobian(lambda v: np.stack([np.sin(v[:, 0]) * v[:, 1], v[:, 1] ** 3], -1), x)
+    exact = np.zeros((2, 2, 2))
+    exact[:, 0, 0] = np.cos(x[:, 0]) * x[:, 1]
+    exact[:, 0, 1] = np.sin(x[:, 0])
+    exact[:, 1, 1] = 3 * x[:, 1] ** 2
+    np.testing.assert_allclose(J, exact, atol=1e-9)
+
+
+def _system(A, c, target):
+    """F(x) = A x + c tanh(x) − (A x* + c tanh(x*)): root x*, well posed for small c."""
+    rhs = A @ target + c * np.tanh(target)
+
+    def F(x):
+        return A @ x + c * np.tanh(x) - rhs
+
+    def J(x):
+        return A + np.diag(c / np.cosh(x) ** 2)
+
+    return F, J
+
+
+@given(
+    st.integers(min_value=1, max_value=5),
+    st.integers(min_value=0, max_value=2**32 - 1),
+)
+def test_property_random_well_posed_systems(n, seed):
+    rng = np.random.default_rng(seed)
+    A = np.eye(n) * 3 + rng.uniform(-0.5, 0.5, (n, n))
+    c = rng.uniform(-1, 1, n)
+    target = rng.uniform(-2, 2, n)
+    F, J = _system(A, c, target)
+    result = newton(F, target + rng.uniform(-0.3, 0.3, n), jac=J, tol=1e-10)
+    assert result.converged
+    np.testing.assert_allclose(result.x, target, atol=1e-9)
+    errors = np.linalg.norm(result.history - target, axis=1)
+    # quadratic convergence: e_{n+1} <= C e_n^2 once close (C bounded by the problem's curvature)
+    close = (errors[:-1] < 1e-2) & (errors[:-1] > 1e-7)
+    assert np.all(errors[1:][close] <= 10 * errors[:-1][close] ** 2 + 1e-14)
+
+
+def test_batch_matches_single_solves_and_scipy():
+    rng = np.random.default_rng(7)
+    n_systems = 50
+    targets = rng.uniform(1.0, 10.0, (n_systems, 1))
+
+    result = newton_batch(lambda x: x**3 - targets, np.full((n_systems, 1), 2.0),
+                          jac=lambda x: 3 * x[:, :, None] ** 2, tol=1e-12)
+    assert result.converged.all()
+    np.testing.assert_allclose(result.x[:, 0], np.cbrt(targets[:, 0]), rtol=1e-13)
+    for k in (0, 17, 49):
+        single = newton(lambda x, k=k: x**3 - targets[k, 0], 2.0, jac=lambda x: 3 * x**2, tol=1e-12)
+        assert single.iterations == result.iterations[k]
+        assert abs(single.x - result.x[k, 0]) < 1e-15
+
+
+def test_batch_reports_singular_and_unconverged_rows_without_raising():
+    x0 = np.array([[0.0], [1.0], [2.0]])  # row 0 starts at a zero derivative
+    offsets = np.array([[2.0], [2.0], [-1.0]])  # row 2: x² + 1 = 0 has no real root
+    result = newton_batch(lambda x: x**2 - offsets, x0, jac=lambda x: 2 * x[:, :, None], max_iter=40)
+    assert result.singular.tolist()[0] is True
+    assert result.converged.tolist() == [False, True, False]
+    assert abs(result.x[1, 0] - np.sqrt(2)) < 1e-12
+
+
+def test_batch_finite_difference_two_unknowns():
+    # circle of radius r_i meets the line y = x: x = r/√2
+    radii = np.array([1.0, 2.0, 3.0])
+
+    def F(v):
+        return np.stack([v[:, 0] ** 2 + v[:, 1] ** 2 - radii**2, v[:, 1] - v[:, 0]], -1)
+
+    result = newton_batch(F, np.ones((3, 2)), tol=1e-12)
+    assert result.converged.all()
+    np.testing.assert_allclose(result.x[:, 0], radii / np.sqrt(2), rtol=1e-12)
+
+
+def test_batch_bad_seed_shape():
+    with pytest.raises(InvalidGeometryError, match="x0"):
+        newton_batch(lambda x: x, np.zeros(3))

@@ -1,0 +1,109 @@
+"""The power-saw motor's jerk-limited start-up profile (course report, section 4).
+
+The motor starts at rest.  During its first revolution, which lasts T seconds,
+the angular acceleration α2 rises linearly from 0 to ``alpha_max`` over T/3,
+holds ``alpha_max`` for T/3, falls linearly back to 0 over T/3, and is zero
+afterwards, so the crank then turns at the constant speed ω2 = 2·alpha_max·T/3.
+θ2 and ω2 are continuous; θ2(T) = 2π fixes T = √(6π / alpha_max).
+
+With the course's ``alpha_max`` = 5 rad/s²: T = √(6π/5) ≈ 1.9416 s and the
+final speed is 10T/3 ≈ 6.472 rad/s (≈ 61.8 rpm).  Time in seconds, angles in
+radians.
+
+>>> round(first_turn_time(), 4)
+1.9416
+>>> theta2, omega2, alpha2 = motor_profile(2.0)
+>>> round(float(omega2), 3), float(alpha2)
+(6.472, 0.0)
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .errors import InvalidGeometryError, require_finite
+
+__all__ = ["ALPHA_MAX", "MotorProfile", "first_turn_time", "motor_profile"]
+
+#: Peak angular acceleration of the course's motor, rad/s².
+ALPHA_MAX = 5.0
+
+
+class MotorProfile(NamedTuple):
+    """Crank angle (rad), angular speed (rad/s) and angular acceleration (rad/s²), shaped like ``t``."""
+
+    theta2: np.ndarray
+    omega2: np.ndarray
+    alpha2: np.ndarray
+
+
+def _check_alpha_max(alpha_max: float) -> float:
+    value = float(alpha_max)
+    if not (np.isfinite(value) and value > 0):
+        raise InvalidGeometryError(f"alpha_max must be a positive, finite rad/s²; got {alpha_max!r}")
+    return value
+
+
+def first_turn_time(alpha_max: float = ALPHA_MAX) -> float:
+    """Duration T (s) of the start-up, fixed by θ2(T) = 2π: T = √(6π / alpha_max).
+
+    The three phases of α2 average alpha_max·2/3 over T, so ω2(T) = 2·alpha_max·T/3;
+    the speed profile is symmetric about T/2, so θ2(T) = ω2(T)·T/2 = alpha_max·T²/3.
+
+    >>> import math
+    >>> bool(abs(first_turn_time() - math.sqrt(6 * math.pi / 5)) < 1e-15)
+    True
+    """
+    return float(np.sqrt(6.0 * np.pi / _check_alpha_max(alpha_max)))
+
+
+def motor_profile(t, alpha_max: float = ALPHA_MAX) -> MotorProfile:
+    """θ2, ω2, α2 of the crank at time(s) ``t`` ≥ 0 (s), vectorized.
+
+    Pieces, with A = alpha_max and T = :func:`first_turn_time` (A):
+
+    ============  ==================  ==========================  =========================================
+    interval      α2                  ω2                          θ2
+    ============  ==================  ==========================  =========================================
+    [0, T/3)      3At/T               3At²/(2T)                   At³/(2T)
+    [T/3, 2T/3)   A                   At − AT/6                   At²/2 − ATt/6 + AT²/54
+    [2T/3, T)     3A − 3At/T          3At − 3At²/(2T) − 5AT/6     AT²/6 − 5ATt/6 + 3At²/2 − At³/(2T)
+    [T, ∞)        0                   2AT/3                       2ATt/3 − AT²/3
+    ============  ==================  ==========================  =========================================
+
+    Raises ``InvalidGeometryError`` for a negative or non-finite time.
+
+    >>> profile = motor_profile([0.0, first_turn_time()])
+    >>> [round(v, 6) for v in profile.theta2.tolist()]
+    [0.0, 6.283185]
+    """
+    A = _check_alpha_max(alpha_max)
+    time = require_finite("t", t, unit="seconds")
+    if np.any(time < 0):
+        first = time.ravel()[np.flatnonzero(time < 0)[0]]
+        raise InvalidGeometryError(f"t must be >= 0 s (the motor starts at t = 0); got {first}")
+    T = first_turn_time(A)
+    s = time
+    phase = np.select([s < T / 3, s < 2 * T / 3, s < T], [0, 1, 2], default=3)
+    alpha2 = np.choose(phase, [3 * A * s / T, np.full_like(s, A), 3 * A - 3 * A * s / T, np.zeros_like(s)])
+    omega2 = np.choose(
+        phase,
+        [
+            3 * A * s**2 / (2 * T),
+            A * s - A * T / 6,
+            3 * A * s - 3 * A * s**2 / (2 * T) - 5 * A * T / 6,
+            np.full_like(s, 2 * A * T / 3),
+        ],
+    )
+    theta2 = np.choose(
+        phase,
+        [
+            A * s**3 / (2 * T),
+            A * s**2 / 2 - A * T * s / 6 + A * T**2 / 54,
+            A * T**2 / 6 - 5 * A * T * s / 6 + 3 * A * s**2 / 2 - A * s**3 / (2 * T),
+            2 * A * T * s / 3 - A * T**2 / 3,
+        ],
+    )
+    return MotorProfile(theta2=theta2, omega2=omega2, alpha2=alpha2)

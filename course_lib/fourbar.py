@@ -1,0 +1,520 @@
+"""The four-bar linkage: position, velocity and acceleration from one vector loop.
+
+Notation of the course notes: l1 = ground, l2 = crank (input, angle θ2), l3 = coupler
+(θ3), l4 = rocker (θ4).  Ground pivots O2 = (0, 0) and O4 = (l1, 0); the crank pin is
+A = O2 + R2 and the coupler–rocker pin is B = O4 + R4.  The loop
+
+    R2 + R3 − R4 − R1 = 0,   Rk = lk (cos θk î + sin θk ĵ),   R1 = l1 î
+
+is solved in closed form by the tangent half-angle substitution (a quadratic in
+tan(θ4/2), exactly as Norton, *Design of Machinery*, §4.5), θ3 then follows from the
+loop.  Its time derivatives give J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b', with the same
+2×2 position Jacobian J, solved by Cramer's rule (no inverse is formed).
+
+Branches (Norton's "open" and "crossed" circuits).  For a given θ2 the point B is one
+of the two intersections of the circle of radius l3 about A and the circle of radius l4
+about O4; the two are mirror images in the line A–O4.
+
+* ``"open"``: B lies to the *left* of the directed line A → O4, i.e.
+  (O4 − A) × (B − A) · k̂ > 0.  It is Norton's root with the minus sign,
+  θ4 = 2·atan2(−B − √(B² − 4AC), 2A).  With the crank up (0 < θ2 < π) the links do not
+  cross; a parallelogram linkage (l2 = l4, l1 = l3) is a parallelogram on this branch.
+* ``"crossed"``: B to the right of A → O4 (Norton's plus sign); coupler and rocker cross.
+
+The sign of that cross product changes only where coupler and rocker are collinear
+(a toggle, where J is singular), so each branch is one continuous circuit as long as no
+toggle is met — always the case for a Grashof crank-rocker driven by its crank.
+
+SI units: lengths in metres, angles in radians (from +x, counter-clockwise),
+ω in rad/s, α in rad/s².  Every angle-valued input may be a numpy array (broadcast).
+
+>>> linkage = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
+>>> solution = linkage.solve(np.pi / 2, omega2=10.0)
+>>> round(solution.theta3, 6), round(solution.theta4, 6), round(solution.omega4, 6)
+(0.318848, 1.815502, 4.761066)
+>>> linkage.grashof().name
+'Grashof crank-rocker'
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import (
+    SingularJacobianError,
+    report_unreachable,
+    require_choice,
+    require_finite,
+    require_positive,
+)
+from .planar import cross_k, wrap_angle
+
+__all__ = [
+    "BRANCHES",
+    "FourBar",
+    "FourBarSolution",
+    "GrashofResult",
+    "InputRange",
+    "CouplerPointMotion",
+]
+
+#: The two assembly circuits, named as in Norton's *Design of Machinery*.
+BRANCHES = ("open", "crossed")
+
+#: |sin(θ3 − θ4)| below this counts as a toggle: J = l3·l4·sin(θ3 − θ4) is singular.
+SINGULAR_TOL = 1e-7
+
+#: A discriminant more negative than this fraction of B² + 4|AC| means "cannot close";
+#: smaller negative values are rounding at a toggle and are taken as zero.
+DISCRIMINANT_TOL = 1e-12
+
+
+def _scalar_or_array(value):
+    """0-d arrays become Python floats/bools so scalar inputs give scalar outputs."""
+    array = np.asarray(value)
+    return array.item() if array.ndim == 0 else array
+
+
+@dataclass(frozen=True)
+class FourBarSolution:
+    """The motion of the coupler (3) and rocker (4) for given crank angle(s) and rates.
+
+    Attributes
+    ----------
+    theta3, theta4 : angles of coupler and rocker, rad, wrapped into (−π, π].
+    omega3, omega4 : angular velocities, rad/s.
+    alpha3, alpha4 : angular accelerations, rad/s².
+    mask : True where the loop cannot close (entries are NaN there; only with
+        ``on_unreachable="nan"``, otherwise all False).
+    singular : True where the linkage sits at a toggle (J singular) while ω2 or α2 ≠ 0
+        (rates are NaN there; only with ``on_unreachable="nan"``).
+    branch : ``"open"`` or ``"crossed"``.
+
+    >>> FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0]).theta4.shape
+    (2,)
+    """
+
+    theta3: float | np.ndarray
+    theta4: float | np.ndarray
+    omega3: float | np.ndarray
+    omega4: float | np.ndarray
+    alpha3: float | np.ndarray
+    alpha4: float | np.ndarray
+    mask: bool | np.ndarray
+    singular: bool | np.ndarray
+    branch: str
+
+
+@dataclass(frozen=True)
+class GrashofResult:
+    """Grashof classification of a four-bar linkage (Norton's naming).
+
+    Attributes
+    ----------
+    name : "Grashof crank-rocker", "Grashof double-crank", "Grashof double-rocker",
+        "change-point" or "non-Grashof triple-rocker".
+    s_plus_l : shortest + longest length, m.
+    p_plus_q : sum of the other two lengths, m.
+    shortest, longest : which link ("ground", "crank", "coupler", "rocker"; the first in
+        that order when lengths tie).
+    is_grashof : s + l ≤ p + q (some link can turn fully relative to another).
+
+    >>> result = FourBar(0.06, 0.18, 0.12, 0.20).grashof()
+    >>> result.shortest, round(result.s_plus_l, 12), round(result.p_plus_q, 12)
+    ('crank', 0.26, 0.3)
+    """
+
+    name: str
+    s_plus_l: float
+    p_plus_q: float
+    shortest: str
+    longest: str
+    is_grashof: bool
+
+
+@dataclass(frozen=True)
+class InputRange:
+    """The crank angles θ2 at which the loop can close.
+
+    Attributes
+    ----------
+    full_rotation : True when every θ2 assembles (the input is a crank).
+    intervals : closed intervals (start, end) of θ2 in rad, start < end; ((0, 2π),)
+        for a full rotation, () when the linkage cannot be assembled at all.
+    toggle_angles : the θ2 at the ends of the intervals (coupler and rocker collinear).
+
+    >>> r = FourBar(crank=0.12, coupler=0.06, rocker=0.18, ground=0.20).input_range()
+    >>> r.full_rotation, len(r.intervals)
+    (False, 2)
+    """
+
+    full_rotation: bool
+    intervals: tuple[tuple[float, float], ...]
+    toggle_angles: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class CouplerPointMotion:
+    """Position, velocity and acceleration of a coupler point, each of shape (..., 2).
+
+    Units m, m/s, m/s².
+
+    >>> motion = FourBar(0.06, 0.18, 0.12, 0.20).coupler_point(0.0, p=0.09, delta=0.0)
+    >>> motion.position.shape, motion.velocity.tolist()
+    ((2,), [0.0, 0.0])
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+
+
+@dataclass(frozen=True)
+class FourBar:
+    """A four-bar linkage: crank l2, coupler l3, rocker l4, ground l1 (metres).
+
+    Raises ``InvalidGeometryError`` naming the length when one is ≤ 0 or not finite.
+
+    >>> linkage = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
+    >>> linkage.l1, linkage.l2, linkage.l3, linkage.l4
+    (0.2, 0.06, 0.18, 0.12)
+    """
+
+    crank: float
+    coupler: float
+    rocker: float
+    ground: float
+
+    def __post_init__(self) -> None:
+        for name in ("crank", "coupler", "rocker", "ground"):
+            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
+
+    # the course's names for the lengths
+    @property
+    def l1(self) -> float:
+        """Ground length l1 (m) = |O2O4|.
+
+        >>> FourBar(1, 2, 3, 4).l1
+        4.0
+        """
+        return self.ground
+
+    @property
+    def l2(self) -> float:
+        """Crank length l2 (m) = |O2A|.
+
+        >>> FourBar(1, 2, 3, 4).l2
+        1.0
+        """
+        return self.crank
+
+    @property
+    def l3(self) -> float:
+        """Coupler length l3 (m) = |AB|.
+
+        >>> FourBar(1, 2, 3, 4).l3
+        2.0
+        """
+        return self.coupler
+
+    @property
+    def l4(self) -> float:
+        """Rocker length l4 (m) = |O4B|.
+
+        >>> FourBar(1, 2, 3, 4).l4
+        3.0
+        """
+        return self.rocker
+
+    # ------------------------------------------------------------------ loop
+    def loop_residual(self, theta2, theta3, theta4) -> np.ndarray:
+        """R2 + R3 − R4 − R1 as (x, y) components, shape (..., 2); zero when the loop closes.
+
+        >>> r = FourBar(0.06, 0.18, 0.12, 0.20).loop_residual(0.0, 0.0, np.pi / 2)
+        >>> np.round(r, 12).tolist()
+        [0.04, -0.12]
+        """
+        theta2, theta3, theta4 = np.broadcast_arrays(
+            *(np.asarray(a, dtype=float) for a in (theta2, theta3, theta4))
+        )
+        x = self.l2 * np.cos(theta2) + self.l3 * np.cos(theta3) - self.l4 * np.cos(theta4) - self.l1
+        y = self.l2 * np.sin(theta2) + self.l3 * np.sin(theta3) - self.l4 * np.sin(theta4)
+        return np.stack([x, y], axis=-1)
+
+    def loop_jacobian(self, theta3, theta4) -> np.ndarray:
+        """J = ∂(loop)/∂(θ3, θ4) = [[−l3 sin θ3, l4 sin θ4], [l3 cos θ3, −l4 cos θ4]], shape (..., 2, 2).
+
+        det J = l3·l4·sin(θ3 − θ4): zero when coupler and rocker are collinear (a toggle).
+
+        >>> J = FourBar(1.0, 2.0, 3.0, 4.0).loop_jacobian(np.pi / 2, 0.0)
+        >>> np.round(J, 12).tolist()
+        [[-2.0, 0.0], [0.0, -3.0]]
+        """
+        theta3, theta4 = np.broadcast_arrays(np.asarray(theta3, float), np.asarray(theta4, float))
+        row_x = np.stack([-self.l3 * np.sin(theta3), self.l4 * np.sin(theta4)], axis=-1)
+        row_y = np.stack([self.l3 * np.cos(theta3), -self.l4 * np.cos(theta4)], axis=-1)
+        return np.stack([row_x, row_y], axis=-2)
+
+    # ------------------------------------------------------------- position
+    def _half_angle_coefficients(self, theta2: np.ndarray):
+        """Norton's A, B, C of A·t² + B·t + C = 0, t = tan(θ4/2)."""
+        l1, l2, l3, l4 = self.l1, self.l2, self.l3, self.l4
+        K1, K2 = l1 / l2, l1 / l4
+        K3 = (l2**2 - l3**2 + l4**2 + l1**2) / (2 * l2 * l4)
+        cos2, sin2 = np.cos(theta2), np.sin(theta2)
+        A = cos2 - K1 - K2 * cos2 + K3
+        B = -2 * sin2
+        C = K1 - (K2 + 1) * cos2 + K3
+        return A, B, C
+
+    def _positions(self, theta2: np.ndarray, branch: str):
+        """θ3, θ4 (NaN where unreachable) and the unreachable mask."""
+        A, B, C = self._half_angle_coefficients(theta2)
+        discriminant = B**2 - 4 * A * C
+        unreachable = discriminant < -DISCRIMINANT_TOL * (B**2 + 4 * np.abs(A * C))
+        root = np.sqrt(np.where(unreachable, np.nan, np.maximum(discriminant, 0.0)))
+        root = -root if branch == "open" else root
+        # t = (−B ± √Δ)/(2A) = 2C/(−B ∓ √Δ): use whichever pair is better conditioned
+        y1, x1 = -B + root, 2 * A
+        y2, x2 = 2 * C, -B - root
+        first = np.hypot(y1, x1) >= np.hypot(y2, x2)
+        theta4 = wrap_angle(2 * np.arctan2(np.where(first, y1, y2), np.where(first, x1, x2)))
+        # θ3 from the loop: R3 = R1 + R4 − R2 = B − A
+        coupler_x = self.l1 + self.l4 * np.cos(theta4) - self.l2 * np.cos(theta2)
+        coupler_y = self.l4 * np.sin(theta4) - self.l2 * np.sin(theta2)
+        theta3 = np.arctan2(coupler_y, coupler_x)
+        return theta3, theta4, unreachable
+
+    # ---------------------------------------------------------------- solve
+    def solve(
+        self,
+        theta2,
+        omega2=0.0,
+        alpha2=0.0,
+        branch: str = "open",
+        on_unreachable: str = "raise",
+    ) -> FourBarSolution:
+        """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²).
+
+        Inputs broadcast together.  Position: closed form (half-angle quadratic);
+        rates: J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b' by Cramer's rule.
+
+        Raises
+        ------
+        InvalidGeometryError : unknown ``branch`` / ``on_unreachable``, non-finite inputs.
+        UnreachableError : the loop cannot close at some θ2 (message names θ2; for
+            arrays how many and the first).  With ``on_unreachable="nan"`` those entries
+            are NaN and flagged in ``mask`` instead.
+        SingularJacobianError : a toggle position (coupler and rocker collinear) with
+            ω2 ≠ 0 or α2 ≠ 0; with ``on_unreachable="nan"`` rates are NaN there and
+            flagged in ``singular``.
+
+        >>> linkage = FourBar(0.06, 0.18, 0.12, 0.20)
+        >>> crossed = linkage.solve(np.pi / 2, branch="crossed")
+        >>> round(crossed.theta3, 6), round(crossed.theta4, 6)
+        (-0.901761, -2.398416)
+        """
+        require_choice("branch", branch, BRANCHES)
+        require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+        theta2, omega2, alpha2 = np.broadcast_arrays(
+            require_finite("theta2", theta2, "rad"),
+            require_finite("omega2", omega2, "rad/s"),
+            require_finite("alpha2", alpha2, "rad/s^2"),
+        )
+        with np.errstate(invalid="ignore"):
+            theta3, theta4, unreachable = self._positions(theta2, branch)
+        report_unreachable(
+            unreachable,
+            {"theta2": theta2},
+            f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle quadratic)",
+            on_unreachable,
+        )
+        omega3, omega4, alpha3, alpha4, singular = self._rates(
+            theta2, theta3, theta4, omega2, alpha2, unreachable, on_unreachable
+        )
+        return FourBarSolution(
+            theta3=_scalar_or_array(theta3),
+            theta4=_scalar_or_array(theta4),
+            omega3=_scalar_or_array(omega3),
+            omega4=_scalar_or_array(omega4),
+            alpha3=_scalar_or_array(alpha3),
+            alpha4=_scalar_or_array(alpha4),
+            mask=_scalar_or_array(unreachable),
+            singular=_scalar_or_array(singular),
+            branch=branch,
+        )
+
+    def _rates(self, theta2, theta3, theta4, omega2, alpha2, unreachable, on_unreachable):
+        """Velocity and acceleration from J·x = b (Cramer's rule on the 2×2 systems)."""
+        l2, l3, l4 = self.l2, self.l3, self.l4
+        sin2, cos2 = np.sin(theta2), np.cos(theta2)
+        sin3, cos3 = np.sin(theta3), np.cos(theta3)
+        sin4, cos4 = np.sin(theta4), np.cos(theta4)
+        # J = [[j00, j01], [j10, j11]], det J = l3 l4 sin(θ3 − θ4)
+        j00, j01, j10, j11 = -l3 * sin3, l4 * sin4, l3 * cos3, -l4 * cos4
+        determinant = j00 * j11 - j01 * j10
+        toggle = np.abs(determinant) < SINGULAR_TOL * l3 * l4
+        moving = (omega2 != 0) | (alpha2 != 0)
+        singular = toggle & moving & ~unreachable
+        if singular.any() and on_unreachable == "raise":
+            first = int(np.flatnonzero(singular)[0])
+            index = np.unravel_index(first, singular.shape) if singular.ndim else ()
+            count = f" ({int(singular.sum())} of {singular.size} inputs, first at index {first})"
+            count = count if singular.ndim else ""
+            raise SingularJacobianError(
+                f"the loop Jacobian is singular at theta2={theta2[index]:.6g} (coupler and rocker "
+                f"collinear: a toggle position), so omega3, omega4 are undefined for "
+                f"omega2={omega2[index]:.6g}, alpha2={alpha2[index]:.6g}{count}",
+                x=float(theta2[index]),
+            )
+        # where J is singular and the input is at rest, b = 0 and the rates are 0
+        safe = np.where(toggle, 1.0, determinant)
+
+        def cramer(b0, b1):
+            return (b0 * j11 - j01 * b1) / safe, (j00 * b1 - b0 * j10) / safe
+
+        omega3, omega4 = cramer(omega2 * l2 * sin2, -omega2 * l2 * cos2)
+        alpha3, alpha4 = cramer(
+            alpha2 * l2 * sin2 + omega2**2 * l2 * cos2 + omega3**2 * l3 * cos3 - omega4**2 * l4 * cos4,
+            -alpha2 * l2 * cos2 + omega2**2 * l2 * sin2 + omega3**2 * l3 * sin3 - omega4**2 * l4 * sin4,
+        )
+        rates = [np.where(singular, np.nan, rate) for rate in (omega3, omega4, alpha3, alpha4)]
+        return (*rates, singular)
+
+    # --------------------------------------------------------------- derived
+    def joints(self, theta2, branch: str = "open", on_unreachable: str = "raise") -> np.ndarray:
+        """Coordinates of O2, A, B, O4 (m) for drawing, shape (..., 4, 2).
+
+        >>> FourBar(1.0, 1.0, 1.0, 1.0).joints(np.pi / 2).round(12).tolist()
+        [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]
+        """
+        solution = self.solve(theta2, branch=branch, on_unreachable=on_unreachable)
+        theta2, theta4 = np.broadcast_arrays(np.asarray(theta2, float), np.asarray(solution.theta4))
+        O2 = np.zeros(theta2.shape + (2,))
+        O4 = np.broadcast_to(np.array([self.l1, 0.0]), theta2.shape + (2,))
+        A = np.stack([self.l2 * np.cos(theta2), self.l2 * np.sin(theta2)], axis=-1)
+        B = O4 + np.stack([self.l4 * np.cos(theta4), self.l4 * np.sin(theta4)], axis=-1)
+        return np.stack([O2, A, B, O4], axis=-2)
+
+    def transmission_angle(
+        self, theta2, branch: str = "open", acute: bool = True, on_unreachable: str = "raise"
+    ):
+        """Transmission angle μ (rad) between coupler and rocker.
+
+        The joint angle at B is |θ4 − θ3| folded into [0, π]; with ``acute=True``
+        (Norton's design value) it is further folded into [0, π/2].  Good force
+        transmission wants μ ≥ 40° or so.
+
+        >>> mu = FourBar(0.06, 0.18, 0.12, 0.20).transmission_angle(np.pi / 2)
+        >>> round(float(np.degrees(mu)), 4)
+        85.752
+        """
+        solution = self.solve(theta2, branch=branch, on_unreachable=on_unreachable)
+        joint_angle = np.abs(wrap_angle(np.asarray(solution.theta4) - np.asarray(solution.theta3)))
+        mu = np.minimum(joint_angle, np.pi - joint_angle) if acute else joint_angle
+        return _scalar_or_array(mu)
+
+    def coupler_point(
+        self,
+        theta2,
+        p: float,
+        delta: float,
+        omega2=0.0,
+        alpha2=0.0,
+        branch: str = "open",
+        on_unreachable: str = "raise",
+    ) -> CouplerPointMotion:
+        """Motion of the coupler point P at distance p (m) from A along AB turned by δ (rad).
+
+        r = p(cos(θ3 + δ), sin(θ3 + δ)); P = A + r; V_P = V_A + ω3 k̂×r;
+        A_P = A_A + α3 k̂×r − ω3² r, with V_A = ω2 k̂×R2 and A_A = α2 k̂×R2 − ω2² R2.
+
+        >>> motion = FourBar(1.0, 1.0, 1.0, 1.0).coupler_point(np.pi / 2, p=0.5, delta=0.0, omega2=1.0)
+        >>> motion.position.round(12).tolist(), motion.velocity.round(12).tolist()
+        ([0.5, 1.0], [-1.0, 0.0])
+        """
+        p = require_positive("p", p, allow_zero=True)
+        delta = float(require_finite("delta", delta, "rad"))
+        solution = self.solve(theta2, omega2, alpha2, branch=branch, on_unreachable=on_unreachable)
+        theta2, omega2, alpha2, theta3, omega3, alpha3 = (
+            np.asarray(a, dtype=float)[..., None]
+            for a in np.broadcast_arrays(
+                np.asarray(theta2, float), np.asarray(omega2, float), np.asarray(alpha2, float),
+                solution.theta3, solution.omega3, solution.alpha3,
+            )
+        )
+        R2 = self.l2 * np.concatenate([np.cos(theta2), np.sin(theta2)], axis=-1)
+        r = p * np.concatenate([np.cos(theta3 + delta), np.sin(theta3 + delta)], axis=-1)
+        position = R2 + r
+        velocity = omega2 * cross_k(R2) + omega3 * cross_k(r)
+        acceleration = alpha2 * cross_k(R2) - omega2**2 * R2 + alpha3 * cross_k(r) - omega3**2 * r
+        return CouplerPointMotion(position=position, velocity=velocity, acceleration=acceleration)
+
+    # -------------------------------------------------------------- Grashof
+    def grashof(self) -> GrashofResult:
+        """Grashof class: compare s + l (shortest + longest) with p + q (the other two).
+
+        s + l < p + q: Grashof — crank-rocker if the shortest link is the crank or the
+        rocker, double-crank if it is the ground, double-rocker if it is the coupler;
+        s + l = p + q: change-point; s + l > p + q: non-Grashof triple-rocker.
+
+        >>> FourBar(crank=0.12, coupler=0.18, rocker=0.20, ground=0.06).grashof().name
+        'Grashof double-crank'
+        """
+        lengths = {"ground": self.l1, "crank": self.l2, "coupler": self.l3, "rocker": self.l4}
+        ordered = sorted(lengths, key=lengths.get)  # stable: ties keep the order above
+        shortest, longest = ordered[0], ordered[-1]
+        s_plus_l = lengths[shortest] + lengths[longest]
+        p_plus_q = lengths[ordered[1]] + lengths[ordered[2]]
+        if np.isclose(s_plus_l, p_plus_q, rtol=1e-12, atol=0.0):
+            name = "change-point"
+        elif s_plus_l > p_plus_q:
+            name = "non-Grashof triple-rocker"
+        elif shortest == "ground":
+            name = "Grashof double-crank"
+        elif shortest == "coupler":
+            name = "Grashof double-rocker"
+        else:
+            name = "Grashof crank-rocker"
+        return GrashofResult(
+            name=name,
+            s_plus_l=s_plus_l,
+            p_plus_q=p_plus_q,
+            shortest=shortest,
+            longest=longest,
+            is_grashof=name != "non-Grashof triple-rocker",
+        )
+
+    def input_range(self) -> InputRange:
+        """The crank angles θ2 (rad) at which the loop closes, and the toggle angles.
+
+        The distance |AO4|² = l1² + l2² − 2 l1 l2 cos θ2 must lie between (l3 − l4)² and
+        (l3 + l4)²; each bound that binds gives a toggle angle by the law of cosines
+        (coupler and rocker collinear: extended at l3 + l4, folded at |l3 − l4|).
+
+        >>> r = FourBar(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20).input_range()
+        >>> r.full_rotation, [round(a, 6) for a in r.toggle_angles]
+        (False, [-1.333578, 1.333578])
+        """
+        l1, l2, l3, l4 = self.l1, self.l2, self.l3, self.l4
+        cos_extended = (l1**2 + l2**2 - (l3 + l4) ** 2) / (2 * l1 * l2)  # need cos θ2 ≥ this
+        cos_folded = (l1**2 + l2**2 - (l3 - l4) ** 2) / (2 * l1 * l2)  # need cos θ2 ≤ this
+        if cos_extended > 1 or cos_folded < -1 or cos_extended > cos_folded:
+            return InputRange(full_rotation=False, intervals=(), toggle_angles=())
+        theta_max = float(np.arccos(max(cos_extended, -1.0)))  # binds when < π
+        theta_min = float(np.arccos(min(cos_folded, 1.0)))  # binds when > 0
+        upper, lower = theta_max < np.pi, theta_min > 0
+        if not upper and not lower:
+            return InputRange(full_rotation=True, intervals=((0.0, 2 * np.pi),), toggle_angles=())
+        if upper and not lower:
+            return InputRange(False, ((-theta_max, theta_max),), (-theta_max, theta_max))
+        if lower and not upper:
+            end = 2 * np.pi - theta_min
+            return InputRange(False, ((theta_min, end),), (theta_min, end))
+        return InputRange(
+            False,
+            ((-theta_max, -theta_min), (theta_min, theta_max)),
+            (-theta_max, -theta_min, theta_min, theta_max),
+        )

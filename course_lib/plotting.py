@@ -110,6 +110,7 @@ def draw_linkage(
             label, (x, y), xytext=(6, 6), textcoords="offset points", fontsize=9, alpha=alpha
         )
     ax.set_aspect("equal", adjustable="datalim")
+    ax.margins(0.08)
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     if grid:

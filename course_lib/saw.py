@@ -1,0 +1,787 @@
+"""The power saw of the course: an offset slider-crank solved by Newton–Raphson.
+
+A crank r2 (angle θ2, driven by the motor) and a rod r3 (angle θ3) drive the
+saw's slider, whose pin moves on the line y = r1y.  The vector from the crank
+pivot to the slider pin is written r1 = r1·(cos θ1, sin θ1), so the loop is
+r1 = r2 + r3 and the slider line is r1·sin θ1 = r1y.  Unknowns, in the course's
+order (SI units, radians)::
+
+    r1, theta1, theta3,   v_r, omega1, omega3,   a_r, alpha1, alpha3
+
+Equations (the course's numbering):
+
+* position (7)–(9): Fx = −r1 cos θ1 + r2 cos θ2 + r3 cos θ3, Fy = r1 sin θ1 − r2 sin θ2 − r3 sin θ3,
+  Fc = r1 sin θ1 − r1y.  ``variant="substituted"`` is the form behind the course's Jacobian (17):
+  r1 = r1y / sin θ1 substituted into Fx and Fy, equations ordered (Fc, Fx, Fy).
+* velocity (10)–(12) and acceleration (13)–(15): first and second time derivatives of (7)–(9).
+  Both are *linear* in their unknowns, with the same matrix: the position Jacobian of (7)–(9).
+* the simultaneous 9×9 system (appendix D): all nine equations in all nine unknowns.
+
+Sign convention of the report: θ1 is kept in (−π/2, π/2] (its eq. 21 uses acot), so when
+the slider is to the left of the crank pivot, as in the saw, r1 is *negative*: the vector
+r1·(cos θ1, sin θ1) then points along θ1 + π.  At rest: r1 ≈ −0.0997 m, θ1 ≈ −0.4684 rad.
+θ3 is the rod angle from the crank pin to the slider pin, on the branch θ3 = π − asin(…)
+of the report's eq. 20 (the rod points to the left).
+
+>>> solution = solve_simultaneous(0.0, 0.0, 0.0)
+>>> np.round(solution.x[:3], 6).tolist(), solution.iterations
+([-0.099672, -0.468422, 2.873694], 5)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+import numpy as np
+
+from .errors import (
+    ConvergenceError,
+    InvalidGeometryError,
+    SingularJacobianError,
+    report_unreachable,
+    require_choice,
+    require_finite,
+    require_positive,
+)
+from .newton import MAX_CONDITION, NewtonResult, newton, newton_batch
+from .profile import first_turn_time, motor_profile
+
+__all__ = [
+    "Saw",
+    "COURSE_SAW",
+    "UNKNOWNS",
+    "SEED_PRINTED",
+    "SEED_CODE",
+    "position_residual",
+    "position_jacobian",
+    "velocity_residual",
+    "velocity_jacobian",
+    "acceleration_residual",
+    "acceleration_jacobian",
+    "system_residual",
+    "system_jacobian",
+    "SawSolution",
+    "solve_consecutive",
+    "solve_simultaneous",
+    "analytic",
+    "joint_positions",
+    "SawSweep",
+    "sweep",
+]
+
+#: Names of the nine unknowns, in the course's order.
+UNKNOWNS = ("r1", "theta1", "theta3", "v_r", "omega1", "omega3", "a_r", "alpha1", "alpha3")
+
+#: The seed vector printed in the report (its eq. 16).
+SEED_PRINTED = np.array([-0.1, -0.5, 3.0, 0.5, 0.0, -0.5, 0.5, 0.0, -0.5])
+#: The seed vector of the report's MATLAB listings (rates with the opposite signs).
+SEED_CODE = np.array([-0.1, -0.5, 3.0, -0.5, 0.0, 0.5, -0.5, 0.0, 0.5])
+
+VARIANTS = ("loop", "substituted")
+LINEAR_STAGES = ("newton", "direct")
+
+
+@dataclass(frozen=True)
+class Saw:
+    """Lengths of the saw in metres: slider-line offset ``r1y``, crank ``r2``, rod ``r3``.
+
+    The defaults are the course's 45 mm, 75 mm and 170 mm.
+
+    >>> Saw().r3
+    0.17
+    >>> Saw(r1y=0.03).r2
+    0.075
+    """
+
+    r1y: float = 0.045
+    r2: float = 0.075
+    r3: float = 0.170
+
+    def __post_init__(self) -> None:
+        offset = float(require_finite("r1y", self.r1y, unit="metres"))
+        if offset == 0.0:
+            raise InvalidGeometryError(
+                "r1y must be non-zero: with the slider line through the crank pivot, "
+                f"r1 = r1y / sin(theta1) is undefined; got {self.r1y!r}"
+            )
+        object.__setattr__(self, "r1y", offset)
+        object.__setattr__(self, "r2", require_positive("r2", self.r2))
+        object.__setattr__(self, "r3", require_positive("r3", self.r3))
+
+
+#: The saw of the course (r1y = 0.045 m, r2 = 0.075 m, r3 = 0.170 m).
+COURSE_SAW = Saw()
+
+
+def _split3(values, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    array = np.asarray(values, dtype=float)
+    if array.shape[-1:] != (3,):
+        raise InvalidGeometryError(f"{name} must have 3 entries on its last axis; got shape {array.shape}")
+    return array[..., 0], array[..., 1], array[..., 2]
+
+
+def _stack(rows) -> np.ndarray:
+    """Stack equal-shaped (broadcast) entries on a new last axis."""
+    return np.stack(np.broadcast_arrays(*rows), axis=-1)
+
+
+def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
+    """Residuals of the position equations at ``position`` = (r1, θ1, θ3), shape (..., 3).
+
+    ``variant="loop"``: (Fx, Fy, Fc) of the course's eqs. (7)–(9).
+    ``variant="substituted"``: (Fc, Fx, Fy) with r1 = r1y / sin θ1 put into Fx and Fy, the system
+    whose Jacobian the course prints as eq. (17).
+
+    >>> bool(np.allclose(position_residual([-0.0996724914, -0.4684217805, 2.8736937412], 0.0), 0, atol=1e-10))
+    True
+    """
+    require_choice("variant", variant, VARIANTS)
+    r1, theta1, theta3 = _split3(position, "position")
+    theta2 = np.asarray(theta2, dtype=float)
+    r1y, r2, r3 = saw.r1y, saw.r2, saw.r3
+    constraint = r1 * np.sin(theta1) - r1y
+    if variant == "loop":
+        fx = -r1 * np.cos(theta1) + r2 * np.cos(theta2) + r3 * np.cos(theta3)
+        fy = r1 * np.sin(theta1) - r2 * np.sin(theta2) - r3 * np.sin(theta3)
+        return _stack([fx, fy, constraint])
+    fx = -r1y * np.cos(theta1) / np.sin(theta1) + r2 * np.cos(theta2) + r3 * np.cos(theta3)
+    fy = r1y - r2 * np.sin(theta2) - r3 * np.sin(theta3)
+    return _stack([constraint, fx, fy])
+
+
+def _loop_jacobian(r1, theta1, theta3, r3) -> np.ndarray:
+    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
+    zero = np.zeros_like(r1 * theta1 * theta3)
+    rows = [[-c1, r1 * s1, -r3 * s3], [s1, r1 * c1, -r3 * c3], [s1, r1 * c1, zero]]
+    return np.stack([_stack(row) for row in rows], axis=-2)
+
+
+def position_jacobian(position, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
+    """∂(position residuals)/∂(r1, θ1, θ3), shape (..., 3, 3); θ2 does not appear in it.
+
+    ``variant="substituted"`` gives the course's eq. (17):
+    [[sin θ1, r1 cos θ1, 0], [0, r1y (cot²θ1 + 1), −r3 sin θ3], [0, 0, −r3 cos θ3]].
+    Its determinant (loop variant) is −r1·r3·cos θ3: singular only when the rod is
+    perpendicular to the slider line.
+
+    >>> J = position_jacobian([-0.1, -0.5, 3.0])
+    >>> bool(abs(np.linalg.det(J) - 0.1 * 0.17 * np.cos(3.0)) < 1e-15)
+    True
+    """
+    require_choice("variant", variant, VARIANTS)
+    r1, theta1, theta3 = _split3(position, "position")
+    if variant == "loop":
+        return _loop_jacobian(r1, theta1, theta3, saw.r3)
+    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
+    zero = np.zeros_like(r1 * theta1 * theta3)
+    cot1 = c1 / s1
+    rows = [[s1, r1 * c1, zero], [zero, saw.r1y * (cot1**2 + 1), -saw.r3 * s3], [zero, zero, -saw.r3 * c3]]
+    return np.stack([_stack(row) for row in rows], axis=-2)
+
+
+def velocity_residual(velocity, position, theta2, omega2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
+    """Residuals of the velocity equations (10)–(12) at ``velocity`` = (v_r, ω1, ω3), shape (..., 3).
+
+    >>> velocity_residual([0.0, 0.0, 0.0], [-0.1, -0.5, 3.0], 0.0, 0.0).tolist()
+    [0.0, 0.0, 0.0]
+    """
+    v_r, omega1, omega3 = _split3(velocity, "velocity")
+    r1, theta1, theta3 = _split3(position, "position")
+    theta2, omega2 = np.asarray(theta2, float), np.asarray(omega2, float)
+    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
+    r2, r3 = saw.r2, saw.r3
+    fc = v_r * s1 + omega1 * r1 * c1
+    fx = omega1 * r1 * s1 - v_r * c1 - omega2 * r2 * np.sin(theta2) - omega3 * r3 * s3
+    fy = fc - omega2 * r2 * np.cos(theta2) - omega3 * r3 * c3
+    return _stack([fx, fy, fc])
+
+
+def velocity_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
+    """∂(velocity residuals)/∂(v_r, ω1, ω3), the course's eq. (18), shape (..., 3, 3).
+
+    It equals the loop position Jacobian: differentiating F(q(t), θ2(t)) = 0 in time gives
+    J(q)·q̇ + ∂F/∂θ2·ω2 = 0, linear in q̇.
+
+    >>> bool(np.allclose(velocity_jacobian([-0.1, -0.5, 3.0]), position_jacobian([-0.1, -0.5, 3.0])))
+    True
+    """
+    r1, theta1, theta3 = _split3(position, "position")
+    return _loop_jacobian(r1, theta1, theta3, saw.r3)
+
+
+def acceleration_residual(
+    acceleration, velocity, position, theta2, omega2, alpha2, *, saw: Saw = COURSE_SAW
+) -> np.ndarray:
+    """Residuals of the acceleration equations (13)–(15) at ``acceleration`` = (a_r, α1, α3), shape (..., 3).
+
+    >>> acceleration_residual([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [-0.1, -0.5, 3.0], 0.0, 0.0, 0.0).tolist()
+    [0.0, 0.0, 0.0]
+    """
+    a_r, alpha1, alpha3 = _split3(acceleration, "acceleration")
+    v_r, omega1, omega3 = _split3(velocity, "velocity")
+    r1, theta1, theta3 = _split3(position, "position")
+    theta2, omega2, alpha2 = (np.asarray(v, float) for v in (theta2, omega2, alpha2))
+    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
+    s2, c2 = np.sin(theta2), np.cos(theta2)
+    r2, r3 = saw.r2, saw.r3
+    fx = (
+        r1 * c1 * omega1**2 + 2 * v_r * s1 * omega1 - r2 * c2 * omega2**2 - r3 * c3 * omega3**2
+        - a_r * c1 + alpha1 * r1 * s1 - alpha2 * r2 * s2 - alpha3 * r3 * s3
+    )
+    fc = -r1 * s1 * omega1**2 + 2 * v_r * c1 * omega1 + a_r * s1 + alpha1 * r1 * c1
+    fy = fc + r2 * s2 * omega2**2 + r3 * s3 * omega3**2 - alpha2 * r2 * c2 - alpha3 * r3 * c3
+    return _stack([fx, fy, fc])
+
+
+def acceleration_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
+    """∂(acceleration residuals)/∂(a_r, α1, α3), shape (..., 3, 3): again the loop position Jacobian.
+
+    The course's eq. (19) is the same matrix with its rows listed in the order (Fc, Fx, Fy).
+
+    >>> bool(np.allclose(acceleration_jacobian([-0.1, -0.5, 3.0]), velocity_jacobian([-0.1, -0.5, 3.0])))
+    True
+    """
+    return velocity_jacobian(position, saw=saw)
+
+
+def _split9(x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    array = np.asarray(x, dtype=float)
+    if array.shape[-1:] != (9,):
+        raise InvalidGeometryError(f"x must have 9 entries on its last axis; got shape {array.shape}")
+    return array[..., 0:3], array[..., 3:6], array[..., 6:9]
+
+
+def system_residual(
+    x, theta2, omega2, alpha2, *, saw: Saw = COURSE_SAW, variant: str = "loop"
+) -> np.ndarray:
+    """The nine residuals (position, velocity, acceleration) at the nine unknowns ``x``, shape (..., 9).
+
+    >>> bool(np.allclose(system_residual(np.zeros(9) + [0.1, 0.5, 0.3, 0, 0, 0, 0, 0, 0], 0, 0, 0)[3:], 0))
+    True
+    """
+    position, velocity, acceleration = _split9(x)
+    return np.concatenate(
+        [
+            position_residual(position, theta2, saw=saw, variant=variant),
+            velocity_residual(velocity, position, theta2, omega2, saw=saw),
+            acceleration_residual(acceleration, velocity, position, theta2, omega2, alpha2, saw=saw),
+        ],
+        axis=-1,
+    )
+
+
+def system_jacobian(x, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
+    """The 9×9 Jacobian of :func:`system_residual` (the course's appendix D), shape (..., 9, 9).
+
+    Block lower-triangular: the velocity rows depend on position and velocity, the
+    acceleration rows on all nine unknowns; each diagonal block of the rates is the
+    loop position Jacobian.
+
+    >>> J = system_jacobian(SEED_PRINTED)
+    >>> J.shape, bool(np.all(J[:3, 3:] == 0))
+    ((9, 9), True)
+    """
+    position, velocity, acceleration = _split9(x)
+    r1, theta1, theta3 = _split3(position, "position")
+    v_r, omega1, omega3 = _split3(velocity, "velocity")
+    a_r, alpha1, alpha3 = _split3(acceleration, "acceleration")
+    r3 = saw.r3
+    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
+    zero = np.zeros_like(r1 * theta1 * theta3 * v_r * omega1 * omega3 * a_r * alpha1 * alpha3)
+    loop = _loop_jacobian(r1 + zero, theta1, theta3, r3)
+    # velocity rows (Fx', Fy', Fc') with respect to (r1, θ1, θ3)
+    dvel_dpos = [
+        [omega1 * s1, omega1 * r1 * c1 + v_r * s1, -omega3 * r3 * c3],
+        [omega1 * c1, v_r * c1 - omega1 * r1 * s1, omega3 * r3 * s3],
+        [omega1 * c1, v_r * c1 - omega1 * r1 * s1, zero],
+    ]
+    # acceleration rows (Fx'', Fy'', Fc'') with respect to (r1, θ1, θ3) and to (v_r, ω1, ω3)
+    dtheta1_c = -r1 * c1 * omega1**2 - 2 * v_r * s1 * omega1 + a_r * c1 - alpha1 * r1 * s1
+    dacc_dpos = [
+        [
+            c1 * omega1**2 + alpha1 * s1,
+            -r1 * s1 * omega1**2 + 2 * v_r * c1 * omega1 + a_r * s1 + alpha1 * r1 * c1,
+            r3 * s3 * omega3**2 - alpha3 * r3 * c3,
+        ],
+        [alpha1 * c1 - s1 * omega1**2, dtheta1_c, r3 * c3 * omega3**2 + alpha3 * r3 * s3],
+        [alpha1 * c1 - s1 * omega1**2, dtheta1_c, zero],
+    ]
+    dacc_dvel = [
+        [2 * s1 * omega1, 2 * r1 * c1 * omega1 + 2 * v_r * s1, -2 * r3 * c3 * omega3],
+        [2 * c1 * omega1, 2 * v_r * c1 - 2 * r1 * s1 * omega1, 2 * r3 * s3 * omega3],
+        [2 * c1 * omega1, 2 * v_r * c1 - 2 * r1 * s1 * omega1, zero],
+    ]
+
+    def block(rows):
+        return np.stack([_stack([entry + zero for entry in row]) for row in rows], axis=-2)
+
+    shape = loop.shape[:-2]
+    jac = np.zeros(shape + (9, 9))
+    jac[..., 0:3, 0:3] = position_jacobian(position, saw=saw, variant=variant) + zero[..., None, None]
+    jac[..., 3:6, 0:3] = block(dvel_dpos)
+    jac[..., 3:6, 3:6] = loop
+    jac[..., 6:9, 0:3] = block(dacc_dpos)
+    jac[..., 6:9, 3:6] = block(dacc_dvel)
+    jac[..., 6:9, 6:9] = loop
+    return jac
+
+
+# ---------------------------------------------------------------- assembly checks
+
+
+def _assembly_sine(theta2, saw: Saw) -> np.ndarray:
+    """sin θ3 on the closed loop: (r1y − r2 sin θ2) / r3 (from Fy − Fc = 0)."""
+    return (saw.r1y - saw.r2 * np.sin(theta2)) / saw.r3
+
+
+def _check_assembly(theta2, saw: Saw, on_unreachable: str = "raise") -> np.ndarray:
+    """Raise UnreachableError where the rod cannot reach the slider line, SingularJacobianError
+    where it just reaches it (rod perpendicular to the line: cos θ3 = 0).  Returns sin θ3."""
+    sine = _assembly_sine(theta2, saw)
+    report_unreachable(
+        np.abs(sine) > 1.0,
+        {"theta2": theta2},
+        f"the rod r3 = {saw.r3:g} m cannot reach the slider line y = r1y = {saw.r1y:g} m "
+        "(|r1y - r2 sin(theta2)| > r3)",
+        on_unreachable,
+    )
+    toggle = (np.abs(sine) <= 1.0) & (1.0 - np.abs(sine) < 1e-12)
+    if np.any(toggle):
+        first = float(np.broadcast_to(theta2, toggle.shape)[toggle].ravel()[0])
+        raise SingularJacobianError(
+            f"the Jacobian is singular at theta2={first:.6g}: the rod r3 is perpendicular to the "
+            "slider line (cos(theta3) = 0), a limit position where the rates are undefined",
+            x=first,
+        )
+    return sine
+
+
+def _scalar(name: str, value, unit: str) -> float:
+    array = require_finite(name, value, unit=unit)
+    if array.ndim != 0:
+        raise InvalidGeometryError(
+            f"{name} must be a single number for a single Newton solve (use sweep or analytic for "
+            f"arrays); got shape {array.shape}"
+        )
+    return float(array)
+
+
+def _seed(x0) -> np.ndarray:
+    seed = SEED_PRINTED if x0 is None else require_finite("x0", x0)
+    if seed.shape != (9,):
+        raise InvalidGeometryError(f"x0 must hold the nine unknowns {UNKNOWNS}; got shape {seed.shape}")
+    return np.array(seed, dtype=float)
+
+
+# ---------------------------------------------------------------- Newton solutions at one crank angle
+
+
+@dataclass(frozen=True)
+class SawSolution:
+    """The nine unknowns at one crank angle and how Newton found them.
+
+    Attributes
+    ----------
+    x : the nine values, ordered as :data:`UNKNOWNS` (m, rad, m/s, rad/s, m/s², rad/s²).
+    iterations : Newton updates in all (the sum over the stages).
+    stages : one ``NewtonResult`` per stage: "position", "velocity", "acceleration" for the
+        consecutive method, "simultaneous" for the 9×9 one.
+    method : "consecutive" or "simultaneous".
+    """
+
+    x: np.ndarray
+    iterations: int
+    stages: Mapping[str, NewtonResult] = field(repr=False)
+    method: str
+
+    def as_dict(self) -> dict[str, float]:
+        """The nine values by name.
+
+        >>> round(solve_consecutive(0.0).as_dict()["theta3"], 6)
+        2.873694
+        """
+        return {name: float(value) for name, value in zip(UNKNOWNS, self.x, strict=True)}
+
+
+def _newton_stage(
+    stage: str, F: Callable, J: Callable, seed: np.ndarray, tol: float, theta2: float, max_iter: int = 50
+):
+    """course_lib.newton on one stage, re-raising failures with the stage and θ2 named."""
+    try:
+        return newton(F, seed, jac=J, tol=tol, max_iter=max_iter)
+    except SingularJacobianError as err:
+        raise SingularJacobianError(
+            f"{stage} stage at theta2={theta2:.6g}: {err}", x=err.x, condition_number=err.condition_number
+        ) from err
+    except ConvergenceError as err:
+        raise ConvergenceError(f"{stage} stage at theta2={theta2:.6g}: {err}", result=err.result) from err
+
+
+def _direct_stage(
+    stage: str, F: Callable, J: Callable, seed: np.ndarray, tol: float, theta2: float, max_iter: int = 1
+):
+    """A linear stage solved directly: one Newton step, exact for a linear system."""
+    jac = J(seed)
+    condition = np.linalg.cond(jac)
+    if not condition < MAX_CONDITION:
+        raise SingularJacobianError(
+            f"{stage} stage at theta2={theta2:.6g}: the Jacobian is singular "
+            f"(condition number {condition:.3g})",
+            x=seed.tolist(),
+            condition_number=condition,
+        )
+    residual0 = F(seed)
+    step = np.linalg.solve(jac, -residual0)
+    x = seed + step
+    residual1 = F(x)
+    return NewtonResult(
+        x=x,
+        converged=bool(np.linalg.norm(residual1) <= tol),
+        iterations=1,
+        history=np.array([seed, x]),
+        step_norms=np.array([np.linalg.norm(step)]),
+        step_components=np.abs(step)[None, :],
+        residual_norms=np.array([np.linalg.norm(residual0), np.linalg.norm(residual1)]),
+    )
+
+
+def solve_consecutive(
+    theta2: float,
+    omega2: float = 0.0,
+    alpha2: float = 0.0,
+    x0=None,
+    tol: float = 1e-6,
+    *,
+    saw: Saw = COURSE_SAW,
+    variant: str = "loop",
+    linear_stages: str = "newton",
+    max_iter: int = 50,
+) -> SawSolution:
+    """Newton–Raphson stage by stage, as the course's "NR consecutivo": position (3×3), then
+    velocity with that position, then acceleration with both.
+
+    ``theta2`` (rad), ``omega2`` (rad/s), ``alpha2`` (rad/s²) are the crank's motion; ``x0`` the
+    nine-value seed (default: the report's eq. 16, :data:`SEED_PRINTED`); ``tol`` the course's step
+    tolerance ‖x_{n+1} − x_n‖ < tol.  ``variant`` chooses the position equations ("loop": (7)–(9);
+    "substituted": the system of eq. 17).  ``linear_stages="direct"`` solves the velocity and
+    acceleration stages, which are linear, with a single linear solve instead of Newton iterations.
+
+    Raises ``UnreachableError`` if the rod cannot reach the slider line at ``theta2``,
+    ``SingularJacobianError`` at a limit position or from a seed with a singular Jacobian.
+
+    >>> solution = solve_consecutive(0.0)
+    >>> [solution.stages[s].iterations for s in ("position", "velocity", "acceleration")]
+    [4, 2, 2]
+    """
+    theta2 = _scalar("theta2", theta2, "rad")
+    omega2 = _scalar("omega2", omega2, "rad/s")
+    alpha2 = _scalar("alpha2", alpha2, "rad/s²")
+    require_choice("variant", variant, VARIANTS)
+    require_choice("linear_stages", linear_stages, LINEAR_STAGES)
+    seed = _seed(x0)
+    _check_assembly(theta2, saw)
+    linear = _newton_stage if linear_stages == "newton" else _direct_stage
+
+    position = _newton_stage(
+        "position",
+        lambda q: position_residual(q, theta2, saw=saw, variant=variant),
+        lambda q: position_jacobian(q, saw=saw, variant=variant),
+        seed[0:3],
+        tol,
+        theta2,
+        max_iter,
+    )
+    q = position.x
+    velocity_jac = velocity_jacobian(q, saw=saw)
+    velocity = linear(
+        "velocity",
+        lambda qd: velocity_residual(qd, q, theta2, omega2, saw=saw),
+        lambda qd: velocity_jac,
+        seed[3:6],
+        tol,
+        theta2,
+        max_iter,
+    )
+    qd = velocity.x
+    acceleration = linear(
+        "acceleration",
+        lambda qdd: acceleration_residual(qdd, qd, q, theta2, omega2, alpha2, saw=saw),
+        lambda qdd: velocity_jac,
+        seed[6:9],
+        tol,
+        theta2,
+        max_iter,
+    )
+    stages = {"position": position, "velocity": velocity, "acceleration": acceleration}
+    return SawSolution(
+        x=np.concatenate([position.x, velocity.x, acceleration.x]),
+        iterations=sum(stage.iterations for stage in stages.values()),
+        stages=MappingProxyType(stages),
+        method="consecutive",
+    )
+
+
+def solve_simultaneous(
+    theta2: float,
+    omega2: float = 0.0,
+    alpha2: float = 0.0,
+    x0=None,
+    tol: float = 1e-6,
+    *,
+    saw: Saw = COURSE_SAW,
+    variant: str = "loop",
+    max_iter: int = 50,
+) -> SawSolution:
+    """Newton–Raphson on all nine equations at once (the course's "NR simultáneo", 9×9 Jacobian
+    of appendix D).  Arguments and errors as :func:`solve_consecutive`.
+
+    >>> solution = solve_simultaneous(0.0, x0=SEED_CODE)
+    >>> solution.iterations, bool(np.abs(solution.x[3:]).max() < 1e-12)
+    (5, True)
+    """
+    theta2 = _scalar("theta2", theta2, "rad")
+    omega2 = _scalar("omega2", omega2, "rad/s")
+    alpha2 = _scalar("alpha2", alpha2, "rad/s²")
+    require_choice("variant", variant, VARIANTS)
+    seed = _seed(x0)
+    _check_assembly(theta2, saw)
+    result = _newton_stage(
+        "simultaneous",
+        lambda x: system_residual(x, theta2, omega2, alpha2, saw=saw, variant=variant),
+        lambda x: system_jacobian(x, saw=saw, variant=variant),
+        seed,
+        tol,
+        theta2,
+        max_iter,
+    )
+    return SawSolution(
+        x=result.x,
+        iterations=result.iterations,
+        stages=MappingProxyType({"simultaneous": result}),
+        method="simultaneous",
+    )
+
+
+# ---------------------------------------------------------------- closed form
+
+
+def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreachable: str = "raise"):
+    """The nine unknowns in closed form (the course's eqs. 20–28), shape broadcast(θ2, ω2, α2) + (9,).
+
+    θ3 = π − asin((r1y − r2 sin θ2)/r3)                              (20)
+    θ1 = acot((r2 cos θ2 + r3 cos θ3)/r1y), kept in (−π/2, π/2]        (21)
+    r1 = r1y / sin θ1                          (the report's eq. 22 is labelled r1 but is ω3)
+    ω3 = −ω2 r2 cos θ2 / (r3 cos θ3)          (the report's eq. 23, labelled ω3, repeats θ1)
+    v_r = −cos θ1 (ω2 r2 sin θ2 + ω3 r3 sin θ3)                      (25)
+    ω1 = −v_r tan θ1 / r1                                             (24)
+    α3 = (r2 sin θ2 ω2² + r3 sin θ3 ω3² − α2 r2 cos θ2)/(r3 cos θ3)  (26)
+    a_r = r1 ω1² − r2 cos θ1 cos θ2 ω2² − r3 cos θ1 cos θ3 ω3² − α2 r2 cos θ1 sin θ2
+          − α3 r3 cos θ1 sin θ3                                       (28)
+    α1 = ω1² tan θ1 − (2 v_r ω1 + a_r tan θ1)/r1                     (27)
+
+    With the report's θ1 range, (r1, θ1) would jump if the slider passed over the crank
+    pivot; for the course's saw it never does.  ``on_unreachable="nan"`` gives NaN rows
+    instead of raising ``UnreachableError``.
+
+    >>> np.round(analytic(0.0)[:3], 6).tolist()
+    [-0.099672, -0.468422, 2.873694]
+    """
+    require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+    theta2 = require_finite("theta2", theta2, unit="rad")
+    omega2 = require_finite("omega2", omega2, unit="rad/s")
+    alpha2 = require_finite("alpha2", alpha2, unit="rad/s²")
+    theta2, omega2, alpha2 = np.broadcast_arrays(theta2, omega2, alpha2)
+    sine = _check_assembly(theta2, saw, on_unreachable)
+    bad = np.abs(sine) > 1.0
+    sine = np.where(bad, 0.0, sine)
+    r1y, r2, r3 = saw.r1y, saw.r2, saw.r3
+    s2, c2 = np.sin(theta2), np.cos(theta2)
+    theta3 = np.pi - np.arcsin(sine)
+    s3, c3 = np.sin(theta3), np.cos(theta3)
+    x_slider = r2 * c2 + r3 * c3
+    theta1 = np.arctan2(r1y, x_slider)  # acot(x / r1y) moved into (−π/2, π/2]
+    theta1 = np.where(theta1 > np.pi / 2, theta1 - np.pi, theta1)
+    theta1 = np.where(theta1 <= -np.pi / 2, theta1 + np.pi, theta1)
+    s1, c1, tan1 = np.sin(theta1), np.cos(theta1), np.tan(theta1)
+    r1 = r1y / s1
+    omega3 = -omega2 * r2 * c2 / (r3 * c3)
+    v_r = -c1 * (omega2 * r2 * s2 + omega3 * r3 * s3)
+    omega1 = -v_r * tan1 / r1
+    alpha3 = (r2 * s2 * omega2**2 + r3 * s3 * omega3**2 - alpha2 * r2 * c2) / (r3 * c3)
+    a_r = (
+        r1 * omega1**2 - r2 * c1 * c2 * omega2**2 - r3 * c1 * c3 * omega3**2
+        - alpha2 * r2 * c1 * s2 - alpha3 * r3 * c1 * s3
+    )
+    alpha1 = omega1**2 * tan1 - (2 * v_r * omega1 + a_r * tan1) / r1
+    values = np.stack([r1, theta1, theta3, v_r, omega1, omega3, a_r, alpha1, alpha3], axis=-1)
+    return np.where(bad[..., None], np.nan, values)
+
+
+def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
+    """Crank pivot O2, crank pin A and slider pin B (m), shape (..., 3, 2), for drawing.
+
+    >>> np.round(joint_positions(0.0), 4).tolist()
+    [[0.0, 0.0], [0.075, 0.0], [-0.0889, 0.045]]
+    """
+    theta2 = require_finite("theta2", theta2, unit="rad")
+    theta3 = analytic(theta2, saw=saw)[..., 2]
+    pivot = np.zeros(theta2.shape + (2,))
+    pin = _stack([saw.r2 * np.cos(theta2), saw.r2 * np.sin(theta2)])
+    slider = pin + _stack([saw.r3 * np.cos(theta3), saw.r3 * np.sin(theta3)])
+    return np.stack([pivot, pin, slider], axis=-2)
+
+
+# ---------------------------------------------------------------- the motion over the motor profile
+
+METHODS = ("consecutive", "simultaneous", "batched", "analytic")
+
+
+@dataclass(frozen=True)
+class SawSweep:
+    """The nine unknowns over the motor's start-up profile, one entry per time.
+
+    ``t`` (s) and the motor's ``theta2, omega2, alpha2``; the nine unknowns as arrays named
+    as in :data:`UNKNOWNS`; ``iterations`` the Newton updates per point (all stages; 0 for
+    "analytic") and ``stage_iterations`` per stage, shape (n, stages); ``method``.
+    """
+
+    t: np.ndarray
+    theta2: np.ndarray
+    omega2: np.ndarray
+    alpha2: np.ndarray
+    r1: np.ndarray
+    theta1: np.ndarray
+    theta3: np.ndarray
+    v_r: np.ndarray
+    omega1: np.ndarray
+    omega3: np.ndarray
+    a_r: np.ndarray
+    alpha1: np.ndarray
+    alpha3: np.ndarray
+    iterations: np.ndarray
+    stage_iterations: np.ndarray
+    method: str
+
+    @property
+    def x(self) -> np.ndarray:
+        """The nine unknowns as one (n, 9) array, columns ordered as :data:`UNKNOWNS`.
+
+        >>> sweep(5, method="analytic").x.shape
+        (5, 9)
+        """
+        return np.stack([getattr(self, name) for name in UNKNOWNS], axis=-1)
+
+
+def _batched(theta2, omega2, alpha2, seed, tol, saw, variant, linear_stages):
+    """All points at once: course_lib.newton.newton_batch per stage, every point from ``seed``."""
+    n = theta2.size
+
+    def run(stage, F, J, start):
+        if linear_stages == "direct" and stage != "position":
+            step = np.linalg.solve(J(start), -F(start)[..., None])[..., 0]
+            return start + step, np.ones(n, dtype=int)
+        result = newton_batch(F, start, jac=J, tol=tol)
+        for mask, error, what in (
+            (result.singular, SingularJacobianError, "the Jacobian became singular"),
+            (~result.converged, ConvergenceError, "Newton did not converge"),
+        ):
+            if mask.any():
+                first = int(np.flatnonzero(mask)[0])
+                raise error(
+                    f"{stage} stage at theta2={theta2[first]:.6g}: {what} "
+                    f"({int(mask.sum())} of {n} points, first at index {first})"
+                )
+        return result.x, result.iterations
+
+    q, it_pos = run(
+        "position",
+        lambda q: position_residual(q, theta2, saw=saw, variant=variant),
+        lambda q: position_jacobian(q, saw=saw, variant=variant),
+        np.tile(seed[0:3], (n, 1)),
+    )
+    jac = velocity_jacobian(q, saw=saw)
+    qd, it_vel = run(
+        "velocity",
+        lambda qd: velocity_residual(qd, q, theta2, omega2, saw=saw),
+        lambda qd: jac,
+        np.tile(seed[3:6], (n, 1)),
+    )
+    qdd, it_acc = run(
+        "acceleration",
+        lambda qdd: acceleration_residual(qdd, qd, q, theta2, omega2, alpha2, saw=saw),
+        lambda qdd: jac,
+        np.tile(seed[6:9], (n, 1)),
+    )
+    return np.concatenate([q, qd, qdd], axis=1), np.stack([it_pos, it_vel, it_acc], axis=1)
+
+
+def sweep(
+    n: int = 1000,
+    method: str = "simultaneous",
+    *,
+    tol: float = 1e-6,
+    x0=None,
+    saw: Saw = COURSE_SAW,
+    variant: str = "loop",
+    linear_stages: str = "newton",
+    t_end: float | None = None,
+) -> SawSweep:
+    """Solve the saw at ``n`` equally spaced times on [0, ``t_end``] (default 2T ≈ 3.883 s) of the
+    motor profile (:func:`course_lib.profile.motor_profile`).
+
+    ``method``: "consecutive" or "simultaneous" (one Newton solve per point, each seeded with the
+    previous point's solution, the first with ``x0``, as the report does), "batched" (every point at
+    once with ``newton_batch``, position then velocity then acceleration, all seeded with ``x0``) or
+    "analytic" (the closed form).  ``tol``, ``variant`` and ``linear_stages`` as in
+    :func:`solve_consecutive`.
+
+    >>> result = sweep(50, method="consecutive")
+    >>> bool(np.allclose(result.x, sweep(50, method="analytic").x, atol=1e-9))
+    True
+    """
+    require_choice("method", method, METHODS)
+    require_choice("variant", variant, VARIANTS)
+    require_choice("linear_stages", linear_stages, LINEAR_STAGES)
+    if isinstance(n, bool) or int(n) != n or n < 2:
+        raise InvalidGeometryError(f"n must be an integer number of points >= 2; got {n!r}")
+    n = int(n)
+    end = 2 * first_turn_time() if t_end is None else require_positive("t_end", t_end)
+    t = np.linspace(0.0, end, n)
+    profile = motor_profile(t)
+    theta2, omega2, alpha2 = profile
+    seed = _seed(x0)
+    _check_assembly(theta2, saw)
+
+    if method == "analytic":
+        values = analytic(theta2, omega2, alpha2, saw=saw)
+        stage_iterations = np.zeros((n, 0), dtype=int)
+    elif method == "batched":
+        values, stage_iterations = _batched(theta2, omega2, alpha2, seed, tol, saw, variant, linear_stages)
+    else:
+        values = np.empty((n, 9))
+        stage_iterations = np.empty((n, 3 if method == "consecutive" else 1), dtype=int)
+        for k in range(n):
+            if method == "consecutive":
+                solution = solve_consecutive(
+                    theta2[k], omega2[k], alpha2[k], seed, tol, saw=saw, variant=variant,
+                    linear_stages=linear_stages,
+                )
+            else:
+                solution = solve_simultaneous(
+                    theta2[k], omega2[k], alpha2[k], seed, tol, saw=saw, variant=variant
+                )
+            values[k] = seed = solution.x
+            stage_iterations[k] = [stage.iterations for stage in solution.stages.values()]
+    columns = dict(zip(UNKNOWNS, values.T, strict=True))
+    return SawSweep(
+        t=t,
+        theta2=theta2,
+        omega2=omega2,
+        alpha2=alpha2,
+        **columns,
+        iterations=stage_iterations.sum(axis=1),
+        stage_iterations=stage_iterations,
+        method=method,
+    )

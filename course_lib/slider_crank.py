@@ -1,0 +1,117 @@
+"""The offset slider-crank in the textbook's Cartesian form.
+
+The crank (length ``crank``, angle θ2) turns about the origin O2; the rod
+(length ``rod``, angle θ3, measured from the crank pin A to the slider pin B)
+drives the slider pin B = (x, offset) along the line y = ``offset``.  Writing
+B = A + rod·(cos θ3, sin θ3) and keeping y = offset gives
+
+    sin θ3 = (offset − crank·sin θ2) / rod,    x = crank·cos θ2 ± √(rod² − (offset − crank·sin θ2)²),
+
+the sign choosing the assembly: ``branch="right"`` (slider to the right of the crank
+pin, θ3 in (−π/2, π/2)) or ``branch="left"`` (θ3 in (π/2, 3π/2), the course's power saw).
+Differentiating the y-component gives ω3 and α3, the x-component v and a.
+
+It is the same machine as :mod:`course_lib.saw`, written with the slider coordinate x
+instead of the saw's polar r1, θ1: x = r1 cos θ1, offset = r1 sin θ1 = r1y.
+SI units and radians.
+
+>>> saw = OffsetSliderCrank(crank=0.075, rod=0.170, offset=0.045)
+>>> motion = saw.solve(0.0, branch="left")
+>>> round(float(motion.x), 6), round(float(motion.theta3), 6)
+(-0.088936, 2.873694)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import (
+    SingularJacobianError,
+    report_unreachable,
+    require_choice,
+    require_finite,
+    require_positive,
+)
+
+__all__ = ["OffsetSliderCrank", "SliderCrankMotion", "BRANCHES"]
+
+#: Assemblies of the slider-crank: slider pin to the right or to the left of the crank pin.
+BRANCHES = ("right", "left")
+
+
+@dataclass(frozen=True)
+class SliderCrankMotion:
+    """Rod angle θ3 (rad), slider position x (m), ω3 (rad/s), slider velocity v (m/s),
+    α3 (rad/s²) and slider acceleration a (m/s²); arrays broadcast from the inputs."""
+
+    theta3: np.ndarray
+    x: np.ndarray
+    omega3: np.ndarray
+    v: np.ndarray
+    alpha3: np.ndarray
+    a: np.ndarray
+
+
+@dataclass(frozen=True)
+class OffsetSliderCrank:
+    """Crank pivot at the origin, slider pin on the line y = ``offset`` (lengths in metres).
+
+    >>> OffsetSliderCrank(0.05, 0.2, 0.0).solve(0.0).x.tolist()
+    0.25
+    """
+
+    crank: float
+    rod: float
+    offset: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "crank", require_positive("crank", self.crank))
+        object.__setattr__(self, "rod", require_positive("rod", self.rod))
+        object.__setattr__(self, "offset", float(require_finite("offset", self.offset, unit="metres")))
+
+    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "right") -> SliderCrankMotion:
+        """Position, velocity and acceleration of rod and slider for the crank's θ2 (rad),
+        ω2 (rad/s), α2 (rad/s²); vectorized.
+
+        Raises ``UnreachableError`` where |offset − crank·sin θ2| > rod (the rod cannot reach the
+        slider line) and ``SingularJacobianError`` where it just reaches it (rod perpendicular to
+        the line, cos θ3 = 0: the rates are undefined).
+
+        >>> motion = OffsetSliderCrank(0.05, 0.2).solve(np.pi / 2, omega2=1.0)
+        >>> round(float(motion.v), 6), round(float(motion.omega3), 6)
+        (-0.05, 0.0)
+        """
+        require_choice("branch", branch, BRANCHES)
+        theta2 = require_finite("theta2", theta2, unit="rad")
+        omega2 = require_finite("omega2", omega2, unit="rad/s")
+        alpha2 = require_finite("alpha2", alpha2, unit="rad/s²")
+        theta2, omega2, alpha2 = np.broadcast_arrays(theta2, omega2, alpha2)
+        a2, b3 = self.crank, self.rod
+        s2, c2 = np.sin(theta2), np.cos(theta2)
+        height = self.offset - a2 * s2  # vertical rise of the rod from A to B
+        report_unreachable(
+            np.abs(height) > b3,
+            {"theta2": theta2},
+            f"the rod ({b3:g} m) cannot reach the slider line y = {self.offset:g} m",
+        )
+        reach = np.sqrt(np.maximum(b3**2 - height**2, 0.0))  # horizontal run of the rod, ≥ 0
+        if np.any(reach <= 1e-6 * b3):
+            first = float(theta2[reach <= 1e-6 * b3].ravel()[0])
+            raise SingularJacobianError(
+                f"the rod is perpendicular to the slider line at theta2={first:.6g} "
+                "(cos(theta3) = 0): the velocity equations are singular there",
+                x=first,
+            )
+        run = reach if branch == "right" else -reach
+        x = a2 * c2 + run
+        theta3 = np.arctan2(height, run)
+        if branch == "left":
+            theta3 = np.mod(theta3, 2 * np.pi)  # keep θ3 in (π/2, 3π/2)
+        s3, c3 = height / b3, run / b3
+        omega3 = -a2 * omega2 * c2 / (b3 * c3)
+        v = -a2 * omega2 * s2 - b3 * omega3 * s3
+        alpha3 = (a2 * omega2**2 * s2 + b3 * omega3**2 * s3 - a2 * alpha2 * c2) / (b3 * c3)
+        a = -a2 * (alpha2 * s2 + omega2**2 * c2) - b3 * (alpha3 * s3 + omega3**2 * c3)
+        return SliderCrankMotion(theta3=theta3, x=x, omega3=omega3, v=v, alpha3=alpha3, a=a)

@@ -20,7 +20,7 @@ lab: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/ruff check .
-	$(BIN)/python -m pytest -p xdist -n 2 --dist loadfile --nbval --nbval-current-env \
+	$(BIN)/python -m pytest -rs -p xdist -n 2 --dist loadfile --nbval --nbval-current-env \
 		--nbval-sanitize-with tests/sanitize.cfg --nbval-cell-timeout=600
 
 execute: $(STAMP)

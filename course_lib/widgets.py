@@ -1,0 +1,475 @@
+"""Interactive explorers (ipywidgets): move a slider, watch the mechanism move.
+
+Each builder — :func:`fourbar_explorer`, :func:`saw_explorer`, :func:`fivebar_explorer` —
+returns an :class:`Explorer`: the controls (sliders, toggles), **one** matplotlib figure that
+is reused for every event, a readout, and the plain update step ``update(**state)``.  The
+figure is a bare ``matplotlib.figure.Figure`` on an Agg canvas (never registered with pyplot,
+so it is never shown twice and never leaks); each event moves the artists' data and renders the
+figure to PNG bytes, which become the value of an ``ipywidgets.Image``.  Artists that move with
+the input angle or time are drawn over a cached background (blitting), so a slider event costs a
+few milliseconds; the background is re-rendered only when a length, branch or mode changes.
+
+An input for which the mechanism cannot be assembled never raises: the explorer catches the
+``course_lib.errors.CourseLibError`` and explains, in the readout and on the drawing, why.
+
+Units: lengths in metres, time in seconds; the sliders show angles in degrees (the state keys
+say so: ``theta2_deg``), the library underneath works in radians.
+
+>>> explorer = fourbar_explorer()
+>>> explorer.update(theta2_deg=90.0).status
+'ok'
+>>> explorer.image.value[:4] == b"\\x89PNG"
+True
+"""
+
+from __future__ import annotations
+
+import html
+import io
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import ipywidgets as widgets
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle, Polygon
+from PIL import Image as PILImage
+
+from .errors import CourseLibError, InvalidGeometryError
+from .fourbar import FourBar
+from .plotting import LINK_COLORS
+
+__all__ = ["Explorer", "Readout", "fourbar_explorer"]
+
+#: Description width shared by every slider, so the columns line up.
+_STYLE = {"description_width": "120px"}
+_SLIDER_LAYOUT = {"width": "340px"}
+_ERROR_COLOR = "#b00020"
+
+
+@dataclass(frozen=True)
+class Readout:
+    """What one update step reports.
+
+    Attributes
+    ----------
+    status : ``"ok"``, or a short word for why nothing could be drawn (``"unreachable"``,
+        ``"invalid"``, ``"singular"``, …).
+    lines : the readout, one plain-text line each (shown in the widget as HTML).
+
+    >>> Readout("ok", ("θ3 = 10°",)).text
+    'θ3 = 10°'
+    """
+
+    status: str
+    lines: tuple[str, ...] = ()
+
+    @property
+    def text(self) -> str:
+        """The readout as plain text, one line per entry.
+
+        >>> Readout("ok", ("a", "b")).text
+        'a\\nb'
+        """
+        return "\n".join(self.lines)
+
+    def html(self) -> str:
+        """The readout as HTML (escaped), coloured red when the status is not ``"ok"``.
+
+        >>> Readout("ok", ("a < b",)).html()
+        '<div class="course-explorer-readout-text">a &lt; b</div>'
+        """
+        body = "<br>".join(html.escape(line) for line in self.lines)
+        style = "" if self.status == "ok" else f' style="color:{_ERROR_COLOR}"'
+        return f'<div class="course-explorer-readout-text"{style}>{body}</div>'
+
+
+@dataclass(eq=False)
+class Explorer:
+    """Controls + one reused figure + readout, tied together by a plain update step.
+
+    Attributes
+    ----------
+    name : which mechanism ("four-bar", "power saw", "five-bar").
+    controls : the input widgets by state key (e.g. ``"theta2_deg"``); their values are the state.
+    figure : the one matplotlib Figure (Agg canvas) every event redraws.
+    artists : the moving artists by name (lines, markers, texts), for tests and for curious users.
+    draw : ``draw(state, geometry_changed) -> Readout`` — computes the mechanism and moves the artists.
+    geometry_keys : state keys whose change alters the static background (lengths, branch, mode).
+    extra : further widgets shown under the controls (e.g. the Play button); not part of the state.
+    image, readout, widget : the ``ipywidgets.Image`` showing the figure, the ``ipywidgets.HTML``
+        readout, and the top-level container to display.
+    last : the :class:`Readout` of the latest update.
+
+    Displaying an explorer in a notebook displays ``widget``.
+    """
+
+    name: str
+    controls: dict[str, widgets.ValueWidget]
+    figure: Figure
+    artists: dict[str, object]
+    draw: Callable[[Mapping[str, object], bool], Readout]
+    geometry_keys: tuple[str, ...] = ()
+    extra: tuple[widgets.Widget, ...] = ()
+    last: Readout = field(default=Readout("ok"), init=False)
+
+    def __post_init__(self) -> None:
+        self.canvas = FigureCanvasAgg(self.figure)
+        self._animated = [a for a in self.artists.values() if getattr(a, "get_animated", lambda: False)()]
+        self._background = None
+        self._drawn_geometry: dict[str, object] | None = None
+        self._holding = False
+        self.image = widgets.Image(format="png", layout={"width": f"{self.figure.bbox.width:.0f}px"})
+        self.image.add_class("course-explorer-image")
+        self.readout = widgets.HTML(layout={"width": f"{self.figure.bbox.width:.0f}px"})
+        self.readout.add_class("course-explorer-readout")
+        for control in self.controls.values():
+            control.observe(self._on_change, names="value")
+        column = widgets.VBox([*self.controls.values(), *self.extra], layout={"width": "360px"})
+        self.widget = widgets.HBox([column, widgets.VBox([self.image, self.readout])])
+        self.widget.add_class("course-explorer")
+        self.refresh()
+
+    # ------------------------------------------------------------------ state
+    @property
+    def state(self) -> dict[str, object]:
+        """The current input values by key (a copy).
+
+        >>> sorted(fourbar_explorer().state)[:3]
+        ['branch', 'coupler', 'crank']
+        """
+        return {key: control.value for key, control in self.controls.items()}
+
+    @property
+    def status(self) -> str:
+        """``"ok"`` or why the last state could not be drawn.
+
+        >>> fourbar_explorer().status
+        'ok'
+        """
+        return self.last.status
+
+    @property
+    def message(self) -> str:
+        """The readout of the last update as plain text.
+
+        >>> "Grashof" in fourbar_explorer().message
+        True
+        """
+        return self.last.text
+
+    def update(self, **state) -> Readout:
+        """Set some inputs (by state key) and redraw once; returns the :class:`Readout`.
+
+        Values are set on the widgets, so a slider clamps them to its range as it would for a user.
+        An unknown key raises ``InvalidGeometryError`` naming it and the valid keys.
+
+        >>> fourbar_explorer().update(theta2_deg=45.0, branch="crossed").status
+        'ok'
+        """
+        unknown = sorted(set(state) - set(self.controls))
+        if unknown:
+            raise InvalidGeometryError(
+                f"unknown explorer input {unknown[0]!r}; valid inputs: {', '.join(self.controls)}"
+            )
+        self._holding = True
+        try:
+            for key, value in state.items():
+                self.controls[key].value = value
+        finally:
+            self._holding = False
+        return self.refresh()
+
+    def refresh(self) -> Readout:
+        """Recompute and redraw from the current widget values; returns the :class:`Readout`.
+
+        >>> fourbar_explorer().refresh().status
+        'ok'
+        """
+        state = self.state
+        geometry = {key: state[key] for key in self.geometry_keys}
+        changed = self._drawn_geometry is None or geometry != self._drawn_geometry
+        self.last = self.draw(state, changed)
+        if changed:
+            self._drawn_geometry = geometry
+        self.image.value = self.render(full=changed)
+        self.readout.value = self.last.html()
+        return self.last
+
+    # ---------------------------------------------------------------- drawing
+    def render(self, full: bool = True) -> bytes:
+        """The figure as PNG bytes; ``full=False`` redraws only the moving artists over the cached background.
+
+        >>> fourbar_explorer().render()[:4] == b"\\x89PNG"
+        True
+        """
+        if full or self._background is None:
+            self.canvas.draw()  # animated artists are skipped here ...
+            self._background = self.canvas.copy_from_bbox(self.figure.bbox)
+        else:
+            self.canvas.restore_region(self._background)
+        for artist in self._animated:  # ... and drawn on top, alone
+            if artist.get_visible():
+                (artist.axes or self.figure).draw_artist(artist)
+        width, height = self.canvas.get_width_height()
+        rgba = PILImage.frombuffer("RGBA", (width, height), self.canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
+        picture = rgba.convert("RGB")  # opaque figure: RGB encodes faster and smaller
+        buffer = io.BytesIO()
+        picture.save(buffer, format="PNG", compress_level=1)
+        return buffer.getvalue()
+
+    def _on_change(self, change) -> None:
+        if not self._holding:
+            self.refresh()
+
+    def _repr_mimebundle_(self, **kwargs):
+        return self.widget._repr_mimebundle_(**kwargs)
+
+
+# ---------------------------------------------------------------------------- helpers
+def _slider(description: str, value: float, low: float, high: float, step: float, fmt: str = ".3f"):
+    return widgets.FloatSlider(
+        value=value, min=low, max=high, step=step, description=description, readout_format=fmt,
+        continuous_update=True, style=_STYLE, layout=_SLIDER_LAYOUT,
+    )
+
+
+def _toggle(description: str, options, value):
+    return widgets.ToggleButtons(
+        options=options, value=value, description=description, style={**_STYLE, "button_width": "90px"},
+    )
+
+
+def _figure(width: float, height: float) -> Figure:
+    """A bare Figure (no pyplot): rendered by the explorer's own Agg canvas; fixed layout (fast)."""
+    return Figure(figsize=(width, height), dpi=80)
+
+
+def _set_equal_limits(ax, xmin: float, xmax: float, ymin: float, ymax: float) -> None:
+    """Limits covering the box with equal x and y scales, for the axes' fixed size on the figure."""
+    box = ax.get_position()
+    width_in, height_in = ax.figure.get_size_inches()
+    box_width, box_height = box.width * width_in, box.height * height_in
+    scale = max((xmax - xmin) / box_width, (ymax - ymin) / box_height)
+    x_mid, y_mid = (xmin + xmax) / 2, (ymin + ymax) / 2
+    ax.set_xlim(x_mid - scale * box_width / 2, x_mid + scale * box_width / 2)
+    ax.set_ylim(y_mid - scale * box_height / 2, y_mid + scale * box_height / 2)
+
+
+def _moving_line(ax, *args, **kwargs):
+    (line,) = ax.plot(*args, animated=True, **kwargs)
+    return line
+
+
+def _ground_triangle(size: float) -> np.ndarray:
+    return np.array([[0.0, 0.0], [-size, -1.6 * size], [size, -1.6 * size]])
+
+
+def _deg(value) -> float:
+    return float(np.degrees(value))
+
+
+# ---------------------------------------------------------------------------- four-bar
+_FOURBAR_CURVE_POINTS = 361
+
+
+def fourbar_explorer(
+    crank: float = 0.06,
+    coupler: float = 0.18,
+    rocker: float = 0.12,
+    ground: float = 0.20,
+    theta2: float = np.pi / 3,
+    branch: str = "open",
+    p: float | None = None,
+    delta: float = np.radians(30.0),
+) -> Explorer:
+    """Explorer of a four-bar linkage (:class:`course_lib.fourbar.FourBar`).
+
+    Sliders: ground l1, crank l2, coupler l3, rocker l4 (m), crank angle θ2 (°), coupler point
+    P at distance p (m) from A, turned δ (°) from AB; toggle: branch open / crossed.
+    Drawing: the linkage at θ2, the coupler curve of P over every θ2 that assembles, and the
+    transmission angle μ(θ2) with a cursor.  Readout: Grashof class, θ3, θ4, μ, input range.
+    At a θ2 where the loop cannot close (outside a non-Grashof linkage's input range) the readout
+    says why — |AO4| against l3 + l4 and |l3 − l4| — and the drawing shows the two circles that
+    fail to meet.  Arguments are the initial values, SI units and radians.
+
+    >>> explorer = fourbar_explorer(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20)
+    >>> explorer.update(theta2_deg=120.0).status
+    'unreachable'
+    >>> "outside the input range" in explorer.message
+    True
+    """
+    p = 0.5 * coupler if p is None else p
+    controls = {
+        "ground": _slider("ground l1 (m)", ground, 0.02, 0.40, 0.005),
+        "crank": _slider("crank l2 (m)", crank, 0.02, 0.40, 0.005),
+        "coupler": _slider("coupler l3 (m)", coupler, 0.02, 0.40, 0.005),
+        "rocker": _slider("rocker l4 (m)", rocker, 0.02, 0.40, 0.005),
+        "theta2_deg": _slider("θ2 (°)", _deg(theta2), -180.0, 180.0, 1.0, ".0f"),
+        "branch": _toggle("branch", ("open", "crossed"), branch),
+        "p": _slider("coupler point p (m)", p, 0.0, 0.40, 0.005),
+        "delta_deg": _slider("coupler point δ (°)", _deg(delta), -180.0, 180.0, 5.0, ".0f"),
+    }
+    figure = _figure(8.6, 3.8)
+    grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,
+                               top=0.97, wspace=0.22)
+    ax = figure.add_subplot(grid[0])
+    ax_mu = figure.add_subplot(grid[1])
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, linestyle="--", alpha=0.5)
+    ax_mu.set_xlabel("θ2 (°)")
+    ax_mu.set_ylabel("transmission angle μ (°)")
+    ax_mu.set_xlim(-180, 180)
+    ax_mu.set_ylim(0, 92)
+    ax_mu.set_xticks(np.arange(-180, 181, 90))
+    ax_mu.axhline(40.0, color="0.5", linestyle=":", lw=1)
+    ax_mu.text(-175, 42, "μ = 40°", color="0.4", fontsize=8)
+    ax_mu.grid(True, linestyle="--", alpha=0.5)
+    curve_line, = ax.plot([], [], color="tab:purple", lw=1.2, label="coupler curve of P")
+    mu_line, = ax_mu.plot([], [], color="tab:purple", lw=1.5)
+    artists = {
+        "coupler_curve": curve_line,
+        "mu_curve": mu_line,
+        "ground": _moving_line(ax, [], [], "--", color=LINK_COLORS[3], lw=1.5),
+        "crank": _moving_line(ax, [], [], color=LINK_COLORS[0], lw=3, solid_capstyle="round"),
+        "coupler": _moving_line(ax, [], [], color=LINK_COLORS[1], lw=3, solid_capstyle="round"),
+        "rocker": _moving_line(ax, [], [], color=LINK_COLORS[2], lw=3, solid_capstyle="round"),
+        "plate": _moving_line(ax, [], [], color=LINK_COLORS[1], lw=1, alpha=0.6),
+        "joints": _moving_line(ax, [], [], "o", ms=7, mfc="white", mec="black", zorder=4),
+        "point_p": _moving_line(ax, [], [], "o", ms=6, color="tab:purple", zorder=5),
+        "mu_cursor": _moving_line(ax_mu, [], [], "o", ms=7, color="black", zorder=5),
+        "mu_cursor_line": ax_mu.axvline(0.0, color="black", lw=1, animated=True),
+        "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
+                           fontsize=10, fontweight="bold", animated=True),
+    }
+    for key, label in (("O2", "O2"), ("A", "A"), ("B", "B"), ("O4", "O4"), ("P", "P")):
+        artists[f"label_{key}"] = ax.text(0, 0, label, fontsize=9, animated=True)
+    for key in ("ground_O2", "ground_O4"):
+        patch = Polygon(_ground_triangle(0.01), closed=True, facecolor="none", edgecolor="0.3",
+                        hatch="///", lw=1, animated=True)
+        artists[key] = ax.add_patch(patch)
+    for key in ("reach_A", "reach_O4"):
+        circle = Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.45", lw=1, animated=True)
+        artists[key] = ax.add_patch(circle)
+    ax.legend(handles=[curve_line], loc="lower right", fontsize=8)
+
+    def draw(state, geometry_changed: bool) -> Readout:
+        return _draw_fourbar(state, geometry_changed, artists, ax, ax_mu)
+
+    geometry = ("ground", "crank", "coupler", "rocker", "branch", "p", "delta_deg")
+    return Explorer("four-bar", controls, figure, artists, draw, geometry)
+
+
+def _draw_fourbar(state, geometry_changed, artists, ax, ax_mu) -> Readout:
+    """Solve the four-bar at the state's θ2 and move the artists; the plain update step."""
+    theta2 = np.radians(float(state["theta2_deg"]))
+    branch = state["branch"]
+    try:
+        linkage = FourBar(crank=state["crank"], coupler=state["coupler"], rocker=state["rocker"],
+                          ground=state["ground"])
+    except CourseLibError as err:
+        _hide(artists, "ground crank coupler rocker plate joints point_p mu_cursor reach_A reach_O4")
+        artists["failure"].set_text("invalid lengths")
+        return Readout("invalid", (str(err),))
+    l1, l2, l3, l4 = linkage.l1, linkage.l2, linkage.l3, linkage.l4
+    p, delta = float(state["p"]), np.radians(float(state["delta_deg"]))
+    if geometry_changed:
+        sweep = np.linspace(-np.pi, np.pi, _FOURBAR_CURVE_POINTS)
+        curve = linkage.coupler_point(sweep, p, delta, branch=branch, on_unreachable="nan").position
+        mu = linkage.transmission_angle(sweep, branch=branch, on_unreachable="nan")
+        artists["coupler_curve"].set_data(curve[:, 0], curve[:, 1])
+        artists["mu_curve"].set_data(np.degrees(sweep), np.degrees(mu))
+        _fourbar_limits(ax, linkage, curve)
+        size = 0.035 * max(l1, l2, l4)
+        artists["ground_O2"].set_xy(_ground_triangle(size))
+        artists["ground_O4"].set_xy(_ground_triangle(size) + [l1, 0.0])
+    grashof = linkage.grashof()
+    relation = "<" if grashof.s_plus_l < grashof.p_plus_q else ">" if grashof.name.startswith("non") else "="
+    lines = [
+        f"{grashof.name}: s + l = {grashof.s_plus_l:.3f} m {relation} p + q = {grashof.p_plus_q:.3f} m "
+        f"(shortest: {grashof.shortest}, longest: {grashof.longest})",
+        _input_range_text(linkage),
+    ]
+    A = np.array([l2 * np.cos(theta2), l2 * np.sin(theta2)])
+    O4 = np.array([l1, 0.0])
+    artists["ground"].set_data([0.0, l1], [0.0, 0.0])
+    artists["crank"].set_data([0.0, A[0]], [0.0, A[1]])
+    offset = 0.04 * max(l1, l2, l3, l4)
+    for key, where in (("O2", (0.0, 0.0)), ("A", A), ("O4", O4)):
+        artists[f"label_{key}"].set_position((where[0] + offset, where[1] + offset))
+    _show(artists, "ground crank joints label_O2 label_O4 label_A ground_O2 ground_O4 mu_cursor_line")
+    try:
+        solution = linkage.solve(theta2, branch=branch)
+        mu = linkage.transmission_angle(theta2, branch=branch)
+        point = linkage.coupler_point(theta2, p, delta, branch=branch).position
+    except CourseLibError as err:
+        distance = float(np.hypot(*(O4 - A)))
+        _hide(artists, "coupler rocker plate point_p mu_cursor label_B label_P")
+        artists["joints"].set_data([0.0, A[0], l1], [0.0, A[1], 0.0])
+        artists["reach_A"].set(center=tuple(A), radius=l3, visible=True)
+        artists["reach_O4"].set(center=tuple(O4), radius=l4, visible=True)
+        artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
+        artists["failure"].set_text(f"cannot assemble at θ2 = {np.degrees(theta2):.0f}°")
+        if distance > l3 + l4:
+            why = f"|AO4| = {distance:.3f} m > l3 + l4 = {l3 + l4:.3f} m: coupler and rocker cannot reach"
+        else:
+            why = f"|AO4| = {distance:.3f} m < |l3 − l4| = {abs(l3 - l4):.3f} m: the longer link overshoots"
+        return Readout("unreachable", (
+            f"θ2 = {np.degrees(theta2):.0f}° is outside the input range: the loop cannot close.",
+            why + " (the dashed circles about A and O4 do not meet).",
+            "Move θ2 back into the input range, or change the lengths.",
+            lines[0], lines[1], f"course_lib says: {err}",
+        ))
+    B = O4 + l4 * np.array([np.cos(solution.theta4), np.sin(solution.theta4)])
+    _hide(artists, "reach_A reach_O4")
+    artists["failure"].set_text("")
+    for key in ("coupler", "rocker", "plate", "point_p", "mu_cursor", "label_B", "label_P"):
+        artists[key].set_visible(True)
+    artists["coupler"].set_data([A[0], B[0]], [A[1], B[1]])
+    artists["rocker"].set_data([B[0], l1], [B[1], 0.0])
+    artists["plate"].set_data([A[0], point[0], B[0]], [A[1], point[1], B[1]])
+    artists["joints"].set_data([0.0, A[0], B[0], l1], [0.0, A[1], B[1], 0.0])
+    artists["point_p"].set_data([point[0]], [point[1]])
+    artists["label_B"].set_position((B[0] + offset, B[1] + offset))
+    artists["label_P"].set_position((point[0] + offset, point[1] + offset))
+    artists["mu_cursor"].set_data([np.degrees(theta2)], [np.degrees(mu)])
+    artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
+    warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
+    return Readout("ok", (
+        f"θ2 = {np.degrees(theta2):.1f}°  →  θ3 = {np.degrees(solution.theta3):.2f}°, "
+        f"θ4 = {np.degrees(solution.theta4):.2f}°  ({branch} branch)",
+        f"transmission angle μ = {np.degrees(mu):.2f}°{warning}",
+        f"coupler point P = ({point[0]:.4f}, {point[1]:.4f}) m",
+        *lines,
+    ))
+
+
+def _input_range_text(linkage: FourBar) -> str:
+    reach = linkage.input_range()
+    if reach.full_rotation:
+        return "input range: θ2 turns fully (0° to 360°)"
+    if not reach.intervals:
+        return "input range: none — these lengths cannot be assembled at any θ2"
+    parts = " and ".join(f"[{np.degrees(a):.1f}°, {np.degrees(b):.1f}°]" for a, b in reach.intervals)
+    return f"input range: θ2 in {parts} (toggle positions at the ends)"
+
+
+def _fourbar_limits(ax, linkage: FourBar, curve: np.ndarray) -> None:
+    """Fixed limits for a given geometry: crank circle, rocker circle and the coupler curve."""
+    l1, l2, l4 = linkage.l1, linkage.l2, linkage.l4
+    xs = [-l2, l2, l1 - l4, l1 + l4, *np.nan_to_num(curve[:, 0], nan=0.0)]
+    ys = [-l2, l2, -l4, l4, *np.nan_to_num(curve[:, 1], nan=0.0)]
+    margin = 0.08 * max(max(xs) - min(xs), max(ys) - min(ys))
+    _set_equal_limits(ax, min(xs) - margin, max(xs) + margin, min(ys) - margin, max(ys) + 2.5 * margin)
+
+
+def _hide(artists, names: str) -> None:
+    for name in names.split():
+        artists[name].set_visible(False)
+
+
+def _show(artists, names: str) -> None:
+    for name in names.split():
+        artists[name].set_visible(True)

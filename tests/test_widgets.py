@@ -1,0 +1,166 @@
+"""Headless tests of the explorers: drive the widgets, compare the drawing with independent geometry."""
+
+import gc
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from course_lib.errors import InvalidGeometryError
+from course_lib.widgets import fourbar_explorer
+
+
+def _figures_alive() -> int:
+    gc.collect()
+    return sum(isinstance(obj, Figure) for obj in gc.get_objects())
+
+
+def _circle_intersection(center_a, radius_a, center_b, radius_b):
+    """Both intersections of two circles, by the chord construction (no half-angle formula)."""
+    center_a, center_b = np.asarray(center_a, float), np.asarray(center_b, float)
+    d = np.hypot(*(center_b - center_a))
+    along = (radius_a**2 - radius_b**2 + d**2) / (2 * d)
+    half_chord = np.sqrt(radius_a**2 - along**2)
+    unit = (center_b - center_a) / d
+    normal = np.array([-unit[1], unit[0]])
+    foot = center_a + along * unit
+    return foot + half_chord * normal, foot - half_chord * normal
+
+
+def _fourbar_by_circles(l1, l2, l3, l4, theta2, branch):
+    """A and B of the four-bar: B meets |AB| = l3 and |O4B| = l4; "open" = B left of A → O4."""
+    A = l2 * np.array([np.cos(theta2), np.sin(theta2)])
+    O4 = np.array([l1, 0.0])
+    first, second = _circle_intersection(A, l3, O4, l4)
+    side = (O4 - A)[0] * (first - A)[1] - (O4 - A)[1] * (first - A)[0]
+    left, right = (first, second) if side > 0 else (second, first)
+    return A, (left if branch == "open" else right)
+
+
+def _xy(line):
+    x, y = line.get_data()
+    return np.asarray(x, float), np.asarray(y, float)
+
+
+@pytest.mark.parametrize("branch", ["open", "crossed"])
+def test_fourbar_drawing_matches_circle_intersection(branch):
+    explorer = fourbar_explorer(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20, branch=branch)
+    for theta2_deg in (-150.0, -30.0, 0.0, 45.0, 100.0, 170.0):
+        _check_fourbar_state(explorer, theta2_deg, branch)
+
+
+def _check_fourbar_state(explorer, theta2_deg, branch):
+    readout = explorer.update(theta2_deg=theta2_deg)
+    assert readout.status == "ok"
+    A, B = _fourbar_by_circles(0.20, 0.06, 0.18, 0.12, np.radians(theta2_deg), branch)
+    x, y = _xy(explorer.artists["coupler"])
+    np.testing.assert_allclose([x[0], y[0], x[1], y[1]], [*A, *B], atol=1e-12)
+    x, y = _xy(explorer.artists["rocker"])
+    np.testing.assert_allclose([x[1], y[1]], [0.20, 0.0], atol=1e-15)
+    # the readout's θ3, θ4 and μ (law of cosines on triangle A-B-O4) agree with this geometry
+    theta3 = np.degrees(np.arctan2(*(B - A)[::-1]))
+    theta4 = np.degrees(np.arctan2(B[1], B[0] - 0.20))
+    cos_joint = (0.18**2 + 0.12**2 - np.sum((np.array([0.20, 0.0]) - A) ** 2)) / (2 * 0.18 * 0.12)
+    joint = np.degrees(np.arccos(cos_joint))
+    mu = min(joint, 180 - joint)
+    assert f"θ3 = {theta3:.2f}°" in explorer.message
+    assert f"θ4 = {theta4:.2f}°" in explorer.message
+    assert f"μ = {mu:.2f}°" in explorer.message
+    x, y = _xy(explorer.artists["mu_cursor"])
+    np.testing.assert_allclose([x[0], y[0]], [theta2_deg, mu], atol=1e-9)
+
+
+def test_fourbar_coupler_curve_and_point_match_independent_geometry():
+    explorer = fourbar_explorer(crank=0.05, coupler=0.15, rocker=0.14, ground=0.18)
+    explorer.update(p=0.10, delta_deg=40.0, theta2_deg=75.0)
+    x, y = _xy(explorer.artists["coupler_curve"])
+    theta2 = np.linspace(-np.pi, np.pi, len(x))
+    for k in range(0, len(x), 36):
+        A, B = _fourbar_by_circles(0.18, 0.05, 0.15, 0.14, theta2[k], "open")
+        direction = np.arctan2(*(B - A)[::-1]) + np.radians(40.0)
+        P = A + 0.10 * np.array([np.cos(direction), np.sin(direction)])
+        np.testing.assert_allclose([x[k], y[k]], P, atol=1e-12)
+    A, B = _fourbar_by_circles(0.18, 0.05, 0.15, 0.14, np.radians(75.0), "open")
+    direction = np.arctan2(*(B - A)[::-1]) + np.radians(40.0)
+    px, py = _xy(explorer.artists["point_p"])
+    np.testing.assert_allclose([px[0], py[0]], A + 0.10 * np.array([np.cos(direction), np.sin(direction)]),
+                               atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("lengths", "expected"),
+    [
+        (dict(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20), "Grashof crank-rocker"),
+        (dict(crank=0.12, coupler=0.18, rocker=0.20, ground=0.06), "Grashof double-crank"),
+        (dict(crank=0.18, coupler=0.06, rocker=0.20, ground=0.12), "Grashof double-rocker"),
+        (dict(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20), "non-Grashof triple-rocker"),
+    ],
+)
+def test_fourbar_readout_names_grashof_class(lengths, expected):
+    ordered = sorted(lengths.values())
+    # Norton's rule, from the sorted lengths (s + l against p + q), as the expectation's sanity check
+    assert (ordered[0] + ordered[3] > ordered[1] + ordered[2]) == expected.startswith("non")
+    explorer = fourbar_explorer(**lengths, theta2=0.0)
+    assert expected + ":" in explorer.message
+
+
+def test_fourbar_unreachable_gives_message_not_exception():
+    # non-Grashof: |AO4| at θ2 = 120° is sqrt(0.2² + 0.15² + 0.2·0.15) = 0.304 m > l3 + l4 = 0.22 m
+    explorer = fourbar_explorer(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20)
+    distance = np.sqrt(0.20**2 + 0.15**2 - 2 * 0.20 * 0.15 * np.cos(np.radians(120.0)))
+    readout = explorer.update(theta2_deg=120.0)
+    assert readout.status == "unreachable"
+    assert "outside the input range" in explorer.message
+    assert f"|AO4| = {distance:.3f} m > l3 + l4 = 0.220 m" in explorer.message
+    assert "color:#b00020" in explorer.readout.value
+    assert not explorer.artists["coupler"].get_visible()
+    assert explorer.artists["reach_O4"].get_visible()
+    # the input range limit: cos θ = (l1² + l2² − (l3 + l4)²)/(2 l1 l2)
+    limit = np.degrees(np.arccos((0.20**2 + 0.15**2 - 0.22**2) / (2 * 0.20 * 0.15)))
+    assert f"[{-limit:.1f}°, {limit:.1f}°]" in explorer.message
+    # and back inside the range the linkage is drawn again
+    assert explorer.update(theta2_deg=limit - 2.0).status == "ok"
+    assert explorer.artists["coupler"].get_visible()
+    assert not explorer.artists["reach_O4"].get_visible()
+
+
+def test_fourbar_folded_side_unreachable_message():
+    # |AO4| < |l3 − l4|: crank 0.10, ground 0.12, coupler 0.25, rocker 0.10; at θ2 = 0 |AO4| = 0.02 < 0.15
+    explorer = fourbar_explorer(crank=0.10, coupler=0.25, rocker=0.10, ground=0.12)
+    assert explorer.update(theta2_deg=0.0).status == "unreachable"
+    assert "|AO4| = 0.020 m < |l3 − l4| = 0.150 m" in explorer.message
+
+
+def test_fourbar_slider_event_redraws_and_reuses_one_figure():
+    fignums = len(plt.get_fignums())
+    explorer = fourbar_explorer()
+    alive = _figures_alive()
+    figure, image, text = explorer.figure, explorer.image.value, explorer.readout.value
+    explorer.controls["theta2_deg"].value = 100.0  # as a user moving the slider
+    assert explorer.image.value != image and explorer.readout.value != text
+    assert "θ2 = 100.0°" in explorer.message
+    for k in range(40):
+        explorer.controls["theta2_deg"].value = -180.0 + 9 * k
+        if k % 10 == 0:
+            explorer.controls["coupler"].value = 0.15 + 0.002 * k
+            explorer.controls["branch"].value = ("open", "crossed")[k % 20 // 10]
+    assert explorer.figure is figure
+    assert len(plt.get_fignums()) == fignums
+    assert _figures_alive() == alive
+
+
+def test_fourbar_incremental_render_equals_full_render():
+    explorer = fourbar_explorer()
+    explorer.update(theta2_deg=10.0)
+    explorer.update(theta2_deg=130.0)  # only the moving artists redrawn over the cached background
+    incremental = explorer.image.value
+    assert explorer.render(full=True) == incremental
+    explorer.update(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20, theta2_deg=10.0)
+    explorer.update(theta2_deg=120.0)
+    assert explorer.render(full=True) == explorer.image.value
+
+
+def test_update_rejects_unknown_input():
+    with pytest.raises(InvalidGeometryError, match="'theta2'"):
+        fourbar_explorer().update(theta2=1.0)

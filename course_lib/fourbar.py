@@ -66,7 +66,7 @@ BRANCHES = ("open", "crossed")
 #: |sin(θ3 − θ4)| below this counts as a toggle: J = l3·l4·sin(θ3 − θ4) is singular.
 SINGULAR_TOL = 1e-7
 
-#: A discriminant more negative than this fraction of B² + 4|AC| means "cannot close";
+#: A discriminant more negative than this fraction of B² + (A − C)² means "cannot close";
 #: smaller negative values are rounding at a toggle and are taken as zero.
 DISCRIMINANT_TOL = 1e-12
 
@@ -273,7 +273,8 @@ class FourBar:
         """θ3, θ4 (NaN where unreachable) and the unreachable mask."""
         A, B, C = self._half_angle_coefficients(theta2)
         discriminant = B**2 - 4 * A * C
-        unreachable = discriminant < -DISCRIMINANT_TOL * (B**2 + 4 * np.abs(A * C))
+        # B² + (A − C)² = 4|AO4|²/l2² > 0 sets the scale (B² − 4AC is 4(|AO4|²/l2² − S²))
+        unreachable = discriminant < -DISCRIMINANT_TOL * (B**2 + (A - C) ** 2)
         root = np.sqrt(np.where(unreachable, np.nan, np.maximum(discriminant, 0.0)))
         root = -root if branch == "open" else root
         # t = (−B ± √Δ)/(2A) = 2C/(−B ∓ √Δ): use whichever pair is better conditioned

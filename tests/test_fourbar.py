@@ -364,3 +364,12 @@ def test_singular_jacobian_in_nan_mode():
     assert solution.singular.tolist() == [False, True]
     assert np.isfinite(solution.omega4[0]) and np.isnan(solution.omega4[1])
     assert np.isfinite(solution.theta4[1])
+
+
+def test_change_point_assembles_where_its_branches_meet():
+    # l1 + l2 = l3 + l4: at θ2 = π coupler and rocker are in line, B = A + (l3, 0) lies on the x-axis
+    change_point = FourBar(crank=0.06, coupler=0.18, rocker=0.08, ground=0.20)
+    theta2 = np.linspace(0, 2 * np.pi, 241)  # contains π (index 120), where rounding makes B² − 4AC ≈ −1e-16
+    for branch in ("open", "crossed"):
+        joints = change_point.joints(theta2, branch=branch)
+        np.testing.assert_allclose(joints[120, 2], [-0.06 + 0.18, 0.0], atol=1e-7)

@@ -78,11 +78,11 @@ class Readout:
         """The readout as HTML (escaped), coloured red when the status is not ``"ok"``.
 
         >>> Readout("ok", ("a < b",)).html()
-        '<div class="course-explorer-readout-text">a &lt; b</div>'
+        '<div class="course-explorer-readout-text" style="line-height:1.4">a &lt; b</div>'
         """
         body = "<br>".join(html.escape(line) for line in self.lines)
-        style = "" if self.status == "ok" else f' style="color:{_ERROR_COLOR}"'
-        return f'<div class="course-explorer-readout-text"{style}>{body}</div>'
+        color = "" if self.status == "ok" else f"color:{_ERROR_COLOR};"
+        return f'<div class="course-explorer-readout-text" style="{color}line-height:1.4">{body}</div>'
 
 
 @dataclass(eq=False)
@@ -308,8 +308,8 @@ def fourbar_explorer(
         "rocker": _slider("rocker l4 (m)", rocker, 0.02, 0.40, 0.005),
         "theta2_deg": _slider("θ2 (°)", _deg(theta2), -180.0, 180.0, 1.0, ".0f"),
         "branch": _toggle("branch", ("open", "crossed"), branch),
-        "p": _slider("coupler point p (m)", p, 0.0, 0.40, 0.005),
-        "delta_deg": _slider("coupler point δ (°)", _deg(delta), -180.0, 180.0, 5.0, ".0f"),
+        "p": _slider("point P: p (m)", p, 0.0, 0.40, 0.005),
+        "delta_deg": _slider("point P: δ (°)", _deg(delta), -180.0, 180.0, 5.0, ".0f"),
     }
     figure = _figure(8.6, 3.8)
     grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,

@@ -1,0 +1,548 @@
+"""The five-bar parallel robot of the course: forward and inverse kinematics,
+velocities, singularities and workspace.
+
+Geometry (the course's): the base pivots are P1 = (+l5/2, 0) and P5 = (−l5/2, 0).
+Crank l1 turns about P1 with angle θ1, crank l4 about P5 with angle θ4 (both from
++x, counter-clockwise).  The distal link l2 joins P2 to the end effector
+P3 = (X3, Y3) and the distal link l3 joins P4 to P3.  Lengths in metres, angles in
+radians, rates in rad/s and m/s.
+
+The two constraint equations are the course's EcL2 and EcL3::
+
+    |P3 − P2|² − l2² = 0,      |P3 − P4|² − l3² = 0.
+
+Forward kinematics (θ1, θ4 → X3, Y3) follows the course's route: subtracting the
+equations gives X3 = g·Y3 + f; substituting into EcL3 gives a·Y3² + b·Y3 + c = 0 and
+Y3 = (−b + σ√(b² − 4ac))/2a with σ = +1 "arms up" (brazos arriba, the larger Y3)
+and σ = −1 "arms down" (brazos abajo).  Inverse kinematics (X3, Y3 → θ1, θ4)
+uses the tangent half-angle substitution: θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1)
+and θ4 likewise with σ2 — four working modes (σ1, σ2).
+
+>>> robot = FiveBar(l1=0.10, l2=0.15, l3=0.15, l4=0.10, l5=0.08)
+>>> x3, y3 = robot.forward(1.2, 1.9, mode=+1)
+>>> round(x3, 6), round(y3, 6)
+(0.003204, 0.224225)
+>>> theta1, theta4 = robot.inverse(x3, y3, modes=(-1, +1))
+>>> round(theta1, 6), round(theta4, 6)
+(1.2, 1.9)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .errors import (
+    InvalidGeometryError,
+    SingularJacobianError,
+    report_unreachable,
+    require_choice,
+    require_finite,
+    require_positive,
+)
+from .planar import wrap_angle
+
+__all__ = [
+    "FiveBar",
+    "ForwardResult",
+    "InverseResult",
+    "SingularityMeasures",
+    "WorkspaceMap",
+    "WORKING_MODES",
+    "SINGULAR_TOL",
+]
+
+#: The four working modes (σ1, σ2) of the inverse kinematics, in the course's order.
+WORKING_MODES = ((1, 1), (-1, 1), (1, -1), (-1, -1))
+
+#: A normalized singularity measure (a sine, see ``singularity_measures``) below this is singular.
+SINGULAR_TOL = 1e-7
+
+#: Relative slack for a discriminant that is negative only by rounding (clipped to zero).
+_DISCRIMINANT_SLACK = 1e-12
+
+
+def _out(value: np.ndarray) -> Any:
+    """A 0-d array becomes a plain Python number; arrays stay arrays."""
+    value = np.asarray(value)
+    return value.item() if value.ndim == 0 else value
+
+
+@dataclass(frozen=True)
+class ForwardResult:
+    """End-effector position P3 = (x3, y3) in metres; ``reachable`` is False where
+    the robot cannot be assembled (then x3, y3 are NaN).  Unpacks as ``x3, y3``."""
+
+    x3: Any
+    y3: Any
+    reachable: Any
+
+    def __iter__(self):
+        return iter((self.x3, self.y3))
+
+
+@dataclass(frozen=True)
+class InverseResult:
+    """Crank angles (θ1, θ4) in radians, wrapped to (−π, π]; ``reachable`` is False
+    where the point is out of reach (then NaN).  Unpacks as ``theta1, theta4``."""
+
+    theta1: Any
+    theta4: Any
+    reachable: Any
+
+    def __iter__(self):
+        return iter((self.theta1, self.theta4))
+
+
+@dataclass(frozen=True)
+class SingularityMeasures:
+    """Normalized measures (sines of angles, in [−1, 1]); each is zero at a singularity.
+
+    serial_leg1 : sin of the angle from crank l1 to distal l2, cross(P2 − P1, P3 − P2)/(l1·l2);
+        zero when leg 1 is stretched or folded (serial, type-1 singularity).
+    serial_leg4 : the same for leg 4, cross(P4 − P5, P3 − P4)/(l4·l3).
+    parallel : sin of the angle between the distal links, cross(P3 − P2, P3 − P4)/(l2·l3);
+        zero when l2 and l3 are aligned (parallel, type-2 singularity).
+    """
+
+    serial_leg1: Any
+    serial_leg4: Any
+    parallel: Any
+
+
+@dataclass(frozen=True)
+class WorkspaceMap:
+    """Inverse kinematics of one working mode over a grid.
+
+    x, y : the grid (metres), shape (ny, nx) as from ``numpy.meshgrid``.
+    reachable : boolean mask of points both legs can reach.
+    theta1, theta4 : crank angles (rad), NaN where unreachable.
+    serial_leg1, serial_leg4, parallel : the singularity measures (NaN where unreachable).
+    modes : the working mode (σ1, σ2).
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    reachable: np.ndarray
+    theta1: np.ndarray
+    theta4: np.ndarray
+    serial_leg1: np.ndarray
+    serial_leg4: np.ndarray
+    parallel: np.ndarray
+    modes: tuple[int, int]
+
+
+def _sign_choice(name: str, value: Any) -> int:
+    require_choice(name, value, (1, -1))
+    return int(value)
+
+
+def _half_angle_root(a, b, c, sigma):
+    """θ = 2·atan((−b + σ√Δ)/2a) without dividing by a small number.
+
+    The root α = (−b + σ√Δ)/(2a) equals 2c/(−b − σ√Δ) (same σ).  Of the two
+    fractions the one with the larger numerator/denominator pair is used, as
+    2·atan2(numerator, denominator), which equals 2·atan(α) modulo 2π and stays
+    right when a → 0 (θ = ±π).  Returns (θ, undetermined mask, discriminant).
+    """
+    discriminant = b * b - 4 * a * c
+    slack = _DISCRIMINANT_SLACK * (b * b + 4 * np.abs(a * c))
+    root = np.sqrt(np.clip(discriminant, 0.0, None))
+    numerator_1, denominator_1 = -b + sigma * root, 2 * a
+    numerator_2, denominator_2 = 2 * c, -b - sigma * root
+    size_1 = np.maximum(np.abs(numerator_1), np.abs(denominator_1))
+    size_2 = np.maximum(np.abs(numerator_2), np.abs(denominator_2))
+    use_first = size_1 >= size_2
+    numerator = np.where(use_first, numerator_1, numerator_2)
+    denominator = np.where(use_first, denominator_1, denominator_2)
+    theta = wrap_angle(2 * np.arctan2(numerator, denominator))
+    undetermined = np.maximum(size_1, size_2) <= 1e-14 * (np.abs(a) + np.abs(b) + np.abs(c) + 1e-300)
+    return theta, discriminant < -slack, undetermined
+
+
+@dataclass(frozen=True)
+class FiveBar:
+    """A five-bar parallel robot: cranks l1 (at P1 = (+l5/2, 0)) and l4 (at P5 = (−l5/2, 0)),
+    distal links l2 (P2–P3) and l3 (P4–P3), base l5.  Lengths in metres; l1…l4 > 0, l5 ≥ 0
+    (l5 = 0: both cranks on one pivot).
+
+    >>> FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).l5
+    0.08
+    """
+
+    l1: float
+    l2: float
+    l3: float
+    l4: float
+    l5: float
+
+    def __post_init__(self) -> None:
+        for name in ("l1", "l2", "l3", "l4"):
+            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
+        object.__setattr__(self, "l5", require_positive("l5", self.l5, allow_zero=True))
+
+    # ------------------------------------------------------------------ geometry
+    def _cranks(self, theta1, theta4):
+        """P2 and P4 (each (x, y) arrays broadcast together)."""
+        half = self.l5 / 2
+        p2x, p2y = self.l1 * np.cos(theta1) + half, self.l1 * np.sin(theta1)
+        p4x, p4y = self.l4 * np.cos(theta4) - half, self.l4 * np.sin(theta4)
+        return np.broadcast_arrays(p2x, p2y, p4x, p4y)
+
+    def joints(self, theta1, theta4, x3, y3) -> np.ndarray:
+        """Joint coordinates P1 … P5 (metres), shape (..., 5, 2), for crank angles (rad)
+        and the end effector (x3, y3); no solving, so any (consistent) configuration works.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> np.round(robot.joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
+        [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
+        """
+        p2x, p2y, p4x, p4y, x3, y3 = np.broadcast_arrays(*self._cranks(theta1, theta4), x3, y3)
+        half = self.l5 / 2
+        zeros = np.zeros_like(p2x)
+        xs = np.stack([zeros + half, p2x, x3, p4x, zeros - half], axis=-1)
+        ys = np.stack([zeros, p2y, y3, p4y, zeros], axis=-1)
+        return np.stack([xs, ys], axis=-1)
+
+    def constraints(self, theta1, theta4, x3, y3) -> np.ndarray:
+        """The course's EcL2 and EcL3 residuals, |P3 − P2|² − l2² and |P3 − P4|² − l3² (m²),
+        shape (..., 2); both zero when the robot is assembled.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> x3, y3 = robot.forward(0.5, 2.5)
+        >>> bool(np.abs(robot.constraints(0.5, 2.5, x3, y3)).max() < 1e-15)
+        True
+        """
+        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
+        ecl2 = (x3 - p2x) ** 2 + (y3 - p2y) ** 2 - self.l2**2
+        ecl3 = (x3 - p4x) ** 2 + (y3 - p4y) ** 2 - self.l3**2
+        return np.stack(np.broadcast_arrays(ecl2, ecl3), axis=-1)
+
+    # ------------------------------------------------------- forward kinematics
+    def forward_coefficients(self, theta1, theta4) -> dict[str, np.ndarray]:
+        """The course's forward-kinematics coefficients (file 000: X3 = g·Y3 + f substituted
+        into EcL3): ``f``, ``g``, ``a`` = 1 + g², ``b``, ``c``, and the denominator
+        ``D`` = l5 + l1 cos θ1 − l4 cos θ4.  Where D = 0 the route breaks down: f, g, b, c
+        are ±inf/NaN there (``forward`` handles that case by another route).
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> k = robot.forward_coefficients(np.pi / 2, np.pi / 2)
+        >>> round(float(k["f"]), 12), round(float(k["g"]), 12), round(float(k["D"]), 12)
+        (0.0, 0.0, 0.08)
+        """
+        theta1 = require_finite("theta1", theta1, "rad")
+        theta4 = require_finite("theta4", theta4, "rad")
+        l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
+        c1, s1, c4, s4 = np.cos(theta1), np.sin(theta1), np.cos(theta4), np.sin(theta4)
+        D = l5 + l1 * c1 - l4 * c4
+        with np.errstate(divide="ignore", invalid="ignore"):
+            f = (l1**2 - l2**2 + l3**2 - l4**2 + l1 * l5 * c1 + l4 * l5 * c4) / (2 * D)
+            g = (-2 * l1 * s1 + 2 * l4 * s4) / (2 * D)
+            a = 1 + g**2
+            b = 2 * f * g + g * l5 - 2 * g * l4 * c4 - 2 * l4 * s4
+            c = f**2 - l3**2 + l4**2 + f * l5 + l5**2 / 4 - l4 * (2 * f + l5) * c4
+        return {"f": f, "g": g, "a": a, "b": b, "c": c, "D": D}
+
+    def forward(self, theta1, theta4, mode: int = 1, on_unreachable: str = "raise") -> ForwardResult:
+        """End effector P3 = (X3, Y3) (metres) from the crank angles θ1, θ4 (rad).
+
+        ``mode`` is the course's σ: +1 "arms up" gives the larger Y3 of the two
+        assemblies, −1 "arms down" the smaller.  Where |D| ≥ |E| (D = l5 + l1 cos θ1 −
+        l4 cos θ4 = P2x − P4x, E = P2y − P4y) the course's route is used: X3 = g·Y3 + f,
+        a·Y3² + b·Y3 + c = 0.  Elsewhere — in particular where D = 0 and the route would
+        divide by zero — the swapped relation Y3 = g'·X3 + f' is solved for X3 instead,
+        and σ still picks the larger Y3.  When D = 0 exactly the two assemblies have equal
+        Y3; σ = +1 then takes the limit from D > 0 (P3 to the left of the line P4 → P2).
+        Note that the course's σ therefore switches between the two assemblies where D
+        changes sign (the distal-link "elbow" at P3 flips side relative to P4 → P2).
+
+        Raises ``UnreachableError`` where |P2 − P4| > l2 + l3 or < |l2 − l3| (or P2 = P4),
+        unless ``on_unreachable="nan"``; ``InvalidGeometryError`` for a mode other than ±1.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> up, down = robot.forward(1.0, 2.0, +1), robot.forward(1.0, 2.0, -1)
+        >>> bool(up.y3 > down.y3)
+        True
+        >>> short = FiveBar(0.10, 0.10, 0.10, 0.10, 0.08)   # distal links too short for θ1 = 0, θ4 = π
+        >>> r = short.forward([np.pi / 2, 0.0], [np.pi / 2, np.pi], on_unreachable="nan")
+        >>> r.reachable.tolist()
+        [True, False]
+        """
+        sigma = _sign_choice("mode", mode)
+        require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+        theta1 = require_finite("theta1", theta1, "rad")
+        theta4 = require_finite("theta4", theta4, "rad")
+        l3, l4, l5 = self.l3, self.l4, self.l5
+        c4, s4 = np.cos(theta4), np.sin(theta4)
+        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
+        D = p2x - p4x  # = l5 + l1 cos θ1 − l4 cos θ4, the course's denominator (÷2)
+        E = p2y - p4y
+        K = (p2x**2 + p2y**2 - p4x**2 - p4y**2 - self.l2**2 + l3**2) / 2  # D·X3 + E·Y3 = K
+        course = np.abs(D) >= np.abs(E)
+        coincident = (D == 0) & (E == 0)
+        safe_D = np.where(course & ~coincident, D, 1.0)
+        safe_E = np.where(course | coincident, 1.0, E)
+        # course's route: X3 = g·Y3 + f, quadratic in Y3 from EcL3 (file 000)
+        g, f = -E / safe_D, K / safe_D
+        a, u = 1 + g**2, f + l5 / 2 - l4 * c4
+        b, c = 2 * g * u - 2 * l4 * s4, u**2 + (l4 * s4) ** 2 - l3**2
+        # swapped route: Y3 = g'·X3 + f', quadratic in X3 from EcL3
+        g_s, f_s = -D / safe_E, K / safe_E
+        a_s, w = 1 + g_s**2, f_s - l4 * s4
+        b_s = 2 * (l5 / 2 - l4 * c4) + 2 * g_s * w
+        c_s = (l5 / 2 - l4 * c4) ** 2 + w**2 - l3**2
+        A, B, C = np.where(course, a, a_s), np.where(course, b, b_s), np.where(course, c, c_s)
+        discriminant = B * B - 4 * A * C
+        far = (discriminant < -_DISCRIMINANT_SLACK * (B * B + 4 * np.abs(A * C))) & ~coincident
+        inputs = {"theta1": theta1, "theta4": theta4}
+        report_unreachable(far, inputs, "the distal links l2, l3 cannot meet", on_unreachable)
+        report_unreachable(
+            coincident, inputs, "P2 and P4 coincide, so the end effector is undetermined", on_unreachable
+        )
+        bad = far | coincident
+        root = np.sqrt(np.clip(discriminant, 0.0, None))
+        # on the swapped route the larger Y3 is the larger X3 when g' > 0 (tie D = 0: D → 0⁺)
+        direction = np.where(D >= 0, 1.0, -1.0) * np.where(E >= 0, 1.0, -1.0)
+        tau = np.where(course, sigma, -sigma * direction)
+        unknown = (-B + tau * root) / (2 * A)
+        x3 = np.where(course, g * unknown + f, unknown)
+        y3 = np.where(course, unknown, g_s * unknown + f_s)
+        x3, y3 = np.where(bad, np.nan, x3), np.where(bad, np.nan, y3)
+        return ForwardResult(_out(x3), _out(y3), _out(~bad))
+
+    # ------------------------------------------------------- inverse kinematics
+    def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:
+        """The course's half-angle coefficients: a1·α1² + b1·α1 + c1 = 0 with α1 = tan(θ1/2)
+        and a2·α2² + b2·α2 + c2 = 0 with α2 = tan(θ4/2), for the end effector (x3, y3) in metres.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> k = robot.inverse_coefficients(0.0, 0.2)
+        >>> [round(float(k[name]), 6) for name in ("a1", "b1", "c1")]
+        [0.0211, -0.08, 0.0371]
+        """
+        X = require_finite("x3", x3, "m")
+        Y = require_finite("y3", y3, "m")
+        l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
+        common = X**2 + Y**2 + l5**2 / 4
+        return {
+            "a1": l1**2 - l2**2 - l1 * l5 + 2 * l1 * X - l5 * X + common,
+            "b1": -4 * l1 * Y + 0 * X,
+            "c1": l1**2 - l2**2 + l1 * l5 - 2 * l1 * X - l5 * X + common,
+            "a2": -(l3**2) + l4**2 + l4 * l5 + 2 * l4 * X + l5 * X + common,
+            "b2": -4 * l4 * Y + 0 * X,
+            "c2": -(l3**2) + l4**2 - l4 * l5 - 2 * l4 * X + l5 * X + common,
+        }
+
+    def inverse(
+        self, x3, y3, modes: tuple[int, int] = (1, 1), on_unreachable: str = "raise"
+    ) -> InverseResult:
+        """Crank angles θ1, θ4 (rad, in (−π, π]) that put the end effector at (x3, y3) (metres).
+
+        ``modes`` = (σ1, σ2), the course's signs in θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1)
+        and θ4 = 2·atan((−b2 + σ2√(b2² − 4a2c2))/2a2): the four working modes.  The same
+        roots are computed without dividing by a small a1 or a2 (where θ → ±π).
+
+        Raises ``UnreachableError`` where a leg cannot reach (x3, y3) (negative
+        discriminant) or its crank angle is undetermined (P3 on P1 with l1 = l2, or on P5
+        with l4 = l3), unless ``on_unreachable="nan"``; ``InvalidGeometryError`` for a bad mode.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(+1, -1))
+        >>> x3, y3 = robot.forward(theta1, theta4, mode=+1)
+        >>> round(x3, 12), round(y3, 12)
+        (0.0, 0.2)
+        """
+        if not (isinstance(modes, tuple | list) and len(modes) == 2):
+            raise InvalidGeometryError(f"modes must be a pair (sigma1, sigma2) of ±1; got {modes!r}")
+        sigma1 = _sign_choice("sigma1 (modes[0])", modes[0])
+        sigma2 = _sign_choice("sigma2 (modes[1])", modes[1])
+        require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+        k = self.inverse_coefficients(x3, y3)
+        theta1, far1, free1 = _half_angle_root(k["a1"], k["b1"], k["c1"], sigma1)
+        theta4, far4, free4 = _half_angle_root(k["a2"], k["b2"], k["c2"], sigma2)
+        inputs = {"x3": x3, "y3": y3}
+        report_unreachable(far1, inputs, "leg 1 (l1, l2) cannot reach the point", on_unreachable)
+        report_unreachable(far4, inputs, "leg 4 (l4, l3) cannot reach the point", on_unreachable)
+        free = (free1 | free4) & ~(far1 | far4)
+        report_unreachable(free, inputs, "a crank angle is undetermined (P3 on a base pivot)", on_unreachable)
+        bad = far1 | far4 | free
+        theta1, theta4 = np.where(bad, np.nan, theta1), np.where(bad, np.nan, theta4)
+        return InverseResult(_out(theta1), _out(theta4), _out(~bad))
+
+    # ------------------------------------------------------- Jacobians and rates
+    def jacobian_end_effector(self, theta1, theta4, x3, y3) -> np.ndarray:
+        """A = ∂(EcL2, EcL3)/∂(X3, Y3) = 2·[[X3 − P2x, Y3 − P2y], [X3 − P4x, Y3 − P4y]] (m),
+        shape (..., 2, 2).  det A = 0 is the parallel (type-2) singularity.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> np.round(robot.jacobian_end_effector(0.0, np.pi, 0.0, 0.1), 3).tolist()
+        [[-0.28, 0.2], [0.28, 0.2]]
+        """
+        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
+        rows = [[x3 - p2x, y3 - p2y], [x3 - p4x, y3 - p4y]]
+        return 2 * np.stack([np.stack(np.broadcast_arrays(*row), axis=-1) for row in rows], axis=-2)
+
+    def jacobian_cranks(self, theta1, theta4, x3, y3) -> np.ndarray:
+        """B = ∂(EcL2, EcL3)/∂(θ1, θ4) (m²/rad), shape (..., 2, 2); diagonal, because EcL2
+        holds only θ1 and EcL3 only θ4.  A zero diagonal entry is a serial (type-1) singularity.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> np.round(robot.jacobian_cranks(0.0, np.pi, 0.0, 0.1), 3).tolist()
+        [[-0.02, 0.0], [0.0, 0.02]]
+        """
+        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
+        b11 = 2 * self.l1 * ((x3 - p2x) * np.sin(theta1) - (y3 - p2y) * np.cos(theta1))
+        b22 = 2 * self.l4 * ((x3 - p4x) * np.sin(theta4) - (y3 - p4y) * np.cos(theta4))
+        b11, b22 = np.broadcast_arrays(b11, b22)
+        zeros = np.zeros_like(b11)
+        return np.stack([np.stack([b11, zeros], axis=-1), np.stack([zeros, b22], axis=-1)], axis=-2)
+
+    def singularity_measures(self, theta1, theta4, x3, y3) -> SingularityMeasures:
+        """The three normalized singularity measures (see ``SingularityMeasures``).
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
+        >>> m = robot.singularity_measures(theta1, theta4, 0.0, 0.2)
+        >>> round(m.serial_leg1, 4), round(m.serial_leg4, 4), round(m.parallel, 4)
+        (0.9529, -0.9529, -0.9793)
+        """
+        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
+        half = self.l5 / 2
+        leg1 = ((p2x - half) * (y3 - p2y) - p2y * (x3 - p2x)) / (self.l1 * self.l2)
+        leg4 = ((p4x + half) * (y3 - p4y) - p4y * (x3 - p4x)) / (self.l4 * self.l3)
+        parallel = ((x3 - p2x) * (y3 - p4y) - (y3 - p2y) * (x3 - p4x)) / (self.l2 * self.l3)
+        return SingularityMeasures(_out(leg1), _out(leg4), _out(parallel))
+
+    def _check_assembled(self, theta1, theta4, x3, y3) -> None:
+        residual = np.abs(self.constraints(theta1, theta4, x3, y3))
+        scale = max(self.l1, self.l2, self.l3, self.l4, self.l5) ** 2
+        if not np.all(residual <= 1e-8 * scale):
+            index = np.unravel_index(int(np.argmax(residual)), residual.shape)
+            raise InvalidGeometryError(
+                f"the configuration is not assembled: constraint residual {residual[index]:.3g} m² "
+                "(x3, y3 must be the end effector for theta1, theta4, e.g. from forward)"
+            )
+
+    def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = "raise") -> np.ndarray:
+        """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4).  Computed by a linear
+        solve, never an inverse.  Raises ``SingularJacobianError`` at a parallel singularity
+        (``on_singular="nan"`` gives NaN there instead).
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
+        >>> np.round(robot.velocity_jacobian(theta1, theta4, 0.0, 0.2), 4).tolist()
+        [[-0.0754, -0.0754], [0.0614, -0.0614]]
+        """
+        require_choice("on_singular", on_singular, ("raise", "nan"))
+        self._check_assembled(theta1, theta4, x3, y3)
+        parallel = np.asarray(self.singularity_measures(theta1, theta4, x3, y3).parallel)
+        singular = np.abs(parallel) < SINGULAR_TOL
+        if on_singular == "raise" and singular.any():
+            first = float(np.broadcast_to(parallel, singular.shape)[singular][0])
+            raise SingularJacobianError(
+                "parallel (type-2) singularity: the distal links l2, l3 are aligned "
+                f"(sin of their angle {first:.2g})"
+                "; the end-effector velocity is undefined there",
+                condition_number=np.inf,
+            )
+        A = self.jacobian_end_effector(theta1, theta4, x3, y3)
+        B = self.jacobian_cranks(theta1, theta4, x3, y3)
+        A = np.where(singular[..., None, None], np.eye(2), A)
+        J = -np.linalg.solve(A, B)
+        return np.where(singular[..., None, None], np.nan, J)
+
+    def end_effector_velocity(self, theta1, theta4, x3, y3, omega1, omega4, on_singular: str = "raise"):
+        """(Ẋ3, Ẏ3) in m/s from the crank rates ω1, ω4 (rad/s): A·ṗ + B·ω = 0 solved for ṗ.
+        Shape (..., 2).  Raises ``SingularJacobianError`` at a parallel (type-2) singularity.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
+        >>> (np.round(robot.end_effector_velocity(theta1, theta4, 0.0, 0.2, 1.0, -1.0), 4) + 0.0).tolist()
+        [0.0, 0.1229]
+        """
+        omega1 = require_finite("omega1", omega1, "rad/s")
+        omega4 = require_finite("omega4", omega4, "rad/s")
+        J = self.velocity_jacobian(theta1, theta4, x3, y3, on_singular=on_singular)
+        omega = np.stack(np.broadcast_arrays(omega1, omega4), axis=-1)
+        return np.einsum("...ij,...j->...i", J, omega)
+
+    def crank_rates(self, theta1, theta4, x3, y3, vx, vy, on_singular: str = "raise"):
+        """(ω1, ω4) in rad/s that give the end-effector velocity (vx, vy) in m/s:
+        ω = −B⁻¹·A·ṗ (B is diagonal).  Shape (..., 2).  Raises ``SingularJacobianError`` at a
+        serial (type-1) singularity, where a leg is stretched or folded.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
+        >>> np.round(robot.crank_rates(theta1, theta4, 0.0, 0.2, 0.0, 0.1), 4).tolist()
+        [0.8137, -0.8137]
+        """
+        require_choice("on_singular", on_singular, ("raise", "nan"))
+        vx = require_finite("vx", vx, "m/s")
+        vy = require_finite("vy", vy, "m/s")
+        self._check_assembled(theta1, theta4, x3, y3)
+        measures = self.singularity_measures(theta1, theta4, x3, y3)
+        leg1, leg4 = np.broadcast_arrays(measures.serial_leg1, measures.serial_leg4)
+        singular = (np.abs(leg1) < SINGULAR_TOL) | (np.abs(leg4) < SINGULAR_TOL)
+        if on_singular == "raise" and singular.any():
+            which = "leg 1 (l1, l2)" if (np.abs(leg1) < SINGULAR_TOL).any() else "leg 4 (l4, l3)"
+            raise SingularJacobianError(
+                f"serial (type-1) singularity: {which} is stretched or folded; "
+                "the crank rates are undefined there",
+                condition_number=np.inf,
+            )
+        A = self.jacobian_end_effector(theta1, theta4, x3, y3)
+        B = self.jacobian_cranks(theta1, theta4, x3, y3)
+        velocity = np.stack(np.broadcast_arrays(vx, vy), axis=-1)
+        rhs = -np.einsum("...ij,...j->...i", A, velocity)
+        diagonal = np.stack([B[..., 0, 0], B[..., 1, 1]], axis=-1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            omega = rhs / np.where(singular[..., None], 1.0, diagonal)
+        return np.where(singular[..., None], np.nan, omega)
+
+    # ------------------------------------------------------------ maps and drawing
+    def workspace(self, x, y, modes: tuple[int, int] = (1, 1)) -> WorkspaceMap:
+        """Inverse kinematics of working mode ``modes`` = (σ1, σ2) over the grid spanned by the
+        1-D coordinate vectors ``x``, ``y`` (metres): reachable mask, crank angles and the three
+        singularity measures (see ``WorkspaceMap``).
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> w = robot.workspace(np.linspace(-0.3, 0.3, 61), np.linspace(-0.3, 0.3, 61))
+        >>> w.reachable.shape, bool(w.reachable[30, 30]), bool(w.reachable[0, 0])
+        ((61, 61), False, False)
+        """
+        x = require_finite("x", x, "m")
+        y = require_finite("y", y, "m")
+        if x.ndim != 1 or y.ndim != 1:
+            raise InvalidGeometryError(f"x and y must be 1-D grid vectors; got shapes {x.shape}, {y.shape}")
+        X, Y = np.meshgrid(x, y)
+        solution = self.inverse(X, Y, modes=modes, on_unreachable="nan")
+        theta1, theta4, reachable = solution.theta1, solution.theta4, solution.reachable
+        measures = self.singularity_measures(theta1, theta4, X, Y)
+        return WorkspaceMap(
+            X, Y, np.asarray(reachable), theta1, theta4,
+            measures.serial_leg1, measures.serial_leg4, measures.parallel, tuple(modes),
+        )
+
+    def draw(self, theta1: float, theta4: float, x3: float, y3: float, ax=None, title: str | None = None,
+             **style):
+        """Draw the robot as the course does: links l1…l5 labelled at their midpoints, joints
+        numbered 1…5, base pivots hatched, axes and a dashed grid (``course_lib.plotting.draw_linkage``).
+        Returns the axes.
+
+        >>> import matplotlib; matplotlib.use("Agg")
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> ax = robot.draw(1.2, 1.9, *robot.forward(1.2, 1.9), title="arms up")
+        >>> [text.get_text() for text in ax.texts][:5]
+        ['l1', 'l2', 'l3', 'l4', 'l5']
+        """
+        from .plotting import draw_linkage
+
+        points = self.joints(theta1, theta4, x3, y3)
+        if points.shape != (5, 2):
+            raise InvalidGeometryError(
+                f"draw takes one configuration (scalars); got joints of shape {points.shape}"
+            )
+        links = [(0, 1, "l1"), (1, 2, "l2"), (2, 3, "l3"), (3, 4, "l4"), (4, 0, "l5")]
+        return draw_linkage(points, links, ax, ground=(0, 4), title=title, **style)

@@ -40,7 +40,7 @@ from .errors import CourseLibError, InvalidGeometryError
 from .fourbar import FourBar
 from .plotting import LINK_COLORS
 
-__all__ = ["Explorer", "Readout", "fourbar_explorer"]
+__all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer"]
 
 #: Description width shared by every slider, so the columns line up.
 _STYLE = {"description_width": "120px"}
@@ -266,6 +266,11 @@ def _ground_triangle(size: float) -> np.ndarray:
     return np.array([[0.0, 0.0], [-size, -1.6 * size], [size, -1.6 * size]])
 
 
+def _num(value: float, digits: int) -> str:
+    """``value`` with ``digits`` decimals and no "-0.000" (rounded first)."""
+    return f"{round(float(value), digits) + 0.0:.{digits}f}"
+
+
 def _deg(value) -> float:
     return float(np.degrees(value))
 
@@ -473,3 +478,162 @@ def _hide(artists, names: str) -> None:
 def _show(artists, names: str) -> None:
     for name in names.split():
         artists[name].set_visible(True)
+
+
+# ---------------------------------------------------------------------------- power saw
+#: (key in saw.UNKNOWNS, panel label with units)
+_SAW_PANELS = (
+    ("r1", "r1 (m)"), ("theta1", "θ1 (rad)"), ("theta3", "θ3 (rad)"),
+    ("v_r", "v_r (m/s)"), ("omega1", "ω1 (rad/s)"), ("omega3", "ω3 (rad/s)"),
+    ("a_r", "a_r (m/s²)"), ("alpha1", "α1 (rad/s²)"), ("alpha3", "α3 (rad/s²)"),
+)
+
+
+def saw_explorer(
+    frames: int = 120, t_end: float | None = None, t: float = 0.0, interval_ms: int = 100
+) -> Explorer:
+    """Explorer of the course's power saw (:mod:`course_lib.saw`) over the motor's start-up profile.
+
+    A time slider t (s) over [0, ``t_end``] (default two crank turns, 2T ≈ 3.88 s) in ``frames`` steps,
+    with an ``ipywidgets.Play`` button linked to it (``interval_ms`` per frame).  Drawing: the saw at
+    t (crank r2, rod r3, slider on y = r1y, the vector r1 dashed), the motor profile θ2, ω2, α2
+    (:func:`course_lib.profile.motor_profile`) and the nine unknowns r1, θ1, θ3, v_r, ω1, ω3, a_r,
+    α1, α3 over time, each with a cursor at t.  Curves and cursor values come from the closed form
+    :func:`course_lib.saw.analytic` (which the lessons check against both Newton routes).
+
+    >>> explorer = saw_explorer()
+    >>> explorer.update(t=1.0).status
+    'ok'
+    >>> explorer.play.value = 30  # the Play button's frame k moves the time slider to k·dt
+    >>> bool(abs(explorer.state["t"] - 30 * explorer.controls["t"].step) < 1e-12)
+    True
+    """
+    from . import saw as saw_module
+    from .profile import first_turn_time as turn_time
+    from .profile import motor_profile
+
+    if isinstance(frames, bool) or int(frames) != frames or frames < 2:
+        raise InvalidGeometryError(f"frames must be an integer >= 2; got {frames!r}")
+    frames = int(frames)
+    end = 2 * turn_time() if t_end is None else float(t_end)
+    if not (np.isfinite(end) and end > 0):
+        raise InvalidGeometryError(f"t_end must be a positive time in seconds; got {t_end!r}")
+    dt = end / frames
+    geometry = saw_module.COURSE_SAW
+    time_slider = _slider("time t (s)", float(t), 0.0, end, dt, ".3f")
+    play = widgets.Play(value=int(round(float(t) / dt)), min=0, max=frames, step=1, interval=interval_ms,
+                        description="play")
+
+    def play_moved(change) -> None:  # frame k → t = k·dt, unless t already rounds to frame k
+        if int(round(time_slider.value / dt)) != change["new"]:
+            time_slider.value = change["new"] * dt
+
+    def slider_moved(change) -> None:  # t → the nearest frame (t itself is kept)
+        play.value = int(round(change["new"] / dt))
+
+    play.observe(play_moved, names="value")
+    time_slider.observe(slider_moved, names="value")
+    controls = {"t": time_slider}
+
+    sweep_t = np.linspace(0.0, end, 481)
+    profile = motor_profile(sweep_t)
+    values = saw_module.analytic(*profile, saw=geometry)
+
+    figure = _figure(8.6, 6.6)
+    grid = figure.add_gridspec(2, 1, height_ratios=(1.0, 1.25), left=0.08, right=0.985, bottom=0.06,
+                               top=0.97, hspace=0.2)
+    top = grid[0].subgridspec(1, 2, width_ratios=(1.25, 1.0), wspace=0.25)
+    bottom = grid[1].subgridspec(3, 3, hspace=0.55, wspace=0.38)
+    ax = figure.add_subplot(top[0])
+    ax_profile = figure.add_subplot(top[1])
+    r1y, r2, r3 = geometry.r1y, geometry.r2, geometry.r3
+    ax.set_xlabel("x (m)", labelpad=1)
+    ax.set_ylabel("y (m)", labelpad=1)
+    ax.grid(True, linestyle="--", alpha=0.5)
+    ax.axhline(r1y, color="0.55", lw=1, linestyle="-.")
+    ax.text(-r2 - r3 - 0.015, r1y + 0.006, "slider line y = r1y", fontsize=7, color="0.4")
+    crank_circle = np.linspace(0, 2 * np.pi, 100)
+    ax.plot(r2 * np.cos(crank_circle), r2 * np.sin(crank_circle), color="0.75", lw=0.8)
+    ax.add_patch(Polygon(_ground_triangle(0.008), closed=True, facecolor="none", edgecolor="0.3",
+                         hatch="///"))
+    _set_equal_limits(ax, -r2 - r3 - 0.02, r2 + 0.02, -r2 - 0.015, max(r2, r1y) + 0.025)
+    ax_profile.plot(sweep_t, profile.theta2, color="tab:blue", label="θ2 (rad)")
+    ax_profile.plot(sweep_t, profile.omega2, color="tab:orange", label="ω2 (rad/s)")
+    ax_profile.plot(sweep_t, profile.alpha2, color="tab:green", label="α2 (rad/s²)")
+    ax_profile.axvline(turn_time(), color="0.5", linestyle=":", lw=1)
+    ax_profile.set_xlim(0, end)
+    ax_profile.set_xlabel("t (s)", labelpad=1)
+    ax_profile.set_title("motor profile", fontsize=9, pad=3)
+    ax_profile.legend(fontsize=7, loc="upper left")
+    ax_profile.grid(True, linestyle="--", alpha=0.5)
+    artists = {
+        "rod_block": _moving_line(ax, [], [], "s", ms=14, mfc="0.85", mec="black"),
+        "r1": _moving_line(ax, [], [], "--", color="tab:purple", lw=1.2),
+        "crank": _moving_line(ax, [], [], color=LINK_COLORS[0], lw=3, solid_capstyle="round"),
+        "rod": _moving_line(ax, [], [], color=LINK_COLORS[1], lw=3, solid_capstyle="round"),
+        "joints": _moving_line(ax, [], [], "o", ms=6, mfc="white", mec="black"),
+        "profile_cursor": ax_profile.axvline(0.0, color="black", lw=1, animated=True),
+        "profile_points": _moving_line(ax_profile, [], [], "o", ms=5, color="black"),
+        "failure": ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
+                           fontsize=10, fontweight="bold", animated=True),
+        "title": ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", fontsize=9, animated=True),
+    }
+    for k, (key, label) in enumerate(_SAW_PANELS):
+        panel = figure.add_subplot(bottom[k // 3, k % 3])
+        panel.plot(sweep_t, values[:, k], color="tab:purple", lw=1.2)
+        panel.set_title(label, fontsize=8, pad=2)
+        panel.tick_params(labelsize=7, pad=1)
+        panel.set_xlim(0, end)
+        panel.grid(True, linestyle="--", alpha=0.5)
+        if k >= 6:
+            panel.set_xlabel("t (s)", fontsize=7, labelpad=0)
+        artists[f"cursor_{key}"] = panel.axvline(0.0, color="black", lw=1, animated=True)
+        artists[f"point_{key}"] = _moving_line(panel, [], [], "o", ms=4, color="black")
+
+    def draw(state, geometry_changed: bool) -> Readout:
+        return _draw_saw(float(state["t"]), artists, geometry, saw_module, motor_profile, turn_time())
+
+    explorer = Explorer("power saw", controls, figure, artists, draw, (), (play,))
+    explorer.play = play  # the Play button (frame k ↔ t = k·dt), also in ``extra``
+    return explorer
+
+
+def _draw_saw(t, artists, geometry, saw_module, motor_profile, turn) -> Readout:
+    """Solve the saw at time t of the motor profile and move the artists; the plain update step."""
+    try:
+        theta2, omega2, alpha2 = (float(v) for v in motor_profile(t))
+        values = saw_module.analytic(theta2, omega2, alpha2, saw=geometry)
+        joints = saw_module.joint_positions(theta2, saw=geometry)
+    except CourseLibError as err:
+        for key in ("crank", "rod", "joints", "rod_block", "r1", "profile_points"):
+            artists[key].set_visible(False)
+        artists["failure"].set_text(f"no assembly at t = {t:.3f} s")
+        return Readout("unreachable", (f"t = {t:.3f} s: the saw cannot be solved here.",
+                                       f"course_lib says: {err}"))
+    for key in ("crank", "rod", "joints", "rod_block", "r1", "profile_points"):
+        artists[key].set_visible(True)
+    artists["failure"].set_text("")
+    O2, A, B = joints
+    artists["crank"].set_data([O2[0], A[0]], [O2[1], A[1]])
+    artists["rod"].set_data([A[0], B[0]], [A[1], B[1]])
+    artists["r1"].set_data([O2[0], B[0]], [O2[1], B[1]])
+    artists["joints"].set_data([O2[0], A[0], B[0]], [O2[1], A[1], B[1]])
+    artists["rod_block"].set_data([B[0]], [B[1]])
+    artists["title"].set_text(f"t = {t:.3f} s")
+    artists["profile_cursor"].set_xdata([t, t])
+    artists["profile_points"].set_data([t, t, t], [theta2, omega2, alpha2])
+    for k, (key, _label) in enumerate(_SAW_PANELS):
+        artists[f"cursor_{key}"].set_xdata([t, t])
+        artists[f"point_{key}"].set_data([t], [values[k]])
+    phases = ("α2 rising", "α2 constant", "α2 falling")
+    phase = phases[min(int(3 * t / turn), 2)] if t < turn else "steady speed"
+    named = {key: _num(value, 5) for (key, _), value in zip(_SAW_PANELS, values, strict=True)}
+    return Readout("ok", (
+        f"t = {t:.3f} s ({'start-up, ' + phase if t < turn else phase}; first turn ends at T = {turn:.4f} s)",
+        f"motor: θ2 = {_num(theta2, 4)} rad ({np.degrees(theta2):.1f}°), ω2 = {_num(omega2, 4)} rad/s, "
+        f"α2 = {_num(alpha2, 4)} rad/s²",
+        f"position: r1 = {named['r1']} m, θ1 = {named['theta1']} rad, θ3 = {named['theta3']} rad",
+        f"velocity: v_r = {named['v_r']} m/s, ω1 = {named['omega1']} rad/s, ω3 = {named['omega3']} rad/s",
+        f"acceleration: a_r = {named['a_r']} m/s², α1 = {named['alpha1']} rad/s², "
+        f"α3 = {named['alpha3']} rad/s²",
+    ))

@@ -140,11 +140,11 @@ def test_fourbar_slider_event_redraws_and_reuses_one_figure():
     explorer.controls["theta2_deg"].value = 100.0  # as a user moving the slider
     assert explorer.image.value != image and explorer.readout.value != text
     assert "θ2 = 100.0°" in explorer.message
-    for k in range(40):
-        explorer.controls["theta2_deg"].value = -180.0 + 9 * k
-        if k % 10 == 0:
+    for k in range(24):
+        explorer.controls["theta2_deg"].value = -180.0 + 15 * k
+        if k % 8 == 0:
             explorer.controls["coupler"].value = 0.15 + 0.002 * k
-            explorer.controls["branch"].value = ("open", "crossed")[k % 20 // 10]
+            explorer.controls["branch"].value = ("open", "crossed")[k % 16 // 8]
     assert explorer.figure is figure
     assert len(plt.get_fignums()) == fignums
     assert _figures_alive() == alive
@@ -164,3 +164,85 @@ def test_fourbar_incremental_render_equals_full_render():
 def test_update_rejects_unknown_input():
     with pytest.raises(InvalidGeometryError, match="'theta2'"):
         fourbar_explorer().update(theta2=1.0)
+
+
+# ------------------------------------------------------------------------------------------ power saw
+R1Y, R2, R3 = 0.045, 0.075, 0.170  # the course's saw (m)
+
+
+def _saw_positions(t):
+    """r1, θ1, θ3 and the pins A, B from the geometry: B on y = r1y, |AB| = r3, B left of A."""
+    from course_lib.profile import motor_profile
+
+    theta2 = float(motor_profile(t).theta2)
+    A = R2 * np.array([np.cos(theta2), np.sin(theta2)])
+    B = np.array([A[0] - np.sqrt(R3**2 - (R1Y - A[1]) ** 2), R1Y])
+    theta1 = np.arctan(B[1] / B[0])  # the report keeps θ1 in (−π/2, π/2], so r1 < 0 here
+    r1 = B[1] / np.sin(theta1)
+    theta3 = np.arctan2(B[1] - A[1], B[0] - A[0]) % (2 * np.pi)  # the rod points left: θ3 in (π/2, 3π/2)
+    return np.array([r1, theta1, theta3]), A, B
+
+
+def _saw_by_finite_differences(t, h=1e-4):
+    """The nine unknowns: positions from geometry, rates by central differences in time."""
+    minus, _, _ = _saw_positions(t - h)
+    here, A, B = _saw_positions(t)
+    plus, _, _ = _saw_positions(t + h)
+    velocity = (plus - minus) / (2 * h)
+    acceleration = (plus - 2 * here + minus) / h**2
+    return np.concatenate([here, velocity, acceleration]), A, B
+
+
+def test_saw_cursors_and_drawing_match_finite_differences():
+    from course_lib.widgets import saw_explorer
+
+    explorer = saw_explorer()
+    for t in (0.4, 1.0, 1.7, 2.5, 3.3):
+        assert explorer.update(t=t).status == "ok"
+        expected, A, B = _saw_by_finite_differences(t)
+        names = ("r1", "theta1", "theta3", "v_r", "omega1", "omega3", "a_r", "alpha1", "alpha3")
+        drawn = np.array([_xy(explorer.artists[f"point_{name}"])[1][0] for name in names])
+        np.testing.assert_allclose(drawn[:3], expected[:3], atol=1e-12)
+        np.testing.assert_allclose(drawn[3:6], expected[3:6], rtol=1e-6, atol=1e-7)
+        np.testing.assert_allclose(drawn[6:], expected[6:], rtol=1e-4, atol=1e-4)
+        x, y = _xy(explorer.artists["rod"])
+        np.testing.assert_allclose([x[0], y[0], x[1], y[1]], [*A, *B], atol=1e-12)
+        assert all(_xy(explorer.artists[f"cursor_{name}"])[0][0] == t for name in names)
+        assert f"r1 = {expected[0]:.5f} m" in explorer.message
+        assert f"θ3 = {expected[2]:.5f} rad" in explorer.message
+
+
+def test_saw_rest_values_are_the_reports():
+    from course_lib.widgets import saw_explorer
+
+    explorer = saw_explorer(t=0.0)
+    # the course report: at rest r1 ≈ −0.0997 m, θ1 ≈ −0.4684 rad; nothing moves yet
+    assert "r1 = -0.09967 m, θ1 = -0.46842 rad" in explorer.message
+    assert "v_r = 0.00000 m/s" in explorer.message and "-0.00000" not in explorer.message
+
+
+def test_saw_play_button_drives_the_time_slider():
+    from course_lib.widgets import saw_explorer
+
+    explorer = saw_explorer(frames=60)
+    step = explorer.controls["t"].step
+    np.testing.assert_allclose(step, 2 * np.sqrt(6 * np.pi / 5) / 60, rtol=1e-12)  # two turns of 2T
+    image = explorer.image.value
+    explorer.play.value = 45  # as the Play button ticking
+    assert abs(explorer.state["t"] - 45 * step) < 1e-12
+    assert f"t = {45 * step:.3f} s (steady speed" in explorer.message
+    assert explorer.image.value != image
+    explorer.controls["t"].value = 10 * step  # and the slider moves the Play button back
+    assert explorer.play.value == 10
+
+
+def test_saw_reuses_one_figure_and_blits_exactly():
+    from course_lib.widgets import saw_explorer
+
+    fignums = len(plt.get_fignums())
+    explorer = saw_explorer()
+    alive = _figures_alive()
+    for k in range(0, 120, 5):
+        explorer.play.value = k
+    assert len(plt.get_fignums()) == fignums and _figures_alive() == alive
+    assert explorer.render(full=True) == explorer.image.value

@@ -258,35 +258,40 @@ class FourBar:
         return np.stack([row_x, row_y], axis=-2)
 
     # ------------------------------------------------------------- position
-    def _half_angle_coefficients(self, theta2: np.ndarray):
+    def _half_angle_coefficients(self, cos2: np.ndarray, sin2: np.ndarray):
         """Norton's A, B, C of A·t² + B·t + C = 0, t = tan(θ4/2)."""
         l1, l2, l3, l4 = self.l1, self.l2, self.l3, self.l4
         K1, K2 = l1 / l2, l1 / l4
         K3 = (l2**2 - l3**2 + l4**2 + l1**2) / (2 * l2 * l4)
-        cos2, sin2 = np.cos(theta2), np.sin(theta2)
         A = cos2 - K1 - K2 * cos2 + K3
         B = -2 * sin2
         C = K1 - (K2 + 1) * cos2 + K3
         return A, B, C
 
     def _positions(self, theta2: np.ndarray, branch: str):
-        """θ3, θ4 (NaN where unreachable) and the unreachable mask."""
-        A, B, C = self._half_angle_coefficients(theta2)
+        """θ3, θ4 (NaN where unreachable), the unreachable mask, and (cos, sin) of θ2, θ3, θ4."""
+        cos2, sin2 = np.cos(theta2), np.sin(theta2)
+        A, B, C = self._half_angle_coefficients(cos2, sin2)
         discriminant = B**2 - 4 * A * C
         # B² + (A − C)² = 4|AO4|²/l2² > 0 sets the scale (B² − 4AC is 4(|AO4|²/l2² − S²))
         unreachable = discriminant < -DISCRIMINANT_TOL * (B**2 + (A - C) ** 2)
         root = np.sqrt(np.where(unreachable, np.nan, np.maximum(discriminant, 0.0)))
         root = -root if branch == "open" else root
-        # t = (−B ± √Δ)/(2A) = 2C/(−B ∓ √Δ): use whichever pair is better conditioned
+        # t = y/x with (y, x) = (−B ± √Δ, 2A) or, the same root, (2C, −B ∓ √Δ): take the larger pair
         y1, x1 = -B + root, 2 * A
         y2, x2 = 2 * C, -B - root
-        first = np.hypot(y1, x1) >= np.hypot(y2, x2)
-        theta4 = wrap_angle(2 * np.arctan2(np.where(first, y1, y2), np.where(first, x1, x2)))
-        # θ3 from the loop: R3 = R1 + R4 − R2 = B − A
-        coupler_x = self.l1 + self.l4 * np.cos(theta4) - self.l2 * np.cos(theta2)
-        coupler_y = self.l4 * np.sin(theta4) - self.l2 * np.sin(theta2)
+        first = np.abs(y1) + np.abs(x1) >= np.abs(y2) + np.abs(x2)
+        y, x = np.where(first, y1, y2), np.where(first, x1, x2)
+        # θ4 = 2·atan2(y, x): its cosine and sine by the double-angle formulas, no wrap needed
+        norm = x * x + y * y
+        cos4, sin4 = (x * x - y * y) / norm, 2 * x * y / norm
+        theta4 = np.arctan2(sin4, cos4)
+        # θ3 from the loop: R3 = R1 + R4 − R2 = B − A, of length l3
+        coupler_x = self.l1 + self.l4 * cos4 - self.l2 * cos2
+        coupler_y = self.l4 * sin4 - self.l2 * sin2
         theta3 = np.arctan2(coupler_y, coupler_x)
-        return theta3, theta4, unreachable
+        trig = (cos2, sin2, coupler_x / self.l3, coupler_y / self.l3, cos4, sin4)
+        return theta3, theta4, unreachable, trig
 
     # ---------------------------------------------------------------- solve
     def solve(
@@ -325,7 +330,7 @@ class FourBar:
             require_finite("alpha2", alpha2, "rad/s^2"),
         )
         with np.errstate(invalid="ignore"):
-            theta3, theta4, unreachable = self._positions(theta2, branch)
+            theta3, theta4, unreachable, trig = self._positions(theta2, branch)
         report_unreachable(
             unreachable,
             {"theta2": theta2},
@@ -333,7 +338,7 @@ class FourBar:
             on_unreachable,
         )
         omega3, omega4, alpha3, alpha4, singular = self._rates(
-            theta2, theta3, theta4, omega2, alpha2, unreachable, on_unreachable
+            theta2, trig, omega2, alpha2, unreachable, on_unreachable
         )
         return FourBarSolution(
             theta3=_scalar_or_array(theta3),
@@ -347,12 +352,10 @@ class FourBar:
             branch=branch,
         )
 
-    def _rates(self, theta2, theta3, theta4, omega2, alpha2, unreachable, on_unreachable):
+    def _rates(self, theta2, trig, omega2, alpha2, unreachable, on_unreachable):
         """Velocity and acceleration from J·x = b (Cramer's rule on the 2×2 systems)."""
         l2, l3, l4 = self.l2, self.l3, self.l4
-        sin2, cos2 = np.sin(theta2), np.cos(theta2)
-        sin3, cos3 = np.sin(theta3), np.cos(theta3)
-        sin4, cos4 = np.sin(theta4), np.cos(theta4)
+        cos2, sin2, cos3, sin3, cos4, sin4 = trig
         # J = [[j00, j01], [j10, j11]], det J = l3 l4 sin(θ3 − θ4)
         j00, j01, j10, j11 = -l3 * sin3, l4 * sin4, l3 * cos3, -l4 * cos4
         determinant = j00 * j11 - j01 * j10

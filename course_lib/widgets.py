@@ -40,7 +40,7 @@ from .errors import CourseLibError, InvalidGeometryError
 from .fourbar import FourBar
 from .plotting import LINK_COLORS
 
-__all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer"]
+__all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer"]
 
 #: Description width shared by every slider, so the columns line up.
 _STYLE = {"description_width": "120px"}
@@ -637,3 +637,219 @@ def _draw_saw(t, artists, geometry, saw_module, motor_profile, turn) -> Readout:
         f"acceleration: a_r = {named['a_r']} m/s², α1 = {named['alpha1']} rad/s², "
         f"α3 = {named['alpha3']} rad/s²",
     ))
+
+
+# ---------------------------------------------------------------------------- five-bar robot
+_SIGMA = (("+1 (up)", 1), ("−1 (down)", -1))
+_WORKSPACE_POINTS = 161
+
+
+def fivebar_explorer(
+    l1: float = 0.10, l2: float = 0.15, l3: float = 0.15, l4: float = 0.10, l5: float = 0.08,
+    mode: str = "forward", theta1: float = 1.2, theta4: float = 1.9, sigma: int = 1,
+    x3: float = 0.0, y3: float = 0.2, sigma1: int = 1, sigma2: int = 1,
+) -> Explorer:
+    """Explorer of the five-bar robot (:class:`course_lib.fivebar.FiveBar`, lengths l1…l5 in metres).
+
+    Toggle ``mode``: "forward" — sliders θ1, θ4 (°) and the assembly σ (+1 arms up, −1 arms down)
+    give the end effector P3 = (X3, Y3); "inverse" — sliders X3, Y3 (m) and the working mode
+    (σ1, σ2) give the crank angles θ1, θ4.  The reachable workspace (both legs reach P3) is
+    shaded; in inverse mode the parallel (type-2) singularity curve of the chosen working mode is
+    drawn dashed.  Unreachable inputs are explained in the readout — which leg, which distance,
+    which bound — with the failing reach circles drawn.  Arguments are the initial values (angles
+    in radians).
+
+    >>> explorer = fivebar_explorer()
+    >>> explorer.update(mode="inverse", x3=0.0, y3=0.2).status
+    'ok'
+    >>> explorer.update(x3=0.3, y3=0.3).status
+    'unreachable'
+    """
+    from .fivebar import FiveBar
+
+    robot = FiveBar(l1, l2, l3, l4, l5)
+    reach = max(robot.l1 + robot.l2, robot.l4 + robot.l3) + robot.l5 / 2
+    limit = float(np.ceil(reach * 1.1 / 0.01) * 0.01)
+    controls = {
+        "mode": _toggle("mode", ("forward", "inverse"), mode),
+        "theta1_deg": _slider("θ1 (°)", _deg(theta1), -180.0, 180.0, 1.0, ".0f"),
+        "theta4_deg": _slider("θ4 (°)", _deg(theta4), -180.0, 180.0, 1.0, ".0f"),
+        "sigma": _toggle("assembly σ", _SIGMA, sigma),
+        "x3": _slider("X3 (m)", x3, -limit, limit, 0.005),
+        "y3": _slider("Y3 (m)", y3, -limit, limit, 0.005),
+        "sigma1": _toggle("σ1 (θ1 root)", _SIGMA, sigma1),
+        "sigma2": _toggle("σ2 (θ4 root)", _SIGMA, sigma2),
+    }
+    figure = _figure(6.2, 5.0)
+    ax = figure.add_axes((0.12, 0.1, 0.85, 0.86))
+    ax.set_xlabel("X (m)")
+    ax.set_ylabel("Y (m)")
+    ax.grid(True, linestyle="--", alpha=0.5)
+    _set_equal_limits(ax, -limit, limit, -limit, limit)
+    grid = np.linspace(-limit, limit, _WORKSPACE_POINTS)
+    workspace = robot.workspace(grid, grid, modes=(1, 1))
+    shade = np.zeros(workspace.reachable.shape + (4,))
+    shade[workspace.reachable] = (0.12, 0.47, 0.71, 0.16)
+    shading = ax.imshow(shade, extent=(-limit, limit, -limit, limit), origin="lower", interpolation="nearest")
+    half = robot.l5 / 2
+    for center in (half, -half):
+        ax.add_patch(Polygon(_ground_triangle(0.012) + [center, 0.0], closed=True, facecolor="none",
+                             edgecolor="0.3", hatch="///"))
+    singular_line, = ax.plot([], [], ".", color="tab:red", ms=2, label="parallel singularity of (σ1, σ2)")
+    ax.plot([], [], "s", color=(0.12, 0.47, 0.71, 0.3), label="workspace (both legs reach)")
+    ax.legend(loc="lower left", fontsize=8)
+    artists = {
+        "workspace": shading,
+        "singularity": singular_line,
+        "base": _moving_line(ax, [-half, half], [0.0, 0.0], color=LINK_COLORS[4], lw=2),
+        "leg1_crank": _moving_line(ax, [], [], color=LINK_COLORS[0], lw=3, solid_capstyle="round"),
+        "leg1_distal": _moving_line(ax, [], [], color=LINK_COLORS[1], lw=3, solid_capstyle="round"),
+        "leg4_distal": _moving_line(ax, [], [], color=LINK_COLORS[2], lw=3, solid_capstyle="round"),
+        "leg4_crank": _moving_line(ax, [], [], color=LINK_COLORS[3], lw=3, solid_capstyle="round"),
+        "joints": _moving_line(ax, [], [], "o", ms=6, mfc="white", mec="black"),
+        "end_effector": _moving_line(ax, [], [], "o", ms=8, color="black"),
+        "target": _moving_line(ax, [], [], "x", ms=11, mew=2.5, color=_ERROR_COLOR),
+        "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
+                           fontsize=10, fontweight="bold", animated=True),
+        "label_P3": ax.text(0, 0, "P3", fontsize=9, animated=True),
+    }
+    for key in ("reach_a", "reach_b"):
+        artists[key] = ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.35",
+                                           lw=1, animated=True))
+
+    def draw(state, geometry_changed: bool) -> Readout:
+        if geometry_changed:
+            _fivebar_background(state, robot, grid, artists, controls)
+        return _draw_fivebar(state, robot, artists, 0.03 * limit)
+
+    explorer = Explorer("five-bar", controls, figure, artists, draw, ("mode", "sigma1", "sigma2"))
+    return explorer
+
+
+def _fivebar_background(state, robot, grid, artists, controls) -> None:
+    """Enable the controls of the current mode; in inverse mode trace the type-2 singularity curve."""
+    inverse = state["mode"] == "inverse"
+    for key in ("theta1_deg", "theta4_deg", "sigma"):
+        controls[key].disabled = inverse
+    for key in ("x3", "y3", "sigma1", "sigma2"):
+        controls[key].disabled = not inverse
+    line = artists["singularity"]
+    if not inverse:
+        line.set_data([], [])
+        return
+    modes = (int(state["sigma1"]), int(state["sigma2"]))
+    parallel = robot.workspace(grid, grid, modes=modes).parallel
+    # sign changes of the parallel measure between grid neighbours, as points of the curve
+    points = []
+    for axis in (0, 1):
+        a = parallel
+        b = np.roll(parallel, -1, axis=axis)
+        crossing = (np.sign(a) * np.sign(b) < 0) & np.isfinite(a) & np.isfinite(b)
+        crossing[(-1, slice(None)) if axis == 0 else (slice(None), -1)] = False
+        rows, cols = np.nonzero(crossing)
+        weight = a[rows, cols] / (a[rows, cols] - b[rows, cols])
+        step = grid[1] - grid[0]
+        xs = grid[cols] + (weight * step if axis == 1 else 0.0)
+        ys = grid[rows] + (weight * step if axis == 0 else 0.0)
+        points.append(np.stack([xs, ys], axis=1))
+    points = np.concatenate(points)
+    line.set_data(points[:, 0], points[:, 1])
+
+
+def _draw_fivebar(state, robot, artists, offset) -> Readout:
+    """Forward or inverse kinematics of the state and the artists moved; the plain update step."""
+    half = robot.l5 / 2
+    P1, P5 = np.array([half, 0.0]), np.array([-half, 0.0])
+    inverse = state["mode"] == "inverse"
+    for key in ("reach_a", "reach_b", "target"):
+        artists[key].set_visible(False)
+    artists["failure"].set_text("")
+    try:
+        if inverse:
+            x3, y3 = float(state["x3"]), float(state["y3"])
+            modes = (int(state["sigma1"]), int(state["sigma2"]))
+            theta1, theta4 = robot.inverse(x3, y3, modes=modes)
+        else:
+            theta1, theta4 = np.radians(float(state["theta1_deg"])), np.radians(float(state["theta4_deg"]))
+            x3, y3 = robot.forward(theta1, theta4, mode=int(state["sigma"]))
+    except CourseLibError as err:
+        return _fivebar_failure(state, robot, artists, err, P1, P5)
+    P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
+    P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
+    P3 = np.array([x3, y3])
+    _show(artists, "leg1_crank leg1_distal leg4_distal leg4_crank joints end_effector label_P3")
+    artists["leg1_crank"].set_data([P1[0], P2[0]], [P1[1], P2[1]])
+    artists["leg1_distal"].set_data([P2[0], P3[0]], [P2[1], P3[1]])
+    artists["leg4_distal"].set_data([P4[0], P3[0]], [P4[1], P3[1]])
+    artists["leg4_crank"].set_data([P5[0], P4[0]], [P5[1], P4[1]])
+    points = np.array([P1, P2, P3, P4, P5])
+    artists["joints"].set_data(points[:, 0], points[:, 1])
+    artists["end_effector"].set_data([x3], [y3])
+    artists["label_P3"].set_position((x3 + offset, y3 + offset))
+    measures = robot.singularity_measures(theta1, theta4, x3, y3)
+    parallel = float(measures.parallel)
+    serial = min(abs(float(measures.serial_leg1)), abs(float(measures.serial_leg4)))
+    warnings = []
+    if abs(parallel) < 0.05:
+        warnings.append("near a parallel (type-2) singularity: l2 and l3 almost aligned")
+    if serial < 0.05:
+        warnings.append("near a serial (type-1) singularity: a leg almost stretched or folded")
+    if inverse:
+        head = (f"inverse, modes (σ1, σ2) = ({int(state['sigma1']):+d}, {int(state['sigma2']):+d}): "
+                f"P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m  →  θ1 = {_num(np.degrees(theta1), 2)}°, "
+                f"θ4 = {_num(np.degrees(theta4), 2)}°")
+    else:
+        head = (f"forward, σ = {int(state['sigma']):+d}: θ1 = {np.degrees(theta1):.1f}°, "
+                f"θ4 = {np.degrees(theta4):.1f}°  →  P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m")
+    return Readout("ok", (
+        head,
+        f"singularity measures (0 = singular): leg 1 {_num(measures.serial_leg1, 3)}, "
+        f"leg 4 {_num(measures.serial_leg4, 3)}, parallel {_num(parallel, 3)}",
+        *warnings,
+    ))
+
+
+def _fivebar_failure(state, robot, artists, err, P1, P5) -> Readout:
+    """Explain an unreachable five-bar input and draw the reach circles that fail to meet."""
+    _hide(artists, "leg1_distal leg4_distal end_effector label_P3")
+    if state["mode"] == "inverse":
+        P3 = np.array([float(state["x3"]), float(state["y3"])])
+        _hide(artists, "leg1_crank leg4_crank")
+        artists["joints"].set_data([P1[0], P5[0]], [P1[1], P5[1]])
+        artists["target"].set_data([P3[0]], [P3[1]])
+        artists["target"].set_visible(True)
+        artists["failure"].set_text(f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach")
+        lines = [f"P3 = ({P3[0]:.4f}, {P3[1]:.4f}) m cannot be reached:"]
+        for leg, pivot, crank, distal in (("leg 1 (l1, l2)", P1, robot.l1, robot.l2),
+                                          ("leg 4 (l4, l3)", P5, robot.l4, robot.l3)):
+            distance = float(np.hypot(*(P3 - pivot)))
+            if distance > crank + distal:
+                lines.append(f"{leg}: distance {distance:.4f} m > {crank + distal:.4f} m, fully stretched")
+            elif distance < abs(crank - distal):
+                lines.append(f"{leg}: distance {distance:.4f} m < {abs(crank - distal):.4f} m, fully folded")
+        lines.append("Bring the target back into the shaded workspace.")
+    else:
+        theta1, theta4 = np.radians(float(state["theta1_deg"])), np.radians(float(state["theta4_deg"]))
+        P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
+        P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
+        _show(artists, "leg1_crank leg4_crank")
+        artists["leg1_crank"].set_data([P1[0], P2[0]], [P1[1], P2[1]])
+        artists["leg4_crank"].set_data([P5[0], P4[0]], [P5[1], P4[1]])
+        points = np.array([P1, P2, P4, P5])
+        artists["joints"].set_data(points[:, 0], points[:, 1])
+        artists["reach_a"].set(center=tuple(P2), radius=robot.l2, visible=True)
+        artists["reach_b"].set(center=tuple(P4), radius=robot.l3, visible=True)
+        distance = float(np.hypot(*(P2 - P4)))
+        artists["failure"].set_text("the distal links cannot meet")
+        if distance > robot.l2 + robot.l3:
+            why = f"|P2P4| = {distance:.4f} m > l2 + l3 = {robot.l2 + robot.l3:.4f} m"
+        else:
+            why = f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(robot.l2 - robot.l3):.4f} m"
+        lines = [
+            f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°: "
+            "the robot cannot be assembled.",
+            why + " (the dashed circles about P2 and P4 do not meet).",
+            "Move θ1 or θ4 until the circles meet again.",
+        ]
+    lines.append(f"course_lib says: {err}")
+    return Readout("unreachable", tuple(lines))

@@ -246,3 +246,100 @@ def test_saw_reuses_one_figure_and_blits_exactly():
         explorer.play.value = k
     assert len(plt.get_fignums()) == fignums and _figures_alive() == alive
     assert explorer.render(full=True) == explorer.image.value
+
+
+# ------------------------------------------------------------------------------------------ five-bar
+L1, L2, L3, L4, L5 = 0.10, 0.15, 0.15, 0.10, 0.08
+P1, P5 = np.array([L5 / 2, 0.0]), np.array([-L5 / 2, 0.0])
+
+
+def test_fivebar_forward_matches_circle_intersection():
+    from course_lib.widgets import fivebar_explorer
+
+    explorer = fivebar_explorer()
+    for theta1_deg, theta4_deg in ((70.0, 110.0), (30.0, 150.0), (-20.0, -160.0)):
+        theta1, theta4 = np.radians(theta1_deg), np.radians(theta4_deg)
+        P2 = P1 + L1 * np.array([np.cos(theta1), np.sin(theta1)])
+        P4 = P5 + L4 * np.array([np.cos(theta4), np.sin(theta4)])
+        both = _circle_intersection(P2, L2, P4, L3)
+        up, down = sorted(both, key=lambda point: point[1], reverse=True)  # σ = +1: the larger Y3
+        for sigma, expected in ((1, up), (-1, down)):
+            assert explorer.update(theta1_deg=theta1_deg, theta4_deg=theta4_deg, sigma=sigma).status == "ok"
+            x, y = _xy(explorer.artists["end_effector"])
+            np.testing.assert_allclose([x[0], y[0]], expected, atol=1e-12)
+            x, y = _xy(explorer.artists["leg1_distal"])
+            np.testing.assert_allclose([x[0], y[0]], P2, atol=1e-12)
+            shown = [f"{round(value, 4) + 0.0:.4f}" for value in expected]
+            assert f"P3 = ({shown[0]}, {shown[1]}) m" in explorer.message
+
+
+def test_fivebar_inverse_working_modes_close_the_legs():
+    from course_lib.widgets import fivebar_explorer
+
+    explorer = fivebar_explorer(mode="inverse")
+    assert explorer.controls["theta1_deg"].disabled and not explorer.controls["x3"].disabled
+    target = np.array([0.05, 0.18])
+    elbows1, elbows4 = set(), set()
+    for sigma1 in (1, -1):
+        for sigma2 in (1, -1):
+            readout = explorer.update(x3=target[0], y3=target[1], sigma1=sigma1, sigma2=sigma2)
+            assert readout.status == "ok"
+            x, y = _xy(explorer.artists["leg1_distal"])
+            P2, P3 = np.array([x[0], y[0]]), np.array([x[1], y[1]])
+            x, y = _xy(explorer.artists["leg4_distal"])
+            P4 = np.array([x[0], y[0]])
+            np.testing.assert_allclose(P3, target, atol=1e-15)
+            # P2 is one of the two independent circle intersections, and the legs close
+            candidates = _circle_intersection(P1, L1, target, L2)
+            assert min(np.hypot(*(P2 - c)) for c in candidates) < 1e-12
+            np.testing.assert_allclose([np.hypot(*(P2 - P1)), np.hypot(*(P4 - P5)), np.hypot(*(P4 - P3))],
+                                       [L1, L4, L3], atol=1e-12)
+            elbows1.add(tuple(np.round(P2, 9)))
+            elbows4.add(tuple(np.round(P4, 9)))
+    assert len(elbows1) == 2 and len(elbows4) == 2  # σ1 and σ2 each pick one of two elbows
+
+
+def test_fivebar_workspace_shading_is_the_annulus_intersection():
+    from course_lib.widgets import fivebar_explorer
+
+    explorer = fivebar_explorer()
+    shade = explorer.artists["workspace"].get_array()
+    left, right, bottom, top = explorer.artists["workspace"].get_extent()
+    grid = np.linspace(left, right, shade.shape[1])
+    X, Y = np.meshgrid(grid, np.linspace(bottom, top, shade.shape[0]))
+    d1, d5 = np.hypot(X - P1[0], Y - P1[1]), np.hypot(X - P5[0], Y - P5[1])
+    inside = (d1 <= L1 + L2) & (d1 >= abs(L1 - L2)) & (d5 <= L4 + L3) & (d5 >= abs(L4 - L3))
+    edge = (np.abs(d1 - (L1 + L2)) < 1e-9) | (np.abs(d5 - (L4 + L3)) < 1e-9)
+    np.testing.assert_array_equal((shade[..., 3] > 0)[~edge], inside[~edge])
+
+
+def test_fivebar_unreachable_states_explained():
+    from course_lib.widgets import fivebar_explorer
+
+    explorer = fivebar_explorer(mode="inverse")
+    readout = explorer.update(x3=0.25, y3=0.25)
+    assert readout.status == "unreachable"
+    distance = np.hypot(0.25 - L5 / 2, 0.25)
+    assert f"leg 1 (l1, l2): distance {distance:.4f} m > 0.2500 m" in explorer.message
+    assert explorer.artists["target"].get_visible() and not explorer.artists["end_effector"].get_visible()
+    assert explorer.update(x3=0.0, y3=0.2).status == "ok"
+    # forward: distal links of 0.10 m cannot bridge |P2P4| = l5 + l1 + l4 = 0.28 m
+    short = fivebar_explorer(l1=0.10, l2=0.10, l3=0.10, l4=0.10, l5=0.08, theta1=0.0, theta4=np.pi)
+    assert short.status == "unreachable"
+    assert "|P2P4| = 0.2800 m > l2 + l3 = 0.2000 m" in short.message
+    assert short.artists["reach_a"].get_visible()
+
+
+def test_fivebar_reuses_one_figure_and_blits_exactly():
+    from course_lib.widgets import fivebar_explorer
+
+    fignums = len(plt.get_fignums())
+    explorer = fivebar_explorer()
+    alive = _figures_alive()
+    for k in range(10):
+        explorer.controls["theta1_deg"].value = 40.0 + 3 * k
+    explorer.update(mode="inverse")
+    for k in range(10):
+        explorer.controls["x3"].value = -0.05 + 0.01 * k
+    assert len(plt.get_fignums()) == fignums and _figures_alive() == alive
+    assert explorer.render(full=True) == explorer.image.value

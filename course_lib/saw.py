@@ -123,8 +123,12 @@ def _split3(values, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _stack(rows) -> np.ndarray:
-    """Stack equal-shaped (broadcast) entries on a new last axis."""
-    return np.stack(np.broadcast_arrays(*rows), axis=-1)
+    """Stack entries (broadcast to one shape) on a new last axis."""
+    arrays = [np.asarray(row, dtype=float) for row in rows]
+    shape = arrays[0].shape
+    if all(array.shape == shape for array in arrays):  # the common case, without broadcasting
+        return np.array(arrays) if not shape else np.stack(arrays, axis=-1)
+    return np.stack(np.broadcast_arrays(*arrays), axis=-1)
 
 
 def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:

@@ -62,6 +62,10 @@ def _isolated_jupyter_env(home: pathlib.Path) -> dict[str, str]:
     labconfig.mkdir()
     disabled = {"@jupyterlab/apputils-extension:announcements": True}
     (labconfig / "page_config.json").write_text(json.dumps({"disabledExtensions": disabled}))
+    # render every cell (no windowing), so explorers scrolled out of view still have their text
+    tracker = home / "lab_settings" / "@jupyterlab" / "notebook-extension"
+    tracker.mkdir(parents=True)
+    (tracker / "tracker.jupyterlab-settings").write_text(json.dumps({"windowingMode": "none"}))
     env["PYDEVD_DISABLE_FILE_VALIDATION"] = "1"
     return env
 
@@ -72,7 +76,8 @@ def _start_lab(root: pathlib.Path, home: pathlib.Path, port: int) -> subprocess.
         "--ServerApp.ip=127.0.0.1", f"--ServerApp.port={port}", "--ServerApp.port_retries=0",
         "--IdentityProvider.token=", "--ServerApp.password=", "--ServerApp.disable_check_xsrf=True",
         f"--ServerApp.root_dir={root}",
-        "--LabApp.news_url=None", "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate",
+        f"--LabApp.user_settings_dir={home / 'lab_settings'}", "--LabApp.news_url=None",
+        "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate",
     ]
     log = open(home / "jupyterlab.log", "wb")  # noqa: SIM115 (closed with the process)
     return subprocess.Popen(command, cwd=root, env=_isolated_jupyter_env(home), stdout=log,
@@ -157,6 +162,10 @@ def test_fourbar_explorer_follows_the_keyboard_in_jupyterlab():
                     "() => [...document.querySelectorAll('.jp-InputArea-prompt')]"
                     ".every(p => !p.textContent.includes('*'))", timeout=45_000)
                 page.wait_for_selector(idle, timeout=45_000)
+                page.locator(".course-explorer").first.scroll_into_view_if_needed()
+                page.wait_for_function(
+                    "() => document.querySelector('.course-explorer .course-explorer-readout')"
+                    ".innerText.includes('θ2 = 60.0°')", timeout=20_000)
                 before = _explorer_snapshot(page)
                 assert "θ2 = 60.0°" in before[0]
                 assert before[1].startswith("data:image/png") or before[1].startswith("blob:")

@@ -1,0 +1,429 @@
+"""Tests for course_lib.checks: each checker accepts the right answer (computed here by an
+independent route) and its equivalent forms, and rejects typical wrong answers with the
+right hint — without ever showing the reference value."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.optimize
+import sympy as sp
+
+from course_lib import checks
+from course_lib.fivebar import FiveBar
+from course_lib.fourbar import FourBar
+from course_lib.saw import Saw
+from course_lib.slider_crank import OffsetSliderCrank
+
+BENCH = FourBar(crank=0.07, coupler=0.20, rocker=0.15, ground=0.25)
+MY_SAW = Saw(r1y=0.03, r2=0.06, r3=0.15)
+ROBOT = FiveBar(l1=0.11, l2=0.16, l3=0.17, l4=0.12, l5=0.09)
+
+
+def hides(feedback, *values) -> bool:
+    """True when no rounding (2–8 significant digits) of any value appears in the message."""
+    for value in np.ravel(values):
+        for digits in range(2, 9):
+            for text in (f"{value:.{digits}g}", f"{value:.{digits}f}", f"{abs(value):.{digits}g}"):
+                if len(text.strip("-0.")) >= 2 and text in feedback.message:
+                    return False
+    return True
+
+
+def rejects(feedback, *words, hidden=()):
+    assert not feedback.ok, feedback
+    assert all(word in feedback.message for word in words), feedback
+    assert hides(feedback, *hidden), feedback
+
+
+def circle_intersections(a, ra, b, rb):
+    """Both points at distance ra from a and rb from b: (left of a→b, right of a→b)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    d = np.linalg.norm(b - a)
+    along = (ra**2 - rb**2 + d**2) / (2 * d)
+    across = np.sqrt(ra**2 - along**2)
+    unit = (b - a) / d
+    normal = np.array([-unit[1], unit[0]])
+    foot = a + along * unit
+    return foot + across * normal, foot - across * normal
+
+
+def fourbar_by_circles(linkage, theta2, branch):
+    A = linkage.l2 * np.array([np.cos(theta2), np.sin(theta2)])
+    O4 = np.array([linkage.l1, 0.0])
+    left, right = circle_intersections(A, linkage.l3, O4, linkage.l4)
+    B = left if branch == "open" else right
+    return np.arctan2(*(B - A)[::-1]), np.arctan2(*(B - O4)[::-1])
+
+
+# ---------------------------------------------------------------- the Feedback object
+
+
+def test_feedback_prints_one_line_with_a_mark():
+    good, bad = checks.Feedback(True, "Correct."), checks.Feedback(False, "Not yet: x.")
+    assert str(good) == repr(good) == "✔ Correct." and str(bad).startswith("✘ ")
+    assert bool(good) and not bool(bad)
+    with pytest.raises(AttributeError):
+        good.ok = False
+
+
+def test_unanswered_answers_are_named():
+    for checker in (checks.check_mobility, checks.check_newton_cycle, checks.check_newton_update):
+        feedback = checker(None)
+        assert not feedback.ok and "No answer yet" in feedback.message
+
+
+# ---------------------------------------------------------------- ex01
+
+
+def test_mobility():
+    assert checks.check_mobility((6, 7, 0, 6 * 3 - 3 - 14)).ok
+    assert checks.check_mobility({"links": 6, "full_joints": 7, "half_joints": 0, "mobility": 1}).ok
+    rejects(checks.check_mobility((5, 7, 0, -2)), "ground")
+    rejects(checks.check_mobility((6, 6, 0, 3)), "three links", "two full joints")
+    rejects(checks.check_mobility((6, 7, 0, 2)), "M = 3(L − 1)")
+
+
+def test_tilted_loop():
+    l1, l2, l3, l4 = sp.symbols("l1:5", positive=True)
+    t1, t2, t3, t4 = sp.symbols("theta1:5", real=True)
+    # complex-number route: l2 e^{iθ2} + l3 e^{iθ3} − l4 e^{iθ4} − l1 e^{iθ1}
+    z = l2 * sp.exp(sp.I * t2) + l3 * sp.exp(sp.I * t3) - l4 * sp.exp(sp.I * t4) - l1 * sp.exp(sp.I * t1)
+    x, y = (sp.expand_complex(part) for part in (sp.re(z), sp.im(z)))
+    assert checks.check_tilted_loop([x, y]).ok
+    assert checks.check_tilted_loop(sp.Matrix([-x, 2 * y])).ok  # same equations "= 0"
+    assert checks.check_tilted_loop([y, x]).ok  # either order
+    rejects(checks.check_tilted_loop([x.subs(t1, 0), y.subs(t1, 0)]), "horizontal ground")
+    rejects(checks.check_tilted_loop([x.subs(l3, -l3), y.subs(l3, -l3)]), "sign error")
+    # sin and cos swapped in both components is the right pair in the other order: accepted
+    rejects(checks.check_tilted_loop([x, x]), "Not yet")
+    rejects(checks.check_tilted_loop(["l2*cos(theta2)", "0"]), "sympy expression")
+    rejects(checks.check_tilted_loop(x), "list")
+
+
+def test_point_velocity():
+    length, degrees, speed = 0.080, 135.0, 12.0
+    theta, h = np.radians(degrees), 1e-7
+
+    def tip(t):  # clockwise: the angle decreases in time
+        angle = theta - speed * t
+        return length * np.array([np.cos(angle), np.sin(angle)])
+
+    velocity = (tip(h) - tip(-h)) / (2 * h)
+    assert checks.check_point_velocity(velocity, length, degrees, speed, clockwise=True).ok
+    assert checks.check_point_velocity(list(velocity), length, degrees, speed, clockwise=True).ok
+    rejects(checks.check_point_velocity(-velocity, length, degrees, speed, True), "sign", hidden=velocity)
+    rejects(checks.check_point_velocity(velocity * 1000, length, degrees, speed, True), "mm/s")
+    in_degrees = -speed * length * np.array([-np.sin(degrees), np.cos(degrees)])
+    rejects(checks.check_point_velocity(in_degrees, length, degrees, speed, True), "degrees")
+    rejects(checks.check_point_velocity(0.96, length, degrees, speed, True), "speed", "vector")
+
+
+def test_choice_questions():
+    for checker, right in (
+        (checks.check_redundant_parallelogram, "b"),
+        (checks.check_newton_cycle, "a"),
+        (checks.check_saw_linear_stage, "a"),
+    ):
+        assert checker(right).ok and checker(f" ({right.upper()}) ").ok
+        wrong = [checker(letter) for letter in "abcd" if letter != right]
+        assert all(not feedback.ok and len(feedback.message) > 30 for feedback in wrong)
+        rejects(checker("e"), "one letter")
+        rejects(checker(2), "one letter")
+
+
+# ---------------------------------------------------------------- ex02
+
+
+def test_newton_update():
+    x = sp.Symbol("x")
+    f = x**3 - 2 * x - 5
+    assert checks.check_newton_update((2 * x**3 + 5) / (3 * x**2 - 2)).ok
+    assert checks.check_newton_update(x - f / (3 * x**2 - 2)).ok
+    rejects(checks.check_newton_update(x + f / (3 * x**2 - 2)), "sign error")
+    rejects(checks.check_newton_update(x - (3 * x**2 - 2) / f), "upside down")
+    rejects(checks.check_newton_update(f / (3 * x**2 - 2)), "step")
+    rejects(checks.check_newton_update(x - f), "derivative")
+    rejects(checks.check_newton_update(sp.Symbol("y") - 1), "symbols")
+
+
+def test_newton_iterations():
+    root = scipy.optimize.brentq(lambda v: v**3 - 2 * v - 5, 2.0, 3.0, xtol=1e-15)
+    value, count = 2.0, 0
+    while True:  # the course's rule, written out
+        step = -(value**3 - 2 * value - 5) / (3 * value**2 - 2)
+        value, count = value + step, count + 1
+        if abs(step) < 1e-6:
+            break
+    assert abs(value - root) < 1e-12
+    assert checks.check_newton_iterations((root, count)).ok
+    assert checks.check_newton_iterations([root, np.int64(count)]).ok
+    rejects(checks.check_newton_iterations((root, count + 1)), "seed", hidden=[count])
+    rejects(checks.check_newton_iterations((root, count - 1)), "too few")
+    rejects(checks.check_newton_iterations((2.0945, count)), "tolerance", hidden=[root])
+    rejects(checks.check_newton_iterations((3.0, count)), "does not satisfy")
+
+
+def test_fourbar_newton_step():
+    theta2, seed = np.radians(40.0), np.array([0.5, 1.5])
+
+    def loop(q):
+        l1, l2, l3, l4 = 0.25, 0.07, 0.20, 0.15
+        return np.array(
+            [
+                l2 * np.cos(theta2) + l3 * np.cos(q[0]) - l4 * np.cos(q[1]) - l1,
+                l2 * np.sin(theta2) + l3 * np.sin(q[0]) - l4 * np.sin(q[1]),
+            ]
+        )
+
+    h = 1e-6
+    J = np.column_stack([(loop(seed + h * e) - loop(seed - h * e)) / (2 * h) for e in np.eye(2)])
+    step = np.linalg.solve(J, -loop(seed))
+    assert checks.check_fourbar_newton_step(step, BENCH, theta2, seed).ok
+    rejects(checks.check_fourbar_newton_step(-step, BENCH, theta2, seed), "sign error", hidden=step)
+    rejects(checks.check_fourbar_newton_step(seed + step, BENCH, theta2, seed), "new iterate")
+    rejects(checks.check_fourbar_newton_step(step[::-1], BENCH, theta2, seed), "swapped")
+    rejects(
+        checks.check_fourbar_newton_step(np.linalg.solve(J.T, -loop(seed)), BENCH, theta2, seed), "transposed"
+    )
+    rejects(checks.check_fourbar_newton_step([1.0, 2.0, 3.0], BENCH, theta2, seed), "2 entries")
+
+
+def test_seed_branch():
+    theta2, q = np.radians(40.0), np.array([2.5, 0.3])
+    l1, l2, l3, l4 = 0.25, 0.07, 0.20, 0.15
+    for _ in range(60):  # plain Newton, written out
+        F = [
+            l2 * np.cos(theta2) + l3 * np.cos(q[0]) - l4 * np.cos(q[1]) - l1,
+            l2 * np.sin(theta2) + l3 * np.sin(q[0]) - l4 * np.sin(q[1]),
+        ]
+        J = [[-l3 * np.sin(q[0]), l4 * np.sin(q[1])], [l3 * np.cos(q[0]), -l4 * np.cos(q[1])]]
+        q = q + np.linalg.solve(J, -np.array(F))
+    A = l2 * np.array([np.cos(theta2), np.sin(theta2)])
+    B = A + l3 * np.array([np.cos(q[0]), np.sin(q[0])])
+    O4 = np.array([l1, 0.0])
+    side = (O4 - A)[0] * (B - A)[1] - (O4 - A)[1] * (B - A)[0]  # open: B left of A → O4
+    reached, other = ("open", "crossed") if side > 0 else ("crossed", "open")
+    assert checks.check_seed_branch(reached, BENCH, theta2, (2.5, 0.3)).ok
+    assert checks.check_seed_branch(reached.upper(), BENCH, theta2, (2.5, 0.3)).ok
+    rejects(checks.check_seed_branch(other, BENCH, theta2, (2.5, 0.3)), "other branch")
+    rejects(checks.check_seed_branch("left", BENCH, theta2, (2.5, 0.3)), '"open" or "crossed"')
+
+
+# ---------------------------------------------------------------- ex03
+
+
+def test_fourbar_theta4():
+    theta2 = np.radians(120.0)
+    theta3, theta4 = fourbar_by_circles(BENCH, theta2, "crossed")
+    open3, open4 = fourbar_by_circles(BENCH, theta2, "open")
+    check = checks.check_fourbar_theta4
+    assert check(theta4, BENCH, theta2, "crossed").ok
+    assert check(theta4 + 2 * np.pi, BENCH, theta2, "crossed").ok and check(
+        theta4 - 4 * np.pi, BENCH, theta2, "crossed"
+    )
+    rejects(check(open4, BENCH, theta2, "crossed"), "open branch", hidden=[theta4])
+    rejects(check(np.degrees(theta4), BENCH, theta2, "crossed"), "degrees", hidden=[theta4])
+    rejects(check(theta3, BENCH, theta2, "crossed"), "θ3")
+    rejects(check("1.2", BENCH, theta2, "crossed"), "number")
+
+
+def test_omega4_expression():
+    l1, l2, l3, l4 = sp.symbols("l1:5", positive=True)
+    t2, t3, t4, w2, w3, w4 = sp.symbols("theta2 theta3 theta4 omega2 omega3 omega4", real=True)
+    velocity = [
+        -w2 * l2 * sp.sin(t2) - w3 * l3 * sp.sin(t3) + w4 * l4 * sp.sin(t4),
+        w2 * l2 * sp.cos(t2) + w3 * l3 * sp.cos(t3) - w4 * l4 * sp.cos(t4),
+    ]
+    rates = sp.solve(velocity, [w3, w4], dict=True)[0]
+    assert checks.check_omega4_expression(rates[w4]).ok
+    assert checks.check_omega4_expression(sp.simplify(rates[w4])).ok
+    rejects(checks.check_omega4_expression(-rates[w4]), "sign error")
+    rejects(checks.check_omega4_expression(rates[w3]), "ω3")
+    rejects(checks.check_omega4_expression(rates[w4] / w2), "ω2")
+    rejects(checks.check_omega4_expression(rates[w4] + sp.Symbol("q")), "symbols")
+
+
+def _rates_by_sympy(linkage, theta2, omega2, alpha2, branch):
+    """(ω4, α4) from the loop differentiated twice by sympy, at the circle-intersection position."""
+    t = sp.Symbol("t")
+    th2, th3, th4 = (sp.Function(name)(t) for name in ("th2", "th3", "th4"))
+    l1, l2, l3, l4 = linkage.l1, linkage.l2, linkage.l3, linkage.l4
+    loop = [
+        l2 * sp.cos(th2) + l3 * sp.cos(th3) - l4 * sp.cos(th4) - l1,
+        l2 * sp.sin(th2) + l3 * sp.sin(th3) - l4 * sp.sin(th4),
+    ]
+    position3, position4 = fourbar_by_circles(linkage, theta2, branch)
+    w3, w4, a3, a4 = sp.symbols("w3 w4 a3 a4")
+    values = {th2: theta2, th3: position3, th4: position4}
+    first = {th2.diff(t): omega2, th3.diff(t): w3, th4.diff(t): w4}
+    second = {th2.diff(t, 2): alpha2, th3.diff(t, 2): a3, th4.diff(t, 2): a4}
+    velocity = [e.diff(t).subs(first).subs(values) for e in loop]
+    omegas = sp.solve(velocity, [w3, w4], dict=True)[0]
+    acceleration = [e.diff(t, 2).subs(second).subs(first).subs(values).subs(omegas) for e in loop]
+    alphas = sp.solve(acceleration, [a3, a4], dict=True)[0]
+    return float(omegas[w4]), float(alphas[a4]), float(omegas[w3])
+
+
+def test_fourbar_rates():
+    theta2, omega2, alpha2 = np.radians(200.0), 15.0, -40.0
+    omega4, alpha4, omega3 = _rates_by_sympy(BENCH, theta2, omega2, alpha2, "open")
+    other4, other_alpha4, _ = _rates_by_sympy(BENCH, theta2, omega2, alpha2, "crossed")
+    check = checks.check_fourbar_rates
+    assert check((omega4, alpha4), BENCH, theta2, omega2, alpha2, "open").ok
+    assert check(np.array([omega4, alpha4]), BENCH, theta2, omega2, alpha2, "open").ok
+    bare4 = _rates_by_sympy(BENCH, theta2, 0.0, alpha2, "open")[1]  # every ω² term gone
+    rejects(check((omega4, bare4), BENCH, theta2, omega2, alpha2, "open"), "ω²", hidden=[alpha4])
+    rejects(check((other4, other_alpha4), BENCH, theta2, omega2, alpha2, "open"), "crossed branch")
+    rejects(check((-omega4, alpha4), BENCH, theta2, omega2, alpha2, "open"), "wrong sign", hidden=[omega4])
+    rejects(check((alpha4, omega4), BENCH, theta2, omega2, alpha2, "open"), "swapped")
+    rejects(check((omega3, alpha4), BENCH, theta2, omega2, alpha2, "open"), "ω3")
+
+
+def test_toggle_angle():
+    triple = FourBar(crank=0.14, coupler=0.12, rocker=0.10, ground=0.20)
+
+    def stretch(theta2):  # |AO4| − (l3 + l4): zero where coupler and rocker are extended
+        return np.hypot(0.20 - 0.14 * np.cos(theta2), 0.14 * np.sin(theta2)) - 0.22
+
+    limit = scipy.optimize.brentq(stretch, 0.1, 3.0, xtol=1e-15)
+    assert checks.check_toggle_angle((limit, "extended"), triple).ok
+    assert checks.check_toggle_angle([limit, " Extended"], triple).ok
+    rejects(checks.check_toggle_angle((np.degrees(limit), "extended"), triple), "degrees", hidden=[limit])
+    rejects(checks.check_toggle_angle((-limit, "extended"), triple), "mirror")
+    rejects(checks.check_toggle_angle((limit, "folded"), triple), "angle is right")
+    rejects(checks.check_toggle_angle((1.0, "extended"), triple), "law of cosines", hidden=[limit])
+
+
+# ---------------------------------------------------------------- ex04
+
+
+def test_saw_omega3_expression():
+    r1y, r2, r3, w2 = sp.symbols("r1y r2 r3 omega2", positive=True)
+    t2, t3 = sp.symbols("theta2 theta3", real=True)
+    rod_height = r2 * sp.sin(t2) + r3 * sp.sin(t3) - r1y  # = 0 along the motion
+    # implicit differentiation: dθ3/dt = −(∂F/∂θ2 / ∂F/∂θ3)·ω2
+    omega3 = -sp.diff(rod_height, t2) / sp.diff(rod_height, t3) * w2
+    assert checks.check_saw_omega3_expression(omega3).ok
+    assert checks.check_saw_omega3_expression(w2 * r2 * sp.cos(t2) / (-r3 * sp.cos(t3))).ok
+    assert checks.check_saw_omega3_expression(sp.simplify(omega3 * r3 / r3)).ok
+    rejects(checks.check_saw_omega3_expression(-omega3), "sign error")
+    rejects(
+        checks.check_saw_omega3_expression(omega3.subs({sp.cos(t2): sp.sin(t2), sp.cos(t3): sp.sin(t3)})),
+        "swapped",
+    )
+    theta1_formula = sp.acot((r2 * sp.cos(t2) + r3 * sp.cos(t3)) / r1y)
+    rejects(checks.check_saw_omega3_expression(theta1_formula), "ω2", "slip")
+
+
+def _saw_by_slider_crank(theta2, omega2=0.0, alpha2=0.0):
+    """(r1, θ1, θ3, a_r) from the Cartesian slider-crank: r1 = −√(x² + r1y²) (r1 < 0: slider on the left)."""
+    motion = OffsetSliderCrank(crank=0.06, rod=0.15, offset=0.03).solve(theta2, omega2, alpha2, branch="left")
+    x, v, a = float(motion.x), float(motion.v), float(motion.a)
+    rho = np.hypot(x, 0.03)
+    r1, theta1 = -rho, np.arctan(0.03 / x)
+    a_r = -(v**2 + x * a) / rho + x**2 * v**2 / rho**3
+    return r1, theta1, float(motion.theta3), a_r
+
+
+def test_saw_position():
+    theta2 = np.radians(50.0)
+    r1, theta1, theta3, _ = _saw_by_slider_crank(theta2)
+    check = checks.check_saw_position
+    assert check((r1, theta1, theta3), MY_SAW, theta2).ok
+    equivalent = check((-r1, theta1 + np.pi, theta3 - 2 * np.pi), MY_SAW, theta2)
+    assert equivalent.ok and "(−π/2, π/2]" in equivalent.message
+    rejects(check((r1, theta1, np.pi - theta3), MY_SAW, theta2), "other branch", hidden=[theta3])
+    rejects(check((1000 * r1, theta1, theta3), MY_SAW, theta2), "millimetres", hidden=[r1])
+    rejects(check((r1, np.degrees(theta1), np.degrees(theta3)), MY_SAW, theta2), "degrees")
+    rejects(check((r1, theta1), MY_SAW, theta2), "3 entries")
+
+
+def test_saw_slider_acceleration():
+    theta2, omega2, alpha2 = np.radians(50.0), 6.0, 4.0
+    a_r = _saw_by_slider_crank(theta2, omega2, alpha2)[3]
+    bare = _saw_by_slider_crank(theta2, 0.0, alpha2)[3]  # the ω² terms dropped
+    check = checks.check_saw_slider_acceleration
+    assert check(a_r, MY_SAW, theta2, omega2, alpha2).ok
+    assert check(np.float32(a_r), MY_SAW, theta2, omega2, alpha2).ok
+    rejects(check(bare, MY_SAW, theta2, omega2, alpha2), "ω²", hidden=[a_r])
+    rejects(check(-a_r, MY_SAW, theta2, omega2, alpha2), "sign error", hidden=[a_r])
+    rejects(check(1000 * a_r, MY_SAW, theta2, omega2, alpha2), "1000")
+
+
+# ---------------------------------------------------------------- ex05
+
+
+def _fivebar_points(theta1, theta4):
+    P2 = np.array([0.11 * np.cos(theta1) + 0.045, 0.11 * np.sin(theta1)])
+    P4 = np.array([0.12 * np.cos(theta4) - 0.045, 0.12 * np.sin(theta4)])
+    return P2, P4
+
+
+def test_fivebar_forward():
+    theta1, theta4 = np.radians(70.0), np.radians(125.0)
+    P2, P4 = _fivebar_points(theta1, theta4)
+    first, second = circle_intersections(P2, 0.16, P4, 0.17)
+    down = min(first, second, key=lambda p: p[1])
+    up = max(first, second, key=lambda p: p[1])
+    check = checks.check_fivebar_forward
+    assert check(down, ROBOT, theta1, theta4, -1).ok and check(tuple(up), ROBOT, theta1, theta4, +1).ok
+    rejects(check(up, ROBOT, theta1, theta4, -1), "arms up", hidden=down)
+    rejects(check(1000 * down, ROBOT, theta1, theta4, -1), "millimetres")
+    rejects(check(down[::-1], ROBOT, theta1, theta4, -1), "swapped")
+
+
+def test_fivebar_inverse():
+    x3, y3 = 0.02, 0.21
+    l1, l2, l3, l4, l5 = 0.11, 0.16, 0.17, 0.12, 0.09
+    # the seeds' half-angle coefficients, typed from the course material
+    a1 = l1**2 - l2**2 - l1 * l5 + l5**2 / 4 + 2 * l1 * x3 - l5 * x3 + x3**2 + y3**2
+    b1, b2 = -4 * l1 * y3, -4 * l4 * y3
+    c1 = l1**2 - l2**2 + l1 * l5 + l5**2 / 4 - 2 * l1 * x3 - l5 * x3 + x3**2 + y3**2
+    a2 = -(l3**2) + l4**2 + l4 * l5 + l5**2 / 4 + 2 * l4 * x3 + l5 * x3 + x3**2 + y3**2
+    c2 = -(l3**2) + l4**2 - l4 * l5 + l5**2 / 4 - 2 * l4 * x3 + l5 * x3 + x3**2 + y3**2
+
+    def angle(a, b, c, sigma):
+        return 2 * np.arctan((-b + sigma * np.sqrt(b * b - 4 * a * c)) / (2 * a))
+
+    answer = (angle(a1, b1, c1, -1), angle(a2, b2, c2, +1))
+    check = checks.check_fivebar_inverse
+    assert check(answer, ROBOT, x3, y3, (-1, +1)).ok
+    assert check((answer[0] + 2 * np.pi, answer[1]), ROBOT, x3, y3, (-1, +1)).ok
+    rejects(check((angle(a1, b1, c1, +1), answer[1]), ROBOT, x3, y3, (-1, +1)), "σ1", hidden=answer)
+    rejects(check((answer[0], angle(a2, b2, c2, -1)), ROBOT, x3, y3, (-1, +1)), "σ2")
+    rejects(check(np.degrees(answer), ROBOT, x3, y3, (-1, +1)), "degrees", hidden=answer)
+    rejects(check(answer[::-1], ROBOT, x3, y3, (-1, +1)), "swapped")
+
+
+def test_fivebar_g():
+    l1, l2, l3, l4, l5 = sp.symbols("l1:6", positive=True)
+    t1, t4, X3, Y3 = sp.symbols("theta1 theta4 X3 Y3", real=True)
+    ecl2 = (X3 - l1 * sp.cos(t1) - l5 / 2) ** 2 + (Y3 - l1 * sp.sin(t1)) ** 2 - l2**2
+    ecl3 = (X3 - l4 * sp.cos(t4) + l5 / 2) ** 2 + (Y3 - l4 * sp.sin(t4)) ** 2 - l3**2
+    linear = sp.expand(ecl2 - ecl3)
+    solved = sp.solve(linear, X3)[0]
+    g = sp.diff(solved, Y3)
+    seeds_g = (-2 * l1 * sp.sin(t1) + 2 * l4 * sp.sin(t4)) / (2 * (l5 + l1 * sp.cos(t1) - l4 * sp.cos(t4)))
+    assert sp.simplify(g - seeds_g) == 0
+    assert checks.check_fivebar_g(g).ok and checks.check_fivebar_g(seeds_g).ok
+    rejects(checks.check_fivebar_g(-g), "sign error")
+    rejects(checks.check_fivebar_g(1 / g), "X3, not Y3")
+    rejects(checks.check_fivebar_g(2 * g), "factor 2")
+    rejects(checks.check_fivebar_g(g + l2 - l2 + l3), "f (the constant term)")
+
+
+def test_fivebar_singularity():
+    theta1 = np.radians(100.0)
+    P1 = np.array([0.045, 0.0])
+    P3 = P1 + (0.11 + 0.16) * np.array([np.cos(theta1), np.sin(theta1)])  # leg 1 stretched
+    P5 = np.array([-0.045, 0.0])
+    P4 = circle_intersections(P5, 0.12, P3, 0.17)[1]
+    theta4 = np.arctan2(*(P4 - P5)[::-1])
+    check = checks.check_fivebar_singularity
+    assert check("serial1", ROBOT, theta1, theta4, *P3).ok
+    assert check("serial, leg 1", ROBOT, theta1, theta4, *P3).ok
+    rejects(check("parallel", ROBOT, theta1, theta4, *P3), "not aligned")
+    rejects(check("none", ROBOT, theta1, theta4, *P3), "one of them is zero")
+    rejects(check("serial4", ROBOT, theta1, theta4, *P3), "other leg")
+    rejects(check("type 2", ROBOT, theta1, theta4, *P3), "serial1")

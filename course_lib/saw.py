@@ -123,12 +123,21 @@ def _split3(values, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _stack(rows) -> np.ndarray:
-    """Stack entries (broadcast to one shape) on a new last axis."""
-    arrays = [np.asarray(row, dtype=float) for row in rows]
-    shape = arrays[0].shape
-    if all(array.shape == shape for array in arrays):  # the common case, without broadcasting
-        return np.array(arrays) if not shape else np.stack(arrays, axis=-1)
-    return np.stack(np.broadcast_arrays(*arrays), axis=-1)
+    """Entries (broadcast to one shape) side by side on a new last axis, shape (..., len(rows))."""
+    out = np.empty(np.broadcast_shapes(*(np.shape(row) for row in rows)) + (len(rows),))
+    for k, row in enumerate(rows):
+        out[..., k] = row
+    return out
+
+
+def _matrix(rows) -> np.ndarray:
+    """A list of rows of broadcastable entries as one array, shape (..., len(rows), len(rows[0]))."""
+    shape = np.broadcast_shapes(*(np.shape(entry) for row in rows for entry in row))
+    out = np.empty(shape + (len(rows), len(rows[0])))
+    for i, row in enumerate(rows):
+        for j, entry in enumerate(row):
+            out[..., i, j] = entry
+    return out
 
 
 def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
@@ -145,10 +154,11 @@ def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str =
     r1, theta1, theta3 = _split3(position, "position")
     theta2 = np.asarray(theta2, dtype=float)
     r1y, r2, r3 = saw.r1y, saw.r2, saw.r3
-    constraint = r1 * np.sin(theta1) - r1y
+    height = r1 * np.sin(theta1)
+    constraint = height - r1y
     if variant == "loop":
         fx = -r1 * np.cos(theta1) + r2 * np.cos(theta2) + r3 * np.cos(theta3)
-        fy = r1 * np.sin(theta1) - r2 * np.sin(theta2) - r3 * np.sin(theta3)
+        fy = height - r2 * np.sin(theta2) - r3 * np.sin(theta3)
         return _stack([fx, fy, constraint])
     fx = -r1y * np.cos(theta1) / np.sin(theta1) + r2 * np.cos(theta2) + r3 * np.cos(theta3)
     fy = r1y - r2 * np.sin(theta2) - r3 * np.sin(theta3)
@@ -157,9 +167,8 @@ def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str =
 
 def _loop_jacobian(r1, theta1, theta3, r3) -> np.ndarray:
     s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
-    zero = np.zeros_like(r1 * theta1 * theta3)
-    rows = [[-c1, r1 * s1, -r3 * s3], [s1, r1 * c1, -r3 * c3], [s1, r1 * c1, zero]]
-    return np.stack([_stack(row) for row in rows], axis=-2)
+    r1c1 = r1 * c1
+    return _matrix([[-c1, r1 * s1, -r3 * s3], [s1, r1c1, -r3 * c3], [s1, r1c1, 0.0]])
 
 
 def position_jacobian(position, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
@@ -179,10 +188,10 @@ def position_jacobian(position, *, saw: Saw = COURSE_SAW, variant: str = "loop")
     if variant == "loop":
         return _loop_jacobian(r1, theta1, theta3, saw.r3)
     s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
-    zero = np.zeros_like(r1 * theta1 * theta3)
     cot1 = c1 / s1
-    rows = [[s1, r1 * c1, zero], [zero, saw.r1y * (cot1**2 + 1), -saw.r3 * s3], [zero, zero, -saw.r3 * c3]]
-    return np.stack([_stack(row) for row in rows], axis=-2)
+    return _matrix(
+        [[s1, r1 * c1, 0.0], [0.0, saw.r1y * (cot1**2 + 1), -saw.r3 * s3], [0.0, 0.0, -saw.r3 * c3]]
+    )
 
 
 def velocity_residual(velocity, position, theta2, omega2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
@@ -319,7 +328,7 @@ def system_jacobian(x, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.nd
     ]
 
     def block(rows):
-        return np.stack([_stack([entry + zero for entry in row]) for row in rows], axis=-2)
+        return _matrix([[entry + zero for entry in row] for row in rows])
 
     shape = loop.shape[:-2]
     jac = np.zeros(shape + (9, 9))

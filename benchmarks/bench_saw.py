@@ -1,0 +1,175 @@
+"""The power saw over the motor's start-up: 1000 instants, position + velocity + acceleration.
+
+Solvers compared, all in this one process:
+
+* batched     - course_lib.saw.sweep(method="batched"): every instant at once with newton_batch
+                (position by Newton; the linear velocity and acceleration stages by Newton too, or,
+                in the "direct" row, by one batched linear solve);
+* scipy loop  - one scipy.optimize.root (MINPACK "lm", analytic Jacobian) per stage per instant, each
+                seeded with the previous instant's solution ("hybr" stalls on the all-zero rates at rest:
+                its first step is bounded by a multiple of the seed's size);
+* symbolic    - what the course's MATLAB code does: the symbolic 3x3 Jacobians are inverted once, then
+                at every Newton iteration numbers are substituted into them with sympy (subs) and the
+                result converted to floats.  Far too slow for 1000 instants: a few instants are timed
+                and the time is scaled to 1000 (said so in the table);
+* analytic    - course_lib.saw.sweep(method="analytic"): the closed form, vectorized.
+
+The table is followed by the cost of batched and analytic for n = 10^3 ... 10^6 instants, to show
+the cost grows linearly.  The last line is JSON with the ratios.
+
+Run: .venv/bin/python benchmarks/bench_saw.py
+"""
+
+from __future__ import annotations
+
+import json
+import time
+
+import numpy as np
+import scipy.optimize
+import sympy as sp
+
+from course_lib import saw
+from course_lib.profile import first_turn_time, motor_profile
+
+N = 1000
+SYMBOLIC_INSTANTS = 4
+TOL = 1e-6
+METHOD = "lm"  # MINPACK Levenberg–Marquardt; "hybr" stalls on the all-zero seeds of the rates at rest
+
+
+def best_time(function, repeats):
+    """Smallest wall time of ``repeats`` calls, and the last result."""
+    best, result = np.inf, None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = function()
+        best = min(best, time.perf_counter() - start)
+    return best, result
+
+
+def profile_points(n):
+    return motor_profile(np.linspace(0.0, 2 * first_turn_time(), n))
+
+
+# ------------------------------------------------------------------ scipy.optimize.root, point by point
+
+
+def scipy_loop(n=N):
+    theta2s, omega2s, alpha2s = profile_points(n)
+    x = saw.SEED_PRINTED.copy()
+    out = np.empty((n, 9))
+    for k, (theta2, omega2, alpha2) in enumerate(zip(theta2s, omega2s, alpha2s, strict=True)):
+        position = scipy.optimize.root(
+            lambda q, th=theta2: (saw.position_residual(q, th), saw.position_jacobian(q)),
+            x[0:3], jac=True, method=METHOD, options={"xtol": 1e-12},
+        ).x
+        jac = saw.velocity_jacobian(position)
+        velocity = scipy.optimize.root(
+            lambda qd, q=position, th=theta2, w=omega2, J=jac: (saw.velocity_residual(qd, q, th, w), J),
+            x[3:6], jac=True, method=METHOD, options={"xtol": 1e-12},
+        ).x
+        acceleration = scipy.optimize.root(
+            lambda qdd, q=position, qd=velocity, th=theta2, w=omega2, a=alpha2, J=jac: (
+                saw.acceleration_residual(qdd, qd, q, th, w, a), J),
+            x[6:9], jac=True, method=METHOD, options={"xtol": 1e-12},
+        ).x
+        x = out[k] = np.concatenate([position, velocity, acceleration])
+    return out
+
+
+# ------------------------------------------------------------------ the MATLAB way: sympy subs per iteration
+
+
+def symbolic_solver():
+    """Symbolic stage systems and their inverted Jacobians, built once (not timed), as in the course."""
+    r1, th1, th3, th2 = sp.symbols("r1 theta1 theta3 theta2")
+    v_r, w1, w3, w2 = sp.symbols("v_r omega1 omega3 omega2")
+    a_r, al1, al3, al2 = sp.symbols("a_r alpha1 alpha3 alpha2")
+    r1y, r2, r3 = 0.045, 0.075, 0.170
+    position = sp.Matrix([-r1 * sp.cos(th1) + r2 * sp.cos(th2) + r3 * sp.cos(th3),
+                          r1 * sp.sin(th1) - r2 * sp.sin(th2) - r3 * sp.sin(th3),
+                          r1 * sp.sin(th1) - r1y])
+    q, qd, qdd = [r1, th1, th3], [v_r, w1, w3], [a_r, al1, al3]
+    velocity = position.jacobian(q) * sp.Matrix(qd) + position.diff(th2) * w2
+    acceleration = (velocity.jacobian(q) * sp.Matrix(qd) + velocity.jacobian(qd) * sp.Matrix(qdd)
+                    + velocity.diff(th2) * w2 + velocity.diff(w2) * al2)
+    stages = []
+    for F, unknowns in ((position, q), (velocity, qd), (acceleration, qdd)):
+        stages.append((F, F.jacobian(unknowns).inv(), unknowns))
+    known = {"theta2": th2, "omega2": w2, "alpha2": al2}
+
+    def solve(theta2, omega2, alpha2, seed):
+        values = {known["theta2"]: theta2, known["omega2"]: omega2, known["alpha2"]: alpha2}
+        result = []
+        for stage, (F, J_inv, unknowns) in enumerate(stages):
+            F_here, J_here = F.subs(values), J_inv.subs(values)   # like MATLAB's subs(fP, theta_2, ...)
+            x = np.array(seed[3 * stage: 3 * stage + 3], dtype=float)
+            for _ in range(50):
+                point = dict(zip(unknowns, x, strict=True))
+                step = np.array((J_here.subs(point) * F_here.subs(point)).evalf(), dtype=float).ravel()
+                x = x - step
+                if np.linalg.norm(step) < TOL:
+                    break
+            values.update(zip(unknowns, x, strict=True))
+            result.extend(x)
+        return np.array(result)
+
+    return solve
+
+
+def main():
+    exact = saw.sweep(N, method="analytic").x
+    t_batched, batched = best_time(lambda: saw.sweep(N, method="batched", tol=TOL), 5)
+    t_direct, direct = best_time(lambda: saw.sweep(N, method="batched", tol=TOL, linear_stages="direct"), 5)
+    t_analytic, _ = best_time(lambda: saw.sweep(N, method="analytic"), 20)
+    t_scipy, scipy_x = best_time(scipy_loop, 1)
+    t_consecutive, consecutive = best_time(lambda: saw.sweep(N, method="consecutive", tol=TOL), 1)
+    t_simultaneous, simultaneous = best_time(lambda: saw.sweep(N, method="simultaneous", tol=TOL), 1)
+
+    solve = symbolic_solver()
+    instants = np.linspace(0, N - 1, SYMBOLIC_INSTANTS).astype(int)
+    theta2s, omega2s, alpha2s = profile_points(N)
+    # each timed instant is seeded with the previous instant's solution, as in a 1000-instant run
+    start = time.perf_counter()
+    symbolic_x = np.array([solve(theta2s[k], omega2s[k], alpha2s[k], exact[max(k - 1, 0)]) for k in instants])
+    t_symbolic = (time.perf_counter() - start) * N / SYMBOLIC_INSTANTS
+
+    def error(x, rows_=slice(None)):
+        return float(np.abs(x - exact[rows_]).max())
+
+    rows = [
+        ("batched Newton (newton_batch, all stages)", t_batched, error(batched.x)),
+        ("batched, linear stages solved directly", t_direct, error(direct.x)),
+        ("consecutive Newton, point by point", t_consecutive, error(consecutive.x)),
+        ("simultaneous Newton 9x9, point by point", t_simultaneous, error(simultaneous.x)),
+        ("scipy.optimize.root loop, point by point", t_scipy, error(scipy_x)),
+        (f"sympy subs per iteration (MATLAB style; {SYMBOLIC_INSTANTS} instants timed, scaled to {N})",
+         t_symbolic, error(symbolic_x, instants)),
+        ("analytic, vectorized", t_analytic, 0.0),
+    ]
+    print(f"The power saw, {N} instants over 2T = {2 * first_turn_time():.3f} s, "
+          f"position + velocity + acceleration (tol {TOL:g})\n")
+    print(f"{'solver':<78} {'time (s)':>10} {'/ batched':>10} {'max |x - exact|':>16}")
+    for name, seconds, err in rows:
+        print(f"{name:<78} {seconds:>10.4f} {seconds / t_batched:>10.1f} {err:>16.1e}")
+
+    print("\nCost against the number of instants (batched Newton; analytic):")
+    print(f"{'n':>9} {'batched (s)':>12} {'us / instant':>13} {'analytic (s)':>13} {'us / instant':>13}")
+    for n in (10**3, 10**4, 10**5, 10**6):
+        repeats = 3 if n <= 10**4 else 1
+        t_b, result = best_time(lambda n=n: saw.sweep(n, method="batched", tol=TOL), repeats)
+        t_a, _ = best_time(lambda n=n: saw.sweep(n, method="analytic"), repeats)
+        assert bool(np.all(result.iterations > 0))
+        print(f"{n:>9} {t_b:>12.4f} {t_b / n * 1e6:>13.2f} {t_a:>13.4f} {t_a / n * 1e6:>13.2f}")
+
+    print(f"\nbatched with the linear stages solved directly / analytic: {t_direct / t_analytic:.1f}")
+    print(json.dumps({
+        "vs_scipy_loop": round(t_scipy / t_batched, 1),
+        "vs_symbolic": round(t_symbolic / t_batched, 1),
+        "vs_analytic": round(t_batched / t_analytic, 2),
+    }))
+
+
+if __name__ == "__main__":
+    main()

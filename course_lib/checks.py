@@ -909,7 +909,7 @@ def check_saw_slider_acceleration(answer, saw: Saw, theta2: float, omega2: float
     x = analytic(theta2, omega2, alpha2, saw=saw)
     reference = x[6]
     if _close(value, reference, atol=1e-9):
-        return _right("Correct: note how the ω² terms dominate once the motor is at speed.")
+        return _right("Correct: a_r holds the α2 terms and every ω² term (r1 ω1², r2 ω2², r3 ω3²).")
     if _close(value, reference / 1000.0, atol=1e-9) or _close(value, reference * 1000.0, atol=1e-9):
         return _wrong("a factor 1000: lengths in metres give a_r in m/s².")
     if _close(value, -reference, atol=1e-9):

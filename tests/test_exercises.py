@@ -25,7 +25,7 @@ EXPECTED = [
     "ex01_vector_loops_and_mobility",
     "ex02_newton_raphson",
     "ex03_fourbar",
-    # "ex04_power_saw",
+    "ex04_power_saw",
     # "ex05_fivebar",
 ]
 

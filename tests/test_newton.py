@@ -187,3 +187,15 @@ def test_batch_finite_difference_two_unknowns():
 def test_batch_bad_seed_shape():
     with pytest.raises(InvalidGeometryError, match="x0"):
         newton_batch(lambda x: x, np.zeros(3))
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_singularity_measure_matches_numpy_determinant(n):
+    from course_lib.newton import _hadamard_ratio
+
+    J = np.random.default_rng(n).normal(size=(20, n, n))
+    if n > 1:
+        J[0, -1] = J[0, 0]  # two equal rows: exactly singular
+    expected = np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=2), axis=1)
+    np.testing.assert_allclose(_hadamard_ratio(J), expected, rtol=1e-10, atol=1e-15)
+    assert n == 1 or _hadamard_ratio(J)[0] < 1e-15

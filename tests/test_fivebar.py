@@ -441,3 +441,28 @@ def test_unreachable_inputs_are_named():
         short.forward(0.0, math.pi)
     result = short.inverse([0.0, 0.5], [0.15, 0.0], on_unreachable="nan")
     assert result.reachable.tolist() == [True, False] and np.isnan(result.theta4[1])
+
+
+def test_rates_reject_non_finite_inputs():
+    x3, y3 = ROBOT.forward(1.2, 1.9)
+    with pytest.raises(InvalidGeometryError, match="omega4"):
+        ROBOT.end_effector_velocity(1.2, 1.9, x3, y3, 1.0, float("nan"))
+    with pytest.raises(InvalidGeometryError, match="vx"):
+        ROBOT.crank_rates(1.2, 1.9, x3, y3, float("inf"), 0.0)
+
+
+def test_parallel_singularities_lie_where_the_elbows_meet():
+    """With l2 = l3 and l1 + l4 + l5 < l2 + l3 the distal links align only when P2 = P4, i.e. with
+    the pen on a circle of radius l2 about Q± = (0, ±√(l1² − (l5/2)²))."""
+    q = math.sqrt(ROBOT.l1**2 - (ROBOT.l5 / 2) ** 2)
+    checked = 0
+    for sign in (1, -1):
+        for phi in np.linspace(0.2, 2 * math.pi - 0.2, 7):
+            x3, y3 = 0.15 * math.cos(phi), sign * q + 0.15 * math.sin(phi)
+            if not ROBOT.inverse(x3, y3, on_unreachable="nan").reachable:
+                continue
+            measures = [abs(ROBOT.singularity_measures(*ROBOT.inverse(x3, y3, m), x3, y3).parallel)
+                        for m in WORKING_MODES]
+            assert min(measures) < 1e-9 and sorted(measures)[1] > 1e-3
+            checked += 1
+    assert checked >= 8

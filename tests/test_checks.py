@@ -17,7 +17,7 @@ from course_lib.slider_crank import OffsetSliderCrank
 
 BENCH = FourBar(crank=0.07, coupler=0.20, rocker=0.15, ground=0.25)
 MY_SAW = Saw(r1y=0.03, r2=0.06, r3=0.15)
-ROBOT = FiveBar(l1=0.11, l2=0.16, l3=0.17, l4=0.12, l5=0.09)
+ROBOT = FiveBar(l1=0.11, l2=0.15, l3=0.16, l4=0.12, l5=0.09)
 
 
 def hides(feedback, *values) -> bool:
@@ -363,7 +363,7 @@ def _fivebar_points(theta1, theta4):
 def test_fivebar_forward():
     theta1, theta4 = np.radians(70.0), np.radians(125.0)
     P2, P4 = _fivebar_points(theta1, theta4)
-    first, second = circle_intersections(P2, 0.16, P4, 0.17)
+    first, second = circle_intersections(P2, 0.15, P4, 0.16)
     down = min(first, second, key=lambda p: p[1])
     up = max(first, second, key=lambda p: p[1])
     check = checks.check_fivebar_forward
@@ -375,7 +375,7 @@ def test_fivebar_forward():
 
 def test_fivebar_inverse():
     x3, y3 = 0.02, 0.21
-    l1, l2, l3, l4, l5 = 0.11, 0.16, 0.17, 0.12, 0.09
+    l1, l2, l3, l4, l5 = 0.11, 0.15, 0.16, 0.12, 0.09
     # the seeds' half-angle coefficients, typed from the course material
     a1 = l1**2 - l2**2 - l1 * l5 + l5**2 / 4 + 2 * l1 * x3 - l5 * x3 + x3**2 + y3**2
     b1, b2 = -4 * l1 * y3, -4 * l4 * y3
@@ -416,9 +416,9 @@ def test_fivebar_g():
 def test_fivebar_singularity():
     theta1 = np.radians(100.0)
     P1 = np.array([0.045, 0.0])
-    P3 = P1 + (0.11 + 0.16) * np.array([np.cos(theta1), np.sin(theta1)])  # leg 1 stretched
+    P3 = P1 + (0.11 + 0.15) * np.array([np.cos(theta1), np.sin(theta1)])  # leg 1 stretched
     P5 = np.array([-0.045, 0.0])
-    P4 = circle_intersections(P5, 0.12, P3, 0.17)[1]
+    P4 = circle_intersections(P5, 0.12, P3, 0.16)[1]
     theta4 = np.arctan2(*(P4 - P5)[::-1])
     check = checks.check_fivebar_singularity
     assert check("serial1", ROBOT, theta1, theta4, *P3).ok
@@ -427,3 +427,14 @@ def test_fivebar_singularity():
     rejects(check("none", ROBOT, theta1, theta4, *P3), "one of them is zero")
     rejects(check("serial4", ROBOT, theta1, theta4, *P3), "other leg")
     rejects(check("type 2", ROBOT, theta1, theta4, *P3), "serial1")
+
+
+def test_fivebar_parallel_singularity():
+    theta1, theta4 = np.radians(15.0), 2.812965377804  # |P2 − P4| = l2 + l3 to ~1e-12
+    P2, P4 = _fivebar_points(theta1, theta4)
+    assert abs(np.linalg.norm(P2 - P4) - 0.31) < 1e-11
+    P3 = P2 + 0.15 * (P4 - P2) / np.linalg.norm(P4 - P2)  # distal links in line
+    check = checks.check_fivebar_singularity
+    assert check("parallel", ROBOT, theta1, theta4, *P3).ok
+    rejects(check("serial1", ROBOT, theta1, theta4, *P3), "not zero")
+    rejects(check("none", ROBOT, theta1, theta4, *P3), "one of them is zero")

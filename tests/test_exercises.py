@@ -26,7 +26,7 @@ EXPECTED = [
     "ex02_newton_raphson",
     "ex03_fourbar",
     "ex04_power_saw",
-    # "ex05_fivebar",
+    "ex05_fivebar",
 ]
 
 

@@ -428,7 +428,8 @@ class FiveBar:
     def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = "raise") -> np.ndarray:
         """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4).  Computed by a linear
         solve, never an inverse.  Raises ``SingularJacobianError`` at a parallel singularity
-        (``on_singular="nan"`` gives NaN there instead).
+        (``on_singular="nan"`` gives NaN there instead) and ``InvalidGeometryError`` when (x3, y3)
+        is not the end effector of (θ1, θ4) (the same holds for the two rate functions below).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import json
 import math
-import time
 
 import numpy as np
+from timing import best_of
 
 from course_lib.fivebar import WORKING_MODES, FiveBar
 
@@ -58,25 +58,17 @@ def math_loop(xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
     return out
 
 
-def best_time(function, *args) -> tuple[float, object]:
-    best, result = math.inf, None
-    for _ in range(REPEATS):
-        start = time.perf_counter()
-        result = function(*args)
-        best = min(best, time.perf_counter() - start)
-    return best, result
-
 
 def main() -> None:
     axis = np.linspace(-0.3, 0.3, SIDE)
     X, Y = np.meshgrid(axis, axis)
-    grid_seconds, solutions = best_time(vectorized, X, Y)
+    grid_seconds, solutions = best_of(REPEATS, vectorized, X, Y)
 
     rng = np.random.default_rng(0)
     pick = rng.choice(X.size, SAMPLE, replace=False)
     xs, ys = X.ravel()[pick], Y.ravel()[pick]
-    library_seconds, looped = best_time(library_loop, xs, ys)
-    math_seconds, plain = best_time(math_loop, xs, ys)
+    library_seconds, looped = best_of(REPEATS, library_loop, xs, ys)
+    math_seconds, plain = best_of(REPEATS, math_loop, xs, ys)
 
     expected = np.stack([np.stack([s.theta1.ravel()[pick], s.theta4.ravel()[pick]], -1) for s in solutions])
     assert np.allclose(looped, expected, atol=1e-12, equal_nan=True)

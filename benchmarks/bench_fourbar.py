@@ -15,10 +15,10 @@ from __future__ import annotations
 
 import json
 import sys
-import time
 
 import numpy as np
 import scipy.optimize
+from timing import best_of
 
 from course_lib.fourbar import FourBar
 from course_lib.newton import newton_batch
@@ -27,15 +27,6 @@ LINKAGE = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
 OMEGA2, ALPHA2 = 10.0, 5.0
 SEED = np.array([0.6, 2.0])  # (θ3, θ4) near the middle of the open branch: 17°–57°, 86°–146°
 
-
-def best_of(repeats, function):
-    """Smallest wall time of ``repeats`` calls, and the last result."""
-    best, result = np.inf, None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = function()
-        best = min(best, time.perf_counter() - start)
-    return best, result
 
 
 def closed_form(theta2):

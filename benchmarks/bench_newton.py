@@ -7,10 +7,10 @@ the step), in this one process.  Prints a table, then a JSON line with key ``vs_
 """
 
 import json
-import time
 
 import numpy as np
 import scipy.optimize
+from timing import best_of
 
 from course_lib.newton import newton_batch
 
@@ -37,14 +37,6 @@ def jacobian(x):
     row2 = np.stack([L3 * np.cos(theta3), -L4 * np.cos(theta4)], axis=-1)
     return np.stack([row1, row2], axis=-2)
 
-
-def best_of(repeats, function):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        value = function()
-        times.append(time.perf_counter() - start)
-    return min(times), value
 
 
 def main():

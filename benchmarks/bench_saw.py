@@ -28,6 +28,7 @@ import time
 import numpy as np
 import scipy.optimize
 import sympy as sp
+from timing import best_of
 
 from course_lib import saw
 from course_lib.profile import first_turn_time, motor_profile
@@ -37,15 +38,6 @@ SYMBOLIC_INSTANTS = 4
 TOL = 1e-6
 METHOD = "lm"  # MINPACK Levenberg–Marquardt; "hybr" stalls on the all-zero seeds of the rates at rest
 
-
-def best_time(function, repeats):
-    """Smallest wall time of ``repeats`` calls, and the last result."""
-    best, result = np.inf, None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = function()
-        best = min(best, time.perf_counter() - start)
-    return best, result
 
 
 def profile_points(n):
@@ -120,12 +112,12 @@ def symbolic_solver():
 
 def main():
     exact = saw.sweep(N, method="analytic").x
-    t_batched, batched = best_time(lambda: saw.sweep(N, method="batched", tol=TOL), 5)
-    t_direct, direct = best_time(lambda: saw.sweep(N, method="batched", tol=TOL, linear_stages="direct"), 5)
-    t_analytic, _ = best_time(lambda: saw.sweep(N, method="analytic"), 20)
-    t_scipy, scipy_x = best_time(scipy_loop, 1)
-    t_consecutive, consecutive = best_time(lambda: saw.sweep(N, method="consecutive", tol=TOL), 1)
-    t_simultaneous, simultaneous = best_time(lambda: saw.sweep(N, method="simultaneous", tol=TOL), 1)
+    t_batched, batched = best_of(5, lambda: saw.sweep(N, method="batched", tol=TOL))
+    t_direct, direct = best_of(5, lambda: saw.sweep(N, method="batched", tol=TOL, linear_stages="direct"))
+    t_analytic, _ = best_of(20, lambda: saw.sweep(N, method="analytic"))
+    t_scipy, scipy_x = best_of(1, scipy_loop)
+    t_consecutive, consecutive = best_of(1, lambda: saw.sweep(N, method="consecutive", tol=TOL))
+    t_simultaneous, simultaneous = best_of(1, lambda: saw.sweep(N, method="simultaneous", tol=TOL))
 
     solve = symbolic_solver()
     instants = np.linspace(0, N - 1, SYMBOLIC_INSTANTS).astype(int)
@@ -158,8 +150,8 @@ def main():
     print(f"{'n':>9} {'batched (s)':>12} {'us / instant':>13} {'analytic (s)':>13} {'us / instant':>13}")
     for n in (10**3, 10**4, 10**5, 10**6):
         repeats = 3 if n <= 10**4 else 1
-        t_b, result = best_time(lambda n=n: saw.sweep(n, method="batched", tol=TOL), repeats)
-        t_a, _ = best_time(lambda n=n: saw.sweep(n, method="analytic"), repeats)
+        t_b, result = best_of(repeats, lambda n=n: saw.sweep(n, method="batched", tol=TOL))
+        t_a, _ = best_of(repeats, lambda n=n: saw.sweep(n, method="analytic"))
         assert bool(np.all(result.iterations > 0))
         print(f"{n:>9} {t_b:>12.4f} {t_b / n * 1e6:>13.2f} {t_a:>13.4f} {t_a / n * 1e6:>13.2f}")
 

@@ -6,6 +6,9 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 # JupyterLab refuses to run as root unless told; containers and CI often are root
 LAB_ROOT := $(if $(filter 0,$(shell id -u)),--allow-root,)
+# sympy's simplify/solve may take very different routes under different hash seeds: fix it,
+# so every kernel (lab, nbval, execute) derives the same way, at the same speed, every run
+export PYTHONHASHSEED := 0
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 
 .PHONY: lab test execute exercises bench clean

@@ -9,6 +9,7 @@ error stops with a non-zero exit.
 
 from __future__ import annotations
 
+import os
 import pathlib
 import sys
 import time
@@ -17,6 +18,7 @@ import nbformat
 from nbclient import NotebookClient
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
+os.environ.setdefault("PYTHONHASHSEED", "0")  # kernels inherit it: sympy takes the same route every run
 
 
 def execute(path: pathlib.Path) -> float:

@@ -160,6 +160,7 @@ def main():
         "vs_scipy_loop": round(t_scipy / t_batched, 1),
         "vs_symbolic": round(t_symbolic / t_batched, 1),
         "vs_analytic": round(t_batched / t_analytic, 2),
+        "vs_analytic_one_step_linear_stages": round(t_direct / t_analytic, 2),
     }))
 
 

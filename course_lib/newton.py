@@ -133,20 +133,20 @@ def _hadamard_ratio(J: np.ndarray) -> np.ndarray:
     >>> float(_hadamard_ratio(np.array([[[2.0, 0.0], [0.0, 3.0]]]))[0])
     1.0
     """
-    n = J.shape[-1]
+    N, n = J.shape[0], J.shape[-1]
+    a = J.reshape(N, n * n).T  # a[n·i + j] is the column of entries J[:, i, j]
     if n == 1:
-        det = J[:, 0, 0]
+        det = a[0]
     elif n == 2:
-        det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+        det = a[0] * a[3] - a[1] * a[2]
     elif n == 3:
-        det = (
-            J[:, 0, 0] * (J[:, 1, 1] * J[:, 2, 2] - J[:, 1, 2] * J[:, 2, 1])
-            - J[:, 0, 1] * (J[:, 1, 0] * J[:, 2, 2] - J[:, 1, 2] * J[:, 2, 0])
-            + J[:, 0, 2] * (J[:, 1, 0] * J[:, 2, 1] - J[:, 1, 1] * J[:, 2, 0])
+        det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) + a[2] * (
+            a[3] * a[7] - a[4] * a[6]
         )
     else:
         det = np.linalg.det(J)
-    return np.abs(det) / np.sqrt(np.einsum("nij,nij->ni", J, J)).prod(axis=1)
+    row_squares = (a * a).reshape(n, n, N).sum(axis=1)
+    return np.abs(det) / np.sqrt(row_squares.prod(axis=0))
 
 
 def _check_settings(tol, max_iter):
@@ -304,20 +304,20 @@ def newton_batch(
                 rows, J, whole = rows[~bad], J[~bad], False
                 if rows.size == 0:
                     break
-            step = np.linalg.solve(J, -(fx if whole else fx[rows])[:, :, None])[:, :, 0]
-            if whole:
-                x += step
-            else:
-                x[rows] += step
-            iterations[rows] += 1
-            step_norms[rows] = np.sqrt(np.einsum("ij,ij->i", step, step))
+            sel = slice(None) if whole else rows  # a slice avoids copies while every row iterates
+            step = np.linalg.solve(J, -fx[sel][:, :, None])[:, :, 0]
+            x[sel] += step
+            iterations[sel] += 1
+            steps = np.sqrt(np.einsum("ij,ij->i", step, step))
             fx = np.asarray(F(x), float)
-            f_rows = fx if whole else fx[rows]
-            residual_norms[rows] = np.sqrt(np.einsum("ij,ij->i", f_rows, f_rows))
-            finite = np.isfinite(step_norms[rows]) & np.isfinite(residual_norms[rows])
-            done = (step_norms[rows] < tol) & (residual_norms[rows] <= residual_tol) & finite
-            converged[rows[done]] = True
-            active[rows[done | ~finite]] = False
+            f_rows = fx[sel]
+            residuals = np.sqrt(np.einsum("ij,ij->i", f_rows, f_rows))
+            step_norms[sel] = steps
+            residual_norms[sel] = residuals
+            finite = np.isfinite(steps) & np.isfinite(residuals)
+            done = (steps < tol) & (residuals <= residual_tol) & finite
+            converged[sel] |= done
+            active[sel] &= ~(done | ~finite)
 
     return BatchNewtonResult(
         x=x,

@@ -9,9 +9,12 @@ error stops with a non-zero exit.
 
 from __future__ import annotations
 
+import atexit
 import os
 import pathlib
+import shutil
 import sys
+import tempfile
 import time
 
 import nbformat
@@ -19,6 +22,26 @@ from nbclient import NotebookClient
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 os.environ.setdefault("PYTHONHASHSEED", "0")  # kernels inherit it: sympy takes the same route every run
+
+
+def _short_tracebacks() -> None:
+    """Kernels started from here print an error as its name and message only ("Minimal" mode).
+
+    A lesson's deliberate errors then show the library's message without file paths and line
+    numbers of the machine that ran it (nbval ignores tracebacks, so this changes no comparison).
+    """
+    if "IPYTHONDIR" in os.environ:
+        return
+    ipython_dir = pathlib.Path(tempfile.mkdtemp(prefix="course-ipython-"))
+    (ipython_dir / "profile_default").mkdir()
+    (ipython_dir / "profile_default" / "ipython_kernel_config.py").write_text(
+        'c.InteractiveShell.xmode = "Minimal"\n'
+    )
+    os.environ["IPYTHONDIR"] = str(ipython_dir)
+    atexit.register(shutil.rmtree, ipython_dir, ignore_errors=True)
+
+
+_short_tracebacks()
 
 
 def execute(path: pathlib.Path) -> float:

@@ -16,7 +16,7 @@ True
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -25,6 +25,7 @@ import sympy as sp
 
 from .fivebar import FiveBar
 from .fourbar import FourBar
+from .newton import newton
 from .planar import wrap_angle
 from .saw import Saw, analytic
 from .symbolic import TIME, static
@@ -463,16 +464,6 @@ def check_newton_update(answer) -> Feedback:
     return _wrong("set the tangent line f(x) + f'(x)(x_{n+1} − x) to zero and solve for x_{n+1}.")
 
 
-def _newton_scalar(f: Callable, df: Callable, x0: float, tol: float = 1e-6, max_iter: int = 50):
-    x, iterations = x0, 0
-    while iterations < max_iter:
-        step = -f(x) / df(x)
-        x, iterations = x + step, iterations + 1
-        if abs(step) < tol:
-            return x, iterations
-    return x, iterations
-
-
 def check_newton_iterations(answer) -> Feedback:
     """Exercise 02, task 2: (root, iterations) of Newton on x³ − 2x − 5 = 0 from x0 = 2, stopping
     when |x_{n+1} − x_n| < 1e-6 (iterations = updates x_n → x_{n+1}).
@@ -494,9 +485,8 @@ def check_newton_iterations(answer) -> Feedback:
     ):
         return _wrong("the number of iterations is a whole number.")
     iterations = int(iterations)
-    reference_root, reference_count = _newton_scalar(
-        sp.lambdify(_X, _WALLIS), sp.lambdify(_X, sp.diff(_WALLIS, _X)), 2.0
-    )
+    reference = newton(sp.lambdify(_X, _WALLIS), 2.0, jac=sp.lambdify(_X, sp.diff(_WALLIS, _X)))
+    reference_root, reference_count = reference.x, reference.iterations
     if not abs(root - reference_root) < 1e-6:
         if abs(float(_WALLIS.subs(_X, root))) < 1e-3:
             return _wrong("close, but not within the tolerance: keep iterating until |Δx| < 1e-6.")

@@ -134,19 +134,22 @@ def _hadamard_ratio(J: np.ndarray) -> np.ndarray:
     1.0
     """
     N, n = J.shape[0], J.shape[-1]
-    a = J.reshape(N, n * n).T  # a[n·i + j] is the column of entries J[:, i, j]
+    if n > 3:
+        return np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+    # a[n·i + j] is the contiguous column of entries J[:, i, j]
+    a = np.ascontiguousarray(J.reshape(N, n * n).T)
+    squares = a * a
     if n == 1:
-        det = a[0]
-    elif n == 2:
+        return np.abs(a[0]) / np.sqrt(squares[0])
+    if n == 2:
         det = a[0] * a[3] - a[1] * a[2]
-    elif n == 3:
-        det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) + a[2] * (
-            a[3] * a[7] - a[4] * a[6]
-        )
-    else:
-        det = np.linalg.det(J)
-    row_squares = (a * a).reshape(n, n, N).sum(axis=1)
-    return np.abs(det) / np.sqrt(row_squares.prod(axis=0))
+        rows = (squares[0] + squares[1]) * (squares[2] + squares[3])
+        return np.abs(det) / np.sqrt(rows)
+    det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) + a[2] * (
+        a[3] * a[7] - a[4] * a[6]
+    )
+    rows = (squares[0] + squares[1] + squares[2]) * (squares[3] + squares[4] + squares[5])
+    return np.abs(det) / np.sqrt(rows * (squares[6] + squares[7] + squares[8]))
 
 
 def _check_settings(tol, max_iter):
@@ -249,10 +252,15 @@ def newton(
     )
 
 
+def _row_norms(a: np.ndarray) -> np.ndarray:
+    """The 2-norm of each row of an (N, n) array."""
+    return np.sqrt(np.einsum("ij,ij->i", a, a))
+
+
 def newton_batch(
     F: Callable[[np.ndarray], np.ndarray],
     x0: np.ndarray,
-    jac: Callable[[np.ndarray], np.ndarray] | None = None,
+    jac: Callable[[np.ndarray], np.ndarray] | bool | None = None,
     tol: float = 1e-6,
     max_iter: int = 50,
     residual_tol: float | None = None,
@@ -261,7 +269,9 @@ def newton_batch(
 
     ``x0`` has shape (N, n); ``F`` maps the whole (N, n) array of iterates to
     (N, n) residuals and ``jac`` to (N, n, n) Jacobians (row i of the output
-    depends only on row i of the input).  Each system stops on its own by the
+    depends only on row i of the input).  ``jac=True`` means that ``F`` returns
+    the pair (residuals, Jacobians), so that the two can share their work (as
+    ``jac=True`` in ``scipy.optimize.root``).  Each system stops on its own by the
     same rule as :func:`newton`; rows that have stopped are no longer updated.
     Nothing is raised for a system that fails: see ``converged`` and
     ``singular`` in the result.
@@ -271,6 +281,9 @@ def newton_batch(
     >>> result = newton_batch(lambda x: x**2 - targets, np.ones((2, 1)), jac=lambda x: 2 * x[:, :, None])
     >>> np.round(result.x[:, 0], 9).tolist(), result.converged.tolist(), result.iterations.tolist()
     ([1.414213562, 3.0], [True, True], [5, 6])
+    >>> both = newton_batch(lambda x: (x**2 - targets, 2 * x[:, :, None]), np.ones((2, 1)), jac=True)
+    >>> bool(np.array_equal(both.x, result.x)), both.iterations.tolist()
+    (True, [5, 6])
     """
     _check_settings(tol, max_iter)
     residual_tol = tol if residual_tol is None else float(residual_tol)
@@ -278,46 +291,53 @@ def newton_batch(
     if x.ndim != 2 or not np.all(np.isfinite(x)):
         raise InvalidGeometryError(f"x0 must be a finite (N, n) array; got shape {np.shape(x0)}")
     N = x.shape[0]
-    jacobian = jac if jac is not None else (lambda xs: finite_difference_jacobian(F, xs))
+    if jac is True:
+        evaluate = F
+    else:
+        jacobian = (lambda xs: finite_difference_jacobian(F, xs)) if jac is None or jac is False else jac
+
+        def evaluate(xs):
+            return F(xs), lambda: jacobian(xs)  # the Jacobian only when a step follows
 
     converged = np.zeros(N, dtype=bool)
     singular = np.zeros(N, dtype=bool)
     iterations = np.zeros(N, dtype=int)
     step_norms = np.full(N, np.inf)
-    active = np.ones(N, dtype=bool)
+    rows = np.arange(N)  # the systems still iterating
 
     with np.errstate(all="ignore"):  # rows that failed may hold NaN; they are masked out
-        fx = np.asarray(F(x), float)
-        residual_norms = np.sqrt(np.einsum("ij,ij->i", fx, fx))
+        fx, J = evaluate(x)
+        fx = np.asarray(fx, float)
+        residual_norms = _row_norms(fx)
         for _ in range(int(max_iter)):
-            rows = np.flatnonzero(active)
-            if rows.size == 0:
-                break
-            whole = rows.size == N  # while every row iterates, skip the fancy indexing
-            J = np.asarray(jacobian(x), float)
+            whole = rows.size == N  # while every row iterates, slices avoid fancy-indexed copies
+            J = np.asarray(J() if callable(J) else J, float)
             if not whole:
                 J = J[rows]
             bad = ~(_hadamard_ratio(J) > 1.0 / MAX_CONDITION)
             if bad.any():
                 singular[rows[bad]] = True
-                active[rows[bad]] = False
                 rows, J, whole = rows[~bad], J[~bad], False
                 if rows.size == 0:
                     break
-            sel = slice(None) if whole else rows  # a slice avoids copies while every row iterates
+            sel = slice(None) if whole else rows
             step = np.linalg.solve(J, -fx[sel][:, :, None])[:, :, 0]
             x[sel] += step
             iterations[sel] += 1
-            steps = np.sqrt(np.einsum("ij,ij->i", step, step))
-            fx = np.asarray(F(x), float)
-            f_rows = fx[sel]
-            residuals = np.sqrt(np.einsum("ij,ij->i", f_rows, f_rows))
+            steps = _row_norms(step)
+            fx, J = evaluate(x)
+            fx = np.asarray(fx, float)
+            residuals = _row_norms(fx[sel])
             step_norms[sel] = steps
             residual_norms[sel] = residuals
-            finite = np.isfinite(steps) & np.isfinite(residuals)
-            done = (steps < tol) & (residuals <= residual_tol) & finite
+            finite = np.isfinite(steps + residuals)
+            done = (steps < tol) & (residuals <= residual_tol)
             converged[sel] |= done
-            active[sel] &= ~(done | ~finite)
+            stop = done | ~finite
+            if stop.any():
+                rows = rows[~stop]
+                if rows.size == 0:
+                    break
 
     return BatchNewtonResult(
         x=x,

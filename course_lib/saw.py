@@ -124,7 +124,7 @@ def _split3(values, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def _stack(rows) -> np.ndarray:
     """Entries (broadcast to one shape) side by side on a new last axis, shape (..., len(rows))."""
-    out = np.empty(np.broadcast_shapes(*(np.shape(row) for row in rows)) + (len(rows),))
+    out = np.empty(np.broadcast(*rows).shape + (len(rows),))
     for k, row in enumerate(rows):
         out[..., k] = row
     return out
@@ -132,8 +132,7 @@ def _stack(rows) -> np.ndarray:
 
 def _matrix(rows) -> np.ndarray:
     """A list of rows of broadcastable entries as one array, shape (..., len(rows), len(rows[0]))."""
-    shape = np.broadcast_shapes(*(np.shape(entry) for row in rows for entry in row))
-    out = np.empty(shape + (len(rows), len(rows[0])))
+    out = np.empty(np.broadcast(*(entry for row in rows for entry in row)).shape + (len(rows), len(rows[0])))
     for i, row in enumerate(rows):
         for j, entry in enumerate(row):
             out[..., i, j] = entry
@@ -165,10 +164,14 @@ def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str =
     return _stack([constraint, fx, fy])
 
 
+def _loop_matrix(s1, c1, r1s1, r1c1, r3s3, r3c3) -> np.ndarray:
+    """The loop position Jacobian from sin θ1, cos θ1, r1 sin θ1, r1 cos θ1, r3 sin θ3, r3 cos θ3."""
+    return _matrix([[-c1, r1s1, -r3s3], [s1, r1c1, -r3c3], [s1, r1c1, 0.0]])
+
+
 def _loop_jacobian(r1, theta1, theta3, r3) -> np.ndarray:
     s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
-    r1c1 = r1 * c1
-    return _matrix([[-c1, r1 * s1, -r3 * s3], [s1, r1c1, -r3 * c3], [s1, r1c1, 0.0]])
+    return _loop_matrix(s1, c1, r1 * s1, r1 * c1, r3 * s3, r3 * c3)
 
 
 def position_jacobian(position, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
@@ -687,6 +690,24 @@ class SawSweep:
         return np.stack([getattr(self, name) for name in UNKNOWNS], axis=-1)
 
 
+def _loop_residual_and_jacobian(theta2, saw: Saw) -> Callable:
+    """(position_residual, position_jacobian) of the loop variant for a batch (n, 3) of positions,
+    evaluated together so that they share their sines and cosines; θ2's terms are computed once."""
+    r2c2, r2s2, r3 = saw.r2 * np.cos(theta2), saw.r2 * np.sin(theta2), saw.r3
+
+    def evaluate(q):
+        r1, theta1, theta3 = q[:, 0], q[:, 1], q[:, 2]
+        s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
+        r1s1, r1c1, r3s3, r3c3 = r1 * s1, r1 * c1, r3 * s3, r3 * c3
+        residual = np.empty_like(q)
+        residual[:, 0] = r2c2 + r3c3 - r1c1
+        residual[:, 1] = r1s1 - r2s2 - r3s3
+        residual[:, 2] = r1s1 - saw.r1y
+        return residual, _loop_matrix(s1, c1, r1s1, r1c1, r3s3, r3c3)
+
+    return evaluate
+
+
 def _batched(theta2, omega2, alpha2, seed, tol, saw, variant, linear_stages):
     """All points at once: course_lib.newton.newton_batch per stage, every point from ``seed``."""
     n = theta2.size
@@ -708,23 +729,26 @@ def _batched(theta2, omega2, alpha2, seed, tol, saw, variant, linear_stages):
                 )
         return result.x, result.iterations
 
-    q, it_pos = run(
-        "position",
-        lambda q: position_residual(q, theta2, saw=saw, variant=variant),
-        lambda q: position_jacobian(q, saw=saw, variant=variant),
-        np.tile(seed[0:3], (n, 1)),
-    )
+    if variant == "loop":
+        position_stage, position_jac = _loop_residual_and_jacobian(theta2, saw), True
+    else:
+        position_stage = lambda q: position_residual(q, theta2, saw=saw, variant=variant)  # noqa: E731
+        position_jac = lambda q: position_jacobian(q, saw=saw, variant=variant)  # noqa: E731
+    q, it_pos = run("position", position_stage, position_jac, np.tile(seed[0:3], (n, 1)))
+    # The rate stages are linear with the position Jacobian as matrix: F(u) = J·u + F(0).
+    # Their residuals are evaluated in that form, one matrix product per Newton iteration.
     jac = velocity_jacobian(q, saw=saw)
-    qd, it_vel = run(
-        "velocity",
-        lambda qd: velocity_residual(qd, q, theta2, omega2, saw=saw),
-        lambda qd: jac,
-        np.tile(seed[3:6], (n, 1)),
+    zeros = np.zeros_like(q)
+
+    def linear_stage(stage, constant, start):
+        return run(stage, lambda u: np.einsum("nij,nj->ni", jac, u) + constant, lambda u: jac, start)
+
+    qd, it_vel = linear_stage(
+        "velocity", velocity_residual(zeros, q, theta2, omega2, saw=saw), np.tile(seed[3:6], (n, 1))
     )
-    qdd, it_acc = run(
+    qdd, it_acc = linear_stage(
         "acceleration",
-        lambda qdd: acceleration_residual(qdd, qd, q, theta2, omega2, alpha2, saw=saw),
-        lambda qdd: jac,
+        acceleration_residual(zeros, qd, q, theta2, omega2, alpha2, saw=saw),
         np.tile(seed[6:9], (n, 1)),
     )
     return np.concatenate([q, qd, qdd], axis=1), np.stack([it_pos, it_vel, it_acc], axis=1)

@@ -172,6 +172,18 @@ def test_batch_reports_singular_and_unconverged_rows_without_raising():
     assert abs(result.x[1, 0] - np.sqrt(2)) < 1e-12
 
 
+def test_batch_with_residual_and_jacobian_from_one_function():
+    # jac=True: F returns (residuals, Jacobians); the run must be the one with separate callables
+    x0 = np.array([[0.0], [1.0], [2.0], [-3.0]])
+    offsets = np.array([[2.0], [2.0], [-1.0], [5.0]])
+    separate = newton_batch(lambda x: x**2 - offsets, x0, jac=lambda x: 2 * x[:, :, None], max_iter=40)
+    together = newton_batch(lambda x: (x**2 - offsets, 2 * x[:, :, None]), x0, jac=True, max_iter=40)
+    for name in ("x", "converged", "iterations", "singular", "step_norms", "residual_norms"):
+        np.testing.assert_array_equal(getattr(together, name), getattr(separate, name), err_msg=name)
+    assert together.singular.tolist() == [True, False, False, False]
+    np.testing.assert_allclose(together.x[[1, 3], 0], [np.sqrt(2), -np.sqrt(5)], rtol=1e-12)
+
+
 def test_batch_finite_difference_two_unknowns():
     # circle of radius r_i meets the line y = x: x = r/√2
     radii = np.array([1.0, 2.0, 3.0])

@@ -256,6 +256,17 @@ def test_sweep_follows_the_profile(sweeps):
     assert np.allclose(np.gradient(slider, result.t)[1:-1], v[1:-1], atol=1e-4)
 
 
+def test_batched_sweep_repeats_the_single_point_solver():
+    # every point of a batched sweep starts from the printed seed: it must take the same Newton
+    # steps as solve_consecutive from that seed, which evaluates the public residual functions
+    batched = saw.sweep(40, method="batched")
+    for k in (0, 7, 23, 39):
+        single = saw.solve_consecutive(batched.theta2[k], batched.omega2[k], batched.alpha2[k],
+                                       saw.SEED_PRINTED)
+        assert batched.stage_iterations[k].tolist() == [s.iterations for s in single.stages.values()]
+        np.testing.assert_allclose(batched.x[k], single.x, rtol=1e-12, atol=1e-12)
+
+
 def test_direct_linear_stages_in_sweeps():
     newton_version = saw.sweep(50, method="consecutive")
     direct = saw.sweep(50, method="consecutive", linear_stages="direct")

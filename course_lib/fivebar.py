@@ -42,7 +42,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .planar import wrap_angle
+from .planar import scalar_or_array, wrap_angle
 
 __all__ = [
     "FiveBar",
@@ -62,12 +62,6 @@ SINGULAR_TOL = 1e-7
 
 #: Relative slack for a discriminant that is negative only by rounding (clipped to zero).
 _DISCRIMINANT_SLACK = 1e-12
-
-
-def _out(value: np.ndarray) -> Any:
-    """A 0-d array becomes a plain Python number; arrays stay arrays."""
-    value = np.asarray(value)
-    return value.item() if value.ndim == 0 else value
 
 
 @dataclass(frozen=True)
@@ -310,7 +304,7 @@ class FiveBar:
         x3 = np.where(course, g * unknown + f, unknown)
         y3 = np.where(course, unknown, g_s * unknown + f_s)
         x3, y3 = np.where(bad, np.nan, x3), np.where(bad, np.nan, y3)
-        return ForwardResult(_out(x3), _out(y3), _out(~bad))
+        return ForwardResult(scalar_or_array(x3), scalar_or_array(y3), scalar_or_array(~bad))
 
     # ------------------------------------------------------- inverse kinematics
     def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:
@@ -369,7 +363,7 @@ class FiveBar:
         report_unreachable(free, inputs, "a crank angle is undetermined (P3 on a base pivot)", on_unreachable)
         bad = far1 | far4 | free
         theta1, theta4 = np.where(bad, np.nan, theta1), np.where(bad, np.nan, theta4)
-        return InverseResult(_out(theta1), _out(theta4), _out(~bad))
+        return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(~bad))
 
     # ------------------------------------------------------- Jacobians and rates
     def jacobian_end_effector(self, theta1, theta4, x3, y3) -> np.ndarray:
@@ -413,7 +407,7 @@ class FiveBar:
         leg1 = ((p2x - half) * (y3 - p2y) - p2y * (x3 - p2x)) / (self.l1 * self.l2)
         leg4 = ((p4x + half) * (y3 - p4y) - p4y * (x3 - p4x)) / (self.l4 * self.l3)
         parallel = ((x3 - p2x) * (y3 - p4y) - (y3 - p2y) * (x3 - p4x)) / (self.l2 * self.l3)
-        return SingularityMeasures(_out(leg1), _out(leg4), _out(parallel))
+        return SingularityMeasures(scalar_or_array(leg1), scalar_or_array(leg4), scalar_or_array(parallel))
 
     def _check_assembled(self, theta1, theta4, x3, y3) -> None:
         residual = np.abs(self.constraints(theta1, theta4, x3, y3))

@@ -49,7 +49,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .planar import cross_k, wrap_angle
+from .planar import cross_k, scalar_or_array, wrap_angle
 
 __all__ = [
     "BRANCHES",
@@ -69,12 +69,6 @@ SINGULAR_TOL = 1e-7
 #: A discriminant more negative than this fraction of B² + (A − C)² means "cannot close";
 #: smaller negative values are rounding at a toggle and are taken as zero.
 DISCRIMINANT_TOL = 1e-12
-
-
-def _scalar_or_array(value):
-    """0-d arrays become Python floats/bools so scalar inputs give scalar outputs."""
-    array = np.asarray(value)
-    return array.item() if array.ndim == 0 else array
 
 
 @dataclass(frozen=True)
@@ -341,14 +335,14 @@ class FourBar:
             theta2, trig, omega2, alpha2, unreachable, on_unreachable
         )
         return FourBarSolution(
-            theta3=_scalar_or_array(theta3),
-            theta4=_scalar_or_array(theta4),
-            omega3=_scalar_or_array(omega3),
-            omega4=_scalar_or_array(omega4),
-            alpha3=_scalar_or_array(alpha3),
-            alpha4=_scalar_or_array(alpha4),
-            mask=_scalar_or_array(unreachable),
-            singular=_scalar_or_array(singular),
+            theta3=scalar_or_array(theta3),
+            theta4=scalar_or_array(theta4),
+            omega3=scalar_or_array(omega3),
+            omega4=scalar_or_array(omega4),
+            alpha3=scalar_or_array(alpha3),
+            alpha4=scalar_or_array(alpha4),
+            mask=scalar_or_array(unreachable),
+            singular=scalar_or_array(singular),
             branch=branch,
         )
 
@@ -418,7 +412,7 @@ class FourBar:
         solution = self.solve(theta2, branch=branch, on_unreachable=on_unreachable)
         joint_angle = np.abs(wrap_angle(np.asarray(solution.theta4) - np.asarray(solution.theta3)))
         mu = np.minimum(joint_angle, np.pi - joint_angle) if acute else joint_angle
-        return _scalar_or_array(mu)
+        return scalar_or_array(mu)
 
     def coupler_point(
         self,

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["polar", "cross_k", "loop_residual", "wrap_angle", "to_complex", "from_complex"]
+__all__ = ["polar", "cross_k", "loop_residual", "wrap_angle", "to_complex", "from_complex", "scalar_or_array"]
 
 
 def polar(length, angle) -> np.ndarray:
@@ -49,6 +49,16 @@ def loop_residual(lengths, angles, signs) -> np.ndarray:
     """
     terms = [s * polar(l, a) for l, a, s in zip(lengths, angles, signs, strict=True)]
     return np.sum(np.broadcast_arrays(*terms), axis=0)
+
+
+def scalar_or_array(value):
+    """A 0-d result becomes a Python number (or bool), so scalar inputs give scalar outputs; arrays stay.
+
+    >>> scalar_or_array(np.float64(2.5)), scalar_or_array(np.array([1.0, 2.0])).shape
+    (2.5, (2,))
+    """
+    array = np.asarray(value)
+    return array.item() if array.ndim == 0 else array
 
 
 def wrap_angle(angle) -> np.ndarray:

@@ -1,4 +1,5 @@
-"""Checkers for the exercise notebooks: take a student's answer, return friendly feedback.
+"""Checkers for the exercise notebooks and the lessons' "Try it" cells: take a student's answer,
+return friendly feedback.
 
 Each checker returns a :class:`Feedback` (``ok`` and a ``message``).  The message names
 what looks wrong — a wrong branch or working mode, degrees instead of radians, a sign
@@ -27,6 +28,7 @@ from .fivebar import FiveBar
 from .fourbar import FourBar
 from .newton import newton
 from .planar import wrap_angle
+from .profile import first_turn_time, motor_profile
 from .saw import Saw, analytic
 from .symbolic import TIME, static
 
@@ -53,6 +55,13 @@ __all__ = [
     "check_fivebar_inverse",
     "check_fivebar_g",
     "check_fivebar_singularity",
+    "check_crank_angle_for_rocker",
+    "check_rocker_pin_speed",
+    "check_motor_start",
+    "check_saw_rates",
+    "check_blade_peak_speed",
+    "check_fivebar_theta4",
+    "check_reach_height",
 ]
 
 #: Absolute tolerance on angles (rad) and relative tolerance on other numbers.
@@ -96,7 +105,8 @@ def _wrong(message: str) -> Feedback:
 
 
 def _unanswered(answer: Any) -> Feedback | None:
-    if answer is None or answer is Ellipsis:
+    blanks = isinstance(answer, tuple | list) and len(answer) > 0 and all(a is None for a in answer)
+    if answer is None or answer is Ellipsis or blanks:
         return Feedback(False, "No answer yet: build your answer in the cell above, then run this check.")
     return None
 
@@ -1115,3 +1125,196 @@ def check_fivebar_singularity(
     if key == "parallel":
         return _wrong("the distal links l2 and l3 are not aligned here; look at the crank–distal angles.")
     return _wrong("that measure is not zero here; compute all three with robot.singularity_measures(...).")
+
+
+# ================================================================ the lessons' "Try it" cells
+
+
+def _number(answer: Any, what: str) -> float | Feedback:
+    """The answer as one float, or the feedback saying it is missing or not a number."""
+    missing = _unanswered(answer)
+    return missing if missing is not None else _as_number(answer, what)
+
+
+def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Feedback:
+    """Lesson 02: the crank angle θ2 in (0, π) (rad) at which ``linkage`` has its rocker at ``theta4``.
+
+    Judged by the loop itself: the crank pin A must be exactly l3 from the rocker pin B.
+
+    >>> bar = FourBar(crank=0.10, coupler=0.25, rocker=0.20, ground=0.30)
+    >>> theta4 = bar.solve(1.0).theta4
+    >>> check_crank_angle_for_rocker(1.0, bar, theta4).ok, check_crank_angle_for_rocker(1.1, bar, theta4).ok
+    (True, False)
+    """
+    value = _number(answer, "θ2")
+    if isinstance(value, Feedback):
+        return value
+    B = np.array([linkage.l1 + linkage.l4 * np.cos(theta4), linkage.l4 * np.sin(theta4)])
+
+    def gap(theta2: float) -> float:
+        A = linkage.l2 * np.array([np.cos(theta2), np.sin(theta2)])
+        return abs(float(np.linalg.norm(B - A)) - linkage.l3)
+
+    closes = gap(value) < 1e-9
+    if closes and 0.0 < value < np.pi:
+        return _right("Correct: the crank pin A is exactly l3 from the rocker pin B.")
+    if closes:
+        return _wrong(
+            "that angle closes the loop, but it is outside (0, π): start Newton from a seed in that range "
+            "(the other root is the other assembly)."
+        )
+    if gap(np.radians(value)) < 1e-9:
+        return _wrong("that is the right angle in degrees; newton and course_lib work in radians.")
+    return _wrong(f"|B − A| differs from l3 by {gap(value):.1e} m: solve |B − A(θ2)| − l3 = 0 with B at θ4.")
+
+
+def check_rocker_pin_speed(
+    answer, linkage: FourBar, theta2: float, omega2: float, branch: str = "open"
+) -> Feedback:
+    """Lesson 04: the speed |V_B| (m/s) of the rocker pin B at crank angle ``theta2`` (rad) and crank
+    speed ``omega2`` (rad/s).
+
+    >>> bar = FourBar(crank=0.10, coupler=0.25, rocker=0.20, ground=0.30)
+    >>> check_rocker_pin_speed(-1.0, bar, 1.0, 10.0).message
+    'Not yet: a speed is a magnitude: it cannot be negative.'
+    """
+    value = _number(answer, "the speed of B")
+    if isinstance(value, Feedback):
+        return value
+    omega4 = abs(linkage.solve(theta2, omega2, branch=branch).omega4)
+    if _close(value, omega4 * linkage.l4):
+        return _right("Correct: B moves perpendicular to the rocker at |ω4|·l4.")
+    if value < 0:
+        return _wrong("a speed is a magnitude: it cannot be negative.")
+    if _close(value, omega4):
+        return _wrong("that is |ω4| in rad/s: multiply by the rocker length l4.")
+    if _close(value, abs(omega2) * linkage.l2):
+        return _wrong("that is the speed of the crank pin A (ω2·l2); the task asks for the rocker pin B.")
+    in_degrees = linkage.solve(np.degrees(theta2), omega2, branch=branch, on_unreachable="nan").omega4
+    if np.isfinite(in_degrees) and _close(value, abs(in_degrees) * linkage.l4):
+        return _wrong("θ2 went into solve in degrees; convert with np.radians.")
+    return _wrong("solve for ω4 at the given θ2 (radians) and ω2, then |V_B| = |ω4|·l4.")
+
+
+def check_motor_start(answer, alpha_max: float) -> Feedback:
+    """Lesson 05: (T in s, final speed in rpm) of the rise–hold–fall start-up with peak acceleration
+    ``alpha_max`` (rad/s²) over the first revolution.
+
+    >>> check_motor_start((1.9416, 61.8), 5.0).ok
+    True
+    """
+    missing = _unanswered(answer)
+    if missing is not None:
+        return missing
+    values = _as_vector(answer, 2, "(T, rpm)")
+    if isinstance(values, Feedback):
+        return values
+    T_answer, speed = values
+    T = first_turn_time(alpha_max)
+    omega = float(motor_profile(2 * T, alpha_max).omega2)  # the constant speed after T
+    rpm = omega * 60 / (2 * np.pi)
+    if not _close(T_answer, T, rtol=1e-3):
+        return _wrong(f"T is not right yet: solve θ2(T) = A·T²/3 = 2π with A = {alpha_max:g} rad/s².")
+    if _close(speed, omega, rtol=1e-3):
+        return _wrong("T is right. Your speed looks like rad/s: convert with 60/(2π).")
+    if not _close(speed, rpm, rtol=1e-3):
+        return _wrong("T is right; the final speed is 2·A·T/3 in rad/s — then convert to rpm.")
+    return _right("Correct on both.")
+
+
+def check_saw_rates(answer, saw: Saw, theta2: float, omega2: float) -> Feedback:
+    """Lesson 06: the rates (V_r in m/s, ω1, ω3 in rad/s) of ``saw`` at ``theta2`` (rad) and ``omega2``
+    (rad/s), α2 = 0.
+
+    >>> check_saw_rates([0.0, 0.0, 0.0], Saw(), 0.0, 1.0).ok
+    False
+    """
+    missing = _unanswered(answer)
+    if missing is not None:
+        return missing
+    values = _as_vector(answer, 3, "(V_r, ω1, ω3)")
+    if isinstance(values, Feedback):
+        return values
+    truth = analytic(theta2, omega2, 0.0, saw=saw)[3:6]
+    if _close(values, truth, atol=1e-9):
+        return _right("Correct: a single linear solve gives the rates.")
+    if _close(values, -truth, atol=1e-9):
+        return _wrong("every sign is flipped: the right-hand side is minus the ω2 terms.")
+    if _close(values[[0, 2, 1]], truth, atol=1e-9) or _close(values[::-1], truth, atol=1e-9):
+        return _wrong("the right numbers in the wrong order: give (V_r, ω1, ω3).")
+    return _wrong("check the matrix J at the position and the ω2 terms of the velocity equations.")
+
+
+def check_blade_peak_speed(answer, saw: Saw, omega2: float) -> Feedback:
+    """Lesson 07: the largest blade (slider) speed |ẋ| (m/s) over a revolution at constant ``omega2``
+    (rad/s).  Three significant digits are enough.
+
+    >>> check_blade_peak_speed(0.075 * 6.472, Saw(), 6.472).ok
+    False
+    """
+    value = _number(answer, "the blade speed")
+    if isinstance(value, Feedback):
+        return value
+    x = analytic(np.linspace(0.0, 2 * np.pi, 20001), omega2, 0.0, saw=saw)
+    r1, theta1, v_r, omega1 = x[:, 0], x[:, 1], x[:, 3], x[:, 4]
+    peak = np.abs(v_r * np.cos(theta1) - r1 * omega1 * np.sin(theta1)).max()
+    if _close(abs(value), peak, rtol=2e-3):
+        return _right("Correct." if value > 0 else "Correct in size; a speed is usually given positive.")
+    if _close(value, saw.r2 * abs(omega2), rtol=2e-3):
+        return _wrong("that is the crank pin's speed r2·ω2; the blade moves a little faster at its peak.")
+    if _close(value, np.abs(v_r).max(), rtol=2e-3):
+        return _wrong("that is the largest |V_r|, the rate of the length r1; the blade's speed is "
+                      "ẋ = V_r cos θ1 − r1 ω1 sin θ1.")
+    return _wrong(
+        f"use ω2 = {omega2:.4g} rad/s and the slider speed V_r cos θ1 − r1 ω1 sin θ1 over a fine grid."
+    )
+
+
+def check_fivebar_theta4(answer, robot: FiveBar, x3: float, y3: float, sigma2: int) -> Feedback:
+    """Lesson 09: the crank angle θ4 (rad) of leg 4 that puts the pen at (x3, y3) with σ2 = ``sigma2``.
+
+    >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+    >>> check_fivebar_theta4(robot.inverse(0.0, 0.2, (1, -1)).theta4 - 2 * np.pi, robot, 0.0, 0.2, -1).ok
+    True
+    """
+    value = _number(answer, "θ4")
+    if isinstance(value, Feedback):
+        return value
+    this, that = (robot.inverse(x3, y3, modes=(1, s)) for s in (sigma2, -sigma2))
+    verdict = _angle_feedback(
+        value,
+        this.theta4,
+        {
+            f"that is σ2 = {-sigma2:+d}: take the other sign of the square root.": that.theta4,
+            "that is θ1 of leg 1; the task asks for θ4 (coefficients a2, b2, c2).": this.theta1,
+        },
+    )
+    return verdict if verdict is not None else _wrong(
+        f"recompute a2, b2, c2 with l3, l4, l5 and X3 = {x3:g}, Y3 = {y3:g}, then θ4 = 2·atan(root)."
+    )
+
+
+def check_reach_height(answer, robot: FiveBar, x3: float) -> Feedback:
+    """Lesson 10: the height Y3 (m) at which the pen, moving up the line X = ``x3``, first stretches a leg.
+
+    >>> check_reach_height(0.24, FiveBar(0.10, 0.15, 0.15, 0.10, 0.08), -0.03).ok
+    True
+    """
+    value = _number(answer, "the height Y3")
+    if isinstance(value, Feedback):
+        return value
+    half = robot.l5 / 2
+    heights = {
+        "1": np.sqrt((robot.l1 + robot.l2) ** 2 - (x3 - half) ** 2),
+        "4": np.sqrt((robot.l3 + robot.l4) ** 2 - (x3 + half) ** 2),
+    }
+    first = min(heights, key=heights.get)
+    other = "4" if first == "1" else "1"
+    if _close(value, heights[first], atol=1e-9):
+        return _right(f"Correct: leg {first} stretches first.")
+    if _close(value, heights[other], atol=1e-9):
+        return _wrong(f"that is where leg {other} stretches; the other leg gets there first.")
+    if _close(value / 1000.0, heights[first], atol=1e-9):
+        return _wrong("that looks like millimetres; give metres.")
+    return _wrong("a leg is stretched when the pen is (proximal + distal length) from its motor; the leg "
+                  "whose motor is farther from the line stretches first.")

@@ -446,3 +446,125 @@ def test_fivebar_parallel_singularity():
     assert check("parallel", ROBOT, theta1, theta4, *P3).ok
     rejects(check("serial1", ROBOT, theta1, theta4, *P3), "not zero")
     rejects(check("none", ROBOT, theta1, theta4, *P3), "one of them is zero")
+
+
+# ---------------------------------------------------------------- the lessons' "Try it" checkers
+
+
+def test_crank_angle_for_rocker():
+    theta4 = np.radians(135.0)
+    B = np.array([BENCH.l1 + BENCH.l4 * np.cos(theta4), BENCH.l4 * np.sin(theta4)])
+    # A lies on the crank circle and on the circle of radius l3 about B
+    roots = [np.arctan2(A[1], A[0]) for A in circle_intersections([0.0, 0.0], BENCH.l2, B, BENCH.l3)]
+    inside = [root for root in roots if 0 < root < np.pi]
+    outside = [root for root in roots if not 0 < root < np.pi]
+    assert len(inside) == 1 and len(outside) == 1
+    check = checks.check_crank_angle_for_rocker
+    assert check(inside[0], BENCH, theta4).ok
+    rejects(check(outside[0], BENCH, theta4), "outside (0, π)", hidden=inside)
+    rejects(check(np.degrees(inside[0]), BENCH, theta4), "degrees")
+    rejects(check(inside[0] + 0.01, BENCH, theta4), "differs from l3", hidden=inside)
+    rejects(check(None, BENCH, theta4), "No answer yet")
+    rejects(check("1.2", BENCH, theta4), "should be a number")
+
+
+def test_rocker_pin_speed():
+    theta2, omega2, h = np.radians(120.0), 10.0, 1e-6
+    # B from circle intersections at θ2 ± h: |dB/dθ2|·ω2 by central differences
+    pins = []
+    for angle in (theta2 - h, theta2 + h):
+        theta4 = fourbar_by_circles(BENCH, angle, "open")[1]
+        pins.append(BENCH.l4 * np.array([np.cos(theta4), np.sin(theta4)]))
+    speed = np.linalg.norm(pins[1] - pins[0]) / (2 * h) * omega2
+    check = checks.check_rocker_pin_speed
+    assert check(speed, BENCH, theta2, omega2).ok
+    rejects(check(-speed, BENCH, theta2, omega2), "magnitude")
+    rejects(check(speed / BENCH.l4, BENCH, theta2, omega2), "rad/s", hidden=[speed])
+    rejects(check(omega2 * BENCH.l2, BENCH, theta2, omega2), "crank pin A", hidden=[speed])
+    rejects(check(1.5 * speed, BENCH, theta2, omega2), "|ω4|·l4", hidden=[speed])
+
+
+def test_motor_start_against_a_numerical_integration():
+    import scipy.integrate
+
+    A = 8.0
+
+    def alpha(t, T):  # rise, hold, fall over thirds of T
+        return A * np.clip(np.minimum(3 * t / T, 3 - 3 * t / T), 0.0, 1.0) if t < T else 0.0
+
+    def turn(T):  # θ2(T) = ∫0^T (T − t) α(t) dt
+        return scipy.integrate.quad(lambda t: (T - t) * alpha(t, T), 0, T, points=[T / 3, 2 * T / 3])[0]
+
+    T = scipy.optimize.brentq(lambda T: turn(T) - 2 * np.pi, 0.5, 5.0, xtol=1e-13)
+    omega = scipy.integrate.quad(lambda t: alpha(t, T), 0, T, points=[T / 3, 2 * T / 3])[0]
+    rpm = omega * 60 / (2 * np.pi)
+    check = checks.check_motor_start
+    assert check((T, rpm), A).ok and check((round(T, 3), round(rpm, 1)), A).ok
+    rejects(check((T, omega), A), "rad/s", hidden=[T, rpm])
+    rejects(check((T, 1.1 * rpm), A), "2·A·T/3", hidden=[T, rpm])
+    rejects(check((np.sqrt(6 * np.pi / 5), rpm), A), "T is not right", hidden=[T, rpm])
+    rejects(check(T, A), "2 entries")
+
+
+def test_saw_rates_against_finite_differences():
+    theta2, omega2, h = np.pi / 2, 6.472, 1e-6
+    ahead, behind = (np.asarray(checks.analytic(theta2 + s * h, saw=MY_SAW))[:3] for s in (1, -1))
+    rates = (ahead - behind) / (2 * h) * omega2  # (ṙ1, θ̇1, θ̇3) by central differences
+    check = checks.check_saw_rates
+    assert check(rates, MY_SAW, theta2, omega2).ok
+    rejects(check(-rates, MY_SAW, theta2, omega2), "sign", hidden=rates)
+    rejects(check(rates[::-1], MY_SAW, theta2, omega2), "order", hidden=rates)
+    rejects(check(rates * 1.01, MY_SAW, theta2, omega2), "matrix J", hidden=rates)
+    rejects(check(rates[:2], MY_SAW, theta2, omega2), "3 entries")
+
+
+def test_blade_peak_speed_against_the_textbook_slider_crank():
+    omega2 = 6.472
+    textbook = OffsetSliderCrank(MY_SAW.r2, MY_SAW.r3, MY_SAW.r1y)
+    grid = np.linspace(0, 2 * np.pi, 3601)
+    start = grid[np.argmax(np.abs(textbook.solve(grid, omega2, branch="left").v))]
+    best = scipy.optimize.minimize_scalar(
+        lambda t: -abs(float(textbook.solve(t, omega2, branch="left").v)),
+        bracket=(start - 0.01, start + 0.01),
+    )
+    peak = -best.fun
+    check = checks.check_blade_peak_speed
+    assert check(peak, MY_SAW, omega2).ok and check(float(f"{peak:.3g}"), MY_SAW, omega2).ok
+    assert check(-peak, MY_SAW, omega2).ok
+    rejects(check(MY_SAW.r2 * omega2, MY_SAW, omega2), "crank pin", hidden=[peak])
+    rejects(check(1.05 * peak, MY_SAW, omega2), "fine grid", hidden=[peak])
+
+
+def test_fivebar_theta4_against_circle_intersections():
+    x3, y3 = -0.03, 0.2
+    P5 = np.array([-ROBOT.l5 / 2, 0.0])
+    # σ2 = +1: elbow 4 to the left of P5 → P3; σ2 = −1: to the right
+    left, right = circle_intersections(P5, ROBOT.l4, [x3, y3], ROBOT.l3)
+    theta4 = {+1: np.arctan2(*(left - P5)[::-1]), -1: np.arctan2(*(right - P5)[::-1])}
+    check = checks.check_fivebar_theta4
+    for sigma in (1, -1):
+        assert check(theta4[sigma] + 2 * np.pi, ROBOT, x3, y3, sigma).ok
+        rejects(check(theta4[-sigma], ROBOT, x3, y3, sigma), "other sign", hidden=[theta4[sigma]])
+        rejects(check(np.degrees(theta4[sigma]), ROBOT, x3, y3, sigma), "degrees")
+    rejects(check(theta4[-1] + 0.1, ROBOT, x3, y3, -1), "a2, b2, c2", hidden=[theta4[-1]])
+
+
+def test_reach_height_against_bisection():
+    x3 = -0.03
+
+    def reachable(y):
+        return bool(ROBOT.inverse(x3, y, on_unreachable="nan").reachable)
+
+    low, high = 0.1, 0.4
+    assert reachable(low) and not reachable(high)
+    for _ in range(60):
+        middle = (low + high) / 2
+        low, high = (middle, high) if reachable(middle) else (low, middle)
+    # ROBOT's leg 1 (l1 + l2 = 0.26, motor at +l5/2) and leg 4 (l3 + l4 = 0.28, motor at −l5/2)
+    leg4 = np.sqrt((ROBOT.l3 + ROBOT.l4) ** 2 - (x3 + ROBOT.l5 / 2) ** 2)
+    assert low < leg4
+    check = checks.check_reach_height
+    assert check(low, ROBOT, x3).ok
+    rejects(check(low * 1000, ROBOT, x3), "millimetres")
+    rejects(check(leg4, ROBOT, x3), "leg 4 stretches", hidden=[low])
+    rejects(check(low + 0.01, ROBOT, x3), "farther from the line", hidden=[low])

@@ -112,7 +112,11 @@ def _unanswered(answer: Any) -> Feedback | None:
 
 
 def _as_vector(answer: Any, size: int, what: str) -> np.ndarray | Feedback:
-    """The answer as a float array of ``size`` entries, or the feedback explaining why not."""
+    """The answer as a float array of ``size`` entries, or the feedback explaining why not
+    (no answer yet, not numbers, wrong count, NaN)."""
+    missing = _unanswered(answer)
+    if missing is not None:
+        return missing
     if isinstance(answer, Mapping):
         return Feedback(False, f"Not yet: give {what} as a sequence of {size} numbers, not a dict.")
     try:
@@ -170,7 +174,11 @@ def _choice(answer: Any, correct: str, why_not: Mapping[str, str], right: str) -
 # ---------------------------------------------------------------- sympy helpers
 
 def _plain(expr: Any) -> sp.Expr | Feedback:
-    """sympify, θ(t) → θ, every symbol → a real symbol of the same name (assumptions ignored)."""
+    """sympify, θ(t) → θ, every symbol → a real symbol of the same name (assumptions ignored);
+    the feedback instead when there is no answer yet or it is not an expression."""
+    missing = _unanswered(expr)
+    if missing is not None:
+        return missing
     if isinstance(expr, str):
         return Feedback(False, "Not yet: build a sympy expression (not a string), e.g. with sp.symbols.")
     try:
@@ -451,9 +459,6 @@ def check_newton_update(answer) -> Feedback:
     >>> check_newton_update((2 * x**3 + 5) / (3 * x**2 - 2)).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     expr = _plain(answer)
     if isinstance(expr, Feedback):
         return expr
@@ -543,9 +548,6 @@ def check_fourbar_newton_step(answer, linkage: FourBar, theta2: float, seed) -> 
     >>> check_fourbar_newton_step(np.linalg.solve(J, -F), bar, 0.7, (0.5, 1.5)).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     values = _as_vector(answer, 2, "the step Δx")
     if isinstance(values, Feedback):
         return values
@@ -632,9 +634,6 @@ def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -
     >>> check_fourbar_theta4(bar.solve(2.0, branch="crossed").theta4 + 2 * np.pi, bar, 2.0, "crossed").ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     value = _as_number(answer, "θ4")
     if isinstance(value, Feedback):
         return value
@@ -686,9 +685,6 @@ def check_omega4_expression(answer) -> Feedback:
     >>> check_omega4_expression(w2 * l2 * sp.sin(t2 - t3) / (l4 * sp.sin(t4 - t3))).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     expr = _plain(answer)
     if isinstance(expr, Feedback):
         return expr
@@ -725,9 +721,6 @@ def check_fourbar_rates(
     >>> check_fourbar_rates((s.omega4, s.alpha4), bar, 3.5, 15.0, -40.0, "open").ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     values = _as_vector(answer, 2, "(ω4, α4)")
     if isinstance(values, Feedback):
         return values
@@ -823,9 +816,6 @@ def check_saw_omega3_expression(answer) -> Feedback:
     >>> check_saw_omega3_expression(-w2 * r2 * sp.cos(t2) / (r3 * sp.cos(t3))).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     expr = _plain(answer)
     if isinstance(expr, Feedback):
         return expr
@@ -859,9 +849,6 @@ def check_saw_position(answer, saw: Saw, theta2: float) -> Feedback:
     >>> check_saw_position(analytic(0.9, saw=saw)[:3], saw, 0.9).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     values = _as_vector(answer, 3, "(r1, θ1, θ3)")
     if isinstance(values, Feedback):
         return values
@@ -908,9 +895,6 @@ def check_saw_slider_acceleration(answer, saw: Saw, theta2: float, omega2: float
     >>> check_saw_slider_acceleration(analytic(0.9, 6.0, 4.0, saw=saw)[6], saw, 0.9, 6.0, 4.0).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     value = _as_number(answer, "a_r")
     if isinstance(value, Feedback):
         return value
@@ -967,9 +951,6 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
     >>> check_fivebar_forward(tuple(robot.forward(1.2, 2.2, -1)), robot, 1.2, 2.2, -1).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     values = _as_vector(answer, 2, "(x3, y3)")
     if isinstance(values, Feedback):
         return values
@@ -999,9 +980,6 @@ def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: t
     >>> check_fivebar_inverse(tuple(robot.inverse(0.01, 0.2, (1, -1))), robot, 0.01, 0.2, (1, -1)).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     values = _as_vector(answer, 2, "(θ1, θ4)")
     if isinstance(values, Feedback):
         return values
@@ -1042,9 +1020,6 @@ def check_fivebar_g(answer) -> Feedback:
     >>> check_fivebar_g((l4 * sp.sin(t4) - l1 * sp.sin(t1)) / (l5 + l1 * sp.cos(t1) - l4 * sp.cos(t4))).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     expr = _plain(answer)
     if isinstance(expr, Feedback):
         return expr
@@ -1130,12 +1105,6 @@ def check_fivebar_singularity(
 # ================================================================ the lessons' "Try it" cells
 
 
-def _number(answer: Any, what: str) -> float | Feedback:
-    """The answer as one float, or the feedback saying it is missing or not a number."""
-    missing = _unanswered(answer)
-    return missing if missing is not None else _as_number(answer, what)
-
-
 def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Feedback:
     """Lesson 02: the crank angle θ2 in (0, π) (rad) at which ``linkage`` has its rocker at ``theta4``.
 
@@ -1146,7 +1115,7 @@ def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Fee
     >>> check_crank_angle_for_rocker(1.0, bar, theta4).ok, check_crank_angle_for_rocker(1.1, bar, theta4).ok
     (True, False)
     """
-    value = _number(answer, "θ2")
+    value = _as_number(answer, "θ2")
     if isinstance(value, Feedback):
         return value
     B = np.array([linkage.l1 + linkage.l4 * np.cos(theta4), linkage.l4 * np.sin(theta4)])
@@ -1178,7 +1147,7 @@ def check_rocker_pin_speed(
     >>> check_rocker_pin_speed(-1.0, bar, 1.0, 10.0).message
     'Not yet: a speed is a magnitude: it cannot be negative.'
     """
-    value = _number(answer, "the speed of B")
+    value = _as_number(answer, "the speed of B")
     if isinstance(value, Feedback):
         return value
     omega4 = abs(linkage.solve(theta2, omega2, branch=branch).omega4)
@@ -1203,9 +1172,6 @@ def check_motor_start(answer, alpha_max: float) -> Feedback:
     >>> check_motor_start((1.9416, 61.8), 5.0).ok
     True
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     values = _as_vector(answer, 2, "(T, rpm)")
     if isinstance(values, Feedback):
         return values
@@ -1229,9 +1195,6 @@ def check_saw_rates(answer, saw: Saw, theta2: float, omega2: float) -> Feedback:
     >>> check_saw_rates([0.0, 0.0, 0.0], Saw(), 0.0, 1.0).ok
     False
     """
-    missing = _unanswered(answer)
-    if missing is not None:
-        return missing
     values = _as_vector(answer, 3, "(V_r, ω1, ω3)")
     if isinstance(values, Feedback):
         return values
@@ -1252,7 +1215,7 @@ def check_blade_peak_speed(answer, saw: Saw, omega2: float) -> Feedback:
     >>> check_blade_peak_speed(0.075 * 6.472, Saw(), 6.472).ok
     False
     """
-    value = _number(answer, "the blade speed")
+    value = _as_number(answer, "the blade speed")
     if isinstance(value, Feedback):
         return value
     x = analytic(np.linspace(0.0, 2 * np.pi, 20001), omega2, 0.0, saw=saw)
@@ -1277,7 +1240,7 @@ def check_fivebar_theta4(answer, robot: FiveBar, x3: float, y3: float, sigma2: i
     >>> check_fivebar_theta4(robot.inverse(0.0, 0.2, (1, -1)).theta4 - 2 * np.pi, robot, 0.0, 0.2, -1).ok
     True
     """
-    value = _number(answer, "θ4")
+    value = _as_number(answer, "θ4")
     if isinstance(value, Feedback):
         return value
     this, that = (robot.inverse(x3, y3, modes=(1, s)) for s in (sigma2, -sigma2))
@@ -1300,7 +1263,7 @@ def check_reach_height(answer, robot: FiveBar, x3: float) -> Feedback:
     >>> check_reach_height(0.24, FiveBar(0.10, 0.15, 0.15, 0.10, 0.08), -0.03).ok
     True
     """
-    value = _number(answer, "the height Y3")
+    value = _as_number(answer, "the height Y3")
     if isinstance(value, Feedback):
         return value
     half = robot.l5 / 2

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 import scipy.optimize
 import sympy as sp
+from geometry import circle_intersections, fourbar_pins
 
 from course_lib import checks
 from course_lib.fivebar import FiveBar
@@ -43,23 +44,9 @@ def rejects(feedback, *words, hidden=()):
     assert hides(feedback, *hidden), feedback
 
 
-def circle_intersections(a, ra, b, rb):
-    """Both points at distance ra from a and rb from b: (left of a→b, right of a→b)."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    d = np.linalg.norm(b - a)
-    along = (ra**2 - rb**2 + d**2) / (2 * d)
-    across = np.sqrt(ra**2 - along**2)
-    unit = (b - a) / d
-    normal = np.array([-unit[1], unit[0]])
-    foot = a + along * unit
-    return foot + across * normal, foot - across * normal
-
-
 def fourbar_by_circles(linkage, theta2, branch):
-    A = linkage.l2 * np.array([np.cos(theta2), np.sin(theta2)])
+    A, B = fourbar_pins(linkage.l1, linkage.l2, linkage.l3, linkage.l4, theta2, branch)
     O4 = np.array([linkage.l1, 0.0])
-    left, right = circle_intersections(A, linkage.l3, O4, linkage.l4)
-    B = left if branch == "open" else right
     return np.arctan2(*(B - A)[::-1]), np.arctan2(*(B - O4)[::-1])
 
 

@@ -8,6 +8,7 @@ a direct circle–circle intersection written here, finite differences, and cour
 import math
 import warnings
 
+import geometry
 import numpy as np
 import pytest
 import sympy as sp
@@ -136,13 +137,7 @@ def circle_intersections(robot, theta1, theta4):
     """Both points at distance l2 from P2 and l3 from P4 (textbook circle–circle formula)."""
     p2 = np.array([robot.l1 * math.cos(theta1) + robot.l5 / 2, robot.l1 * math.sin(theta1)])
     p4 = np.array([robot.l4 * math.cos(theta4) - robot.l5 / 2, robot.l4 * math.sin(theta4)])
-    d = float(np.linalg.norm(p2 - p4))
-    along = (robot.l3**2 - robot.l2**2 + d**2) / (2 * d)
-    height = math.sqrt(max(robot.l3**2 - along**2, 0.0))
-    unit = (p2 - p4) / d
-    normal = np.array([-unit[1], unit[0]])
-    base = p4 + along * unit
-    return base + height * normal, base - height * normal
+    return geometry.circle_intersections(p4, robot.l3, p2, robot.l2)
 
 
 def angle_gap(a, b):

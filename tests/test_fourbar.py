@@ -11,6 +11,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from geometry import fourbar_pins
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
@@ -20,19 +21,6 @@ from course_lib.newton import newton
 
 DESK = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
 SWEEP = np.linspace(-np.pi, np.pi, 721)
-
-
-def circle_intersection(linkage, theta2, side):
-    """B from the two circles; side=+1 keeps the point left of A→O4, −1 the right one."""
-    A = np.stack([linkage.l2 * np.cos(theta2), linkage.l2 * np.sin(theta2)], axis=-1)
-    O4 = np.array([linkage.l1, 0.0])
-    d_vec = O4 - A
-    d = np.linalg.norm(d_vec, axis=-1, keepdims=True)
-    along = (linkage.l3**2 - linkage.l4**2 + d**2) / (2 * d)
-    height = np.sqrt(linkage.l3**2 - along**2)
-    unit = d_vec / d
-    left_normal = np.stack([-unit[..., 1], unit[..., 0]], axis=-1)
-    return A, A + along * unit + side * height * left_normal
 
 
 def cross_sign(linkage, theta2, branch):
@@ -47,9 +35,9 @@ def angle_difference(a, b):
 
 
 # ---------------------------------------------------------------- position
-@pytest.mark.parametrize(("branch", "side"), [("open", 1), ("crossed", -1)])
-def test_closed_form_matches_circle_intersection(branch, side):
-    A, B = circle_intersection(DESK, SWEEP, side)
+@pytest.mark.parametrize("branch", ["open", "crossed"])
+def test_closed_form_matches_circle_intersection(branch):
+    A, B = fourbar_pins(DESK.l1, DESK.l2, DESK.l3, DESK.l4, SWEEP, branch)
     solution = DESK.solve(SWEEP, branch=branch)
     theta4 = np.arctan2(B[:, 1], B[:, 0] - DESK.l1)
     theta3 = np.arctan2(B[:, 1] - A[:, 1], B[:, 0] - A[:, 0])

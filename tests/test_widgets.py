@@ -5,6 +5,7 @@ import gc
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from geometry import circle_intersections, fourbar_pins
 from matplotlib.figure import Figure
 
 from course_lib.errors import InvalidGeometryError
@@ -16,35 +17,13 @@ def _figures_alive() -> int:
     return sum(isinstance(obj, Figure) for obj in gc.get_objects())
 
 
-def _circle_intersection(center_a, radius_a, center_b, radius_b):
-    """Both intersections of two circles, by the chord construction (no half-angle formula)."""
-    center_a, center_b = np.asarray(center_a, float), np.asarray(center_b, float)
-    d = np.hypot(*(center_b - center_a))
-    along = (radius_a**2 - radius_b**2 + d**2) / (2 * d)
-    half_chord = np.sqrt(radius_a**2 - along**2)
-    unit = (center_b - center_a) / d
-    normal = np.array([-unit[1], unit[0]])
-    foot = center_a + along * unit
-    return foot + half_chord * normal, foot - half_chord * normal
-
-
-def _fourbar_by_circles(l1, l2, l3, l4, theta2, branch):
-    """A and B of the four-bar: B meets |AB| = l3 and |O4B| = l4; "open" = B left of A → O4."""
-    A = l2 * np.array([np.cos(theta2), np.sin(theta2)])
-    O4 = np.array([l1, 0.0])
-    first, second = _circle_intersection(A, l3, O4, l4)
-    side = (O4 - A)[0] * (first - A)[1] - (O4 - A)[1] * (first - A)[0]
-    left, right = (first, second) if side > 0 else (second, first)
-    return A, (left if branch == "open" else right)
-
-
 def _xy(line):
     x, y = line.get_data()
     return np.asarray(x, float), np.asarray(y, float)
 
 
 @pytest.mark.parametrize("branch", ["open", "crossed"])
-def test_fourbar_drawing_matches_circle_intersection(branch):
+def test_fourbar_drawing_matchescircle_intersections(branch):
     explorer = fourbar_explorer(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20, branch=branch)
     for theta2_deg in (-150.0, -30.0, 0.0, 45.0, 100.0, 170.0):
         _check_fourbar_state(explorer, theta2_deg, branch)
@@ -53,7 +32,7 @@ def test_fourbar_drawing_matches_circle_intersection(branch):
 def _check_fourbar_state(explorer, theta2_deg, branch):
     readout = explorer.update(theta2_deg=theta2_deg)
     assert readout.status == "ok"
-    A, B = _fourbar_by_circles(0.20, 0.06, 0.18, 0.12, np.radians(theta2_deg), branch)
+    A, B = fourbar_pins(0.20, 0.06, 0.18, 0.12, np.radians(theta2_deg), branch)
     x, y = _xy(explorer.artists["coupler"])
     np.testing.assert_allclose([x[0], y[0], x[1], y[1]], [*A, *B], atol=1e-12)
     x, y = _xy(explorer.artists["rocker"])
@@ -77,11 +56,11 @@ def test_fourbar_coupler_curve_and_point_match_independent_geometry():
     x, y = _xy(explorer.artists["coupler_curve"])
     theta2 = np.linspace(-np.pi, np.pi, len(x))
     for k in range(0, len(x), 36):
-        A, B = _fourbar_by_circles(0.18, 0.05, 0.15, 0.14, theta2[k], "open")
+        A, B = fourbar_pins(0.18, 0.05, 0.15, 0.14, theta2[k], "open")
         direction = np.arctan2(*(B - A)[::-1]) + np.radians(40.0)
         P = A + 0.10 * np.array([np.cos(direction), np.sin(direction)])
         np.testing.assert_allclose([x[k], y[k]], P, atol=1e-12)
-    A, B = _fourbar_by_circles(0.18, 0.05, 0.15, 0.14, np.radians(75.0), "open")
+    A, B = fourbar_pins(0.18, 0.05, 0.15, 0.14, np.radians(75.0), "open")
     direction = np.arctan2(*(B - A)[::-1]) + np.radians(40.0)
     px, py = _xy(explorer.artists["point_p"])
     np.testing.assert_allclose([px[0], py[0]], A + 0.10 * np.array([np.cos(direction), np.sin(direction)]),
@@ -253,7 +232,7 @@ L1, L2, L3, L4, L5 = 0.10, 0.15, 0.15, 0.10, 0.08
 P1, P5 = np.array([L5 / 2, 0.0]), np.array([-L5 / 2, 0.0])
 
 
-def test_fivebar_forward_matches_circle_intersection():
+def test_fivebar_forward_matchescircle_intersections():
     from course_lib.widgets import fivebar_explorer
 
     explorer = fivebar_explorer()
@@ -261,7 +240,7 @@ def test_fivebar_forward_matches_circle_intersection():
         theta1, theta4 = np.radians(theta1_deg), np.radians(theta4_deg)
         P2 = P1 + L1 * np.array([np.cos(theta1), np.sin(theta1)])
         P4 = P5 + L4 * np.array([np.cos(theta4), np.sin(theta4)])
-        both = _circle_intersection(P2, L2, P4, L3)
+        both = circle_intersections(P2, L2, P4, L3)
         up, down = sorted(both, key=lambda point: point[1], reverse=True)  # σ = +1: the larger Y3
         for sigma, expected in ((1, up), (-1, down)):
             assert explorer.update(theta1_deg=theta1_deg, theta4_deg=theta4_deg, sigma=sigma).status == "ok"
@@ -290,7 +269,7 @@ def test_fivebar_inverse_working_modes_close_the_legs():
             P4 = np.array([x[0], y[0]])
             np.testing.assert_allclose(P3, target, atol=1e-15)
             # P2 is one of the two independent circle intersections, and the legs close
-            candidates = _circle_intersection(P1, L1, target, L2)
+            candidates = circle_intersections(P1, L1, target, L2)
             assert min(np.hypot(*(P2 - c)) for c in candidates) < 1e-12
             np.testing.assert_allclose([np.hypot(*(P2 - P1)), np.hypot(*(P4 - P5)), np.hypot(*(P4 - P3))],
                                        [L1, L4, L3], atol=1e-12)

@@ -391,6 +391,17 @@ def _seed(x0) -> np.ndarray:
     return np.array(seed, dtype=float)
 
 
+def _one_instant(theta2, omega2, alpha2, x0, variant: str, saw: Saw):
+    """The checked inputs of a solve at one instant: θ2, ω2, α2 as floats and the nine-value seed.
+    Raises as the solvers document (bad numbers or variant, a rod that cannot reach, a limit position)."""
+    theta2 = _scalar("theta2", theta2, "rad")
+    motion = (theta2, _scalar("omega2", omega2, "rad/s"), _scalar("alpha2", alpha2, "rad/s²"))
+    require_choice("variant", variant, VARIANTS)
+    seed = _seed(x0)
+    _check_assembly(theta2, saw)
+    return (*motion, seed)
+
+
 # ---------------------------------------------------------------- Newton solutions at one crank angle
 
 
@@ -491,13 +502,8 @@ def solve_consecutive(
     >>> [solution.stages[s].iterations for s in ("position", "velocity", "acceleration")]
     [4, 2, 2]
     """
-    theta2 = _scalar("theta2", theta2, "rad")
-    omega2 = _scalar("omega2", omega2, "rad/s")
-    alpha2 = _scalar("alpha2", alpha2, "rad/s²")
-    require_choice("variant", variant, VARIANTS)
+    theta2, omega2, alpha2, seed = _one_instant(theta2, omega2, alpha2, x0, variant, saw)
     require_choice("linear_stages", linear_stages, LINEAR_STAGES)
-    seed = _seed(x0)
-    _check_assembly(theta2, saw)
     linear = _newton_stage if linear_stages == "newton" else _direct_stage
 
     position = _newton_stage(
@@ -557,12 +563,7 @@ def solve_simultaneous(
     >>> solution.iterations, bool(np.abs(solution.x[3:]).max() < 1e-12)
     (5, True)
     """
-    theta2 = _scalar("theta2", theta2, "rad")
-    omega2 = _scalar("omega2", omega2, "rad/s")
-    alpha2 = _scalar("alpha2", alpha2, "rad/s²")
-    require_choice("variant", variant, VARIANTS)
-    seed = _seed(x0)
-    _check_assembly(theta2, saw)
+    theta2, omega2, alpha2, seed = _one_instant(theta2, omega2, alpha2, x0, variant, saw)
     result = _newton_stage(
         "simultaneous",
         lambda x: system_residual(x, theta2, omega2, alpha2, saw=saw, variant=variant),

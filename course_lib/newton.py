@@ -26,10 +26,23 @@ __all__ = [
     "newton",
     "newton_batch",
     "finite_difference_jacobian",
+    "singular_jacobian_text",
 ]
 
 #: A Jacobian whose 2-norm condition number exceeds this is treated as singular.
 MAX_CONDITION = 1e12
+
+
+def singular_jacobian_text(condition: float) -> str:
+    """How a rejected Jacobian is described: by the bound it broke, not by round-off digits.
+
+    The condition number of an exactly singular matrix is inf on one machine and 4e16 on another,
+    so only the bound is stated.
+
+    >>> singular_jacobian_text(float("inf"))
+    'singular (condition number > 1e+12)'
+    """
+    return f"singular (condition number > {MAX_CONDITION:.0e})"
 
 
 @dataclass(frozen=True)
@@ -224,7 +237,7 @@ def newton(
         if not condition < MAX_CONDITION:
             where = float(x[0]) if scalar else x.tolist()
             raise SingularJacobianError(
-                f"the Jacobian is singular at x={where} (condition number {condition:.3g}); "
+                f"the Jacobian is {singular_jacobian_text(condition)} at x={where}; "
                 "Newton cannot take a step from here: try another seed",
                 x=where,
                 condition_number=condition,

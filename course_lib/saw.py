@@ -45,7 +45,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .newton import MAX_CONDITION, NewtonResult, newton, newton_batch
+from .newton import MAX_CONDITION, NewtonResult, newton, newton_batch, singular_jacobian_text
 from .profile import first_turn_time, motor_profile
 
 __all__ = [
@@ -454,8 +454,7 @@ def _direct_stage(
     condition = np.linalg.cond(jac)
     if not condition < MAX_CONDITION:
         raise SingularJacobianError(
-            f"{stage} stage at theta2={theta2:.6g}: the Jacobian is singular "
-            f"(condition number {condition:.3g})",
+            f"{stage} stage at theta2={theta2:.6g}: the Jacobian is {singular_jacobian_text(condition)}",
             x=seed.tolist(),
             condition_number=condition,
         )

@@ -117,17 +117,16 @@ def _as_vector(answer: Any, size: int, what: str) -> np.ndarray | Feedback:
     missing = _unanswered(answer)
     if missing is not None:
         return missing
+    expected = "one plain number (a float)" if size == 1 else f"{size} plain numbers (floats)"
     if isinstance(answer, Mapping):
-        return Feedback(False, f"Not yet: give {what} as a sequence of {size} numbers, not a dict.")
+        return Feedback(False, f"Not yet: give {what} as {expected}, not a dict.")
     try:
         values = np.asarray(answer, dtype=float).ravel()
     except (TypeError, ValueError):
-        return Feedback(
-            False, f"Not yet: {what} should be {size} plain numbers (floats); got {type(answer).__name__}."
-        )
+        return Feedback(False, f"Not yet: {what} should be {expected}; got {type(answer).__name__}.")
     if values.size != size:
         counted = "a single number" if values.size == 1 else f"{values.size} numbers"
-        return Feedback(False, f"Not yet: {what} should have {size} entries; got {counted}.")
+        return Feedback(False, f"Not yet: {what} should be {expected}; got {counted}.")
     if not np.all(np.isfinite(values)):
         return Feedback(False, f"Not yet: {what} contains NaN or infinity.")
     return values
@@ -752,6 +751,11 @@ def check_fourbar_rates(
         )
     if _close(alpha4, -this.alpha4, atol=1e-9):
         return _wrong("ω4 is right, but α4 has the wrong sign.")
+    if _close(alpha4, linkage.solve(theta2, omega2, -alpha2, branch=branch).alpha4, atol=1e-9):
+        return _wrong(
+            "ω4 is right, but α4 is that of a crank whose α2 has the opposite sign: check the sign of the "
+            "α2 k̂ × R2 terms when you move them to the right-hand side."
+        )
     return _wrong(
         "ω4 is right; α4 is off — differentiate the velocity equations once more (with the ω² terms)."
     )

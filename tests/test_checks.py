@@ -180,7 +180,7 @@ def test_fourbar_newton_step():
     rejects(
         checks.check_fourbar_newton_step(np.linalg.solve(J.T, -loop(seed)), BENCH, theta2, seed), "transposed"
     )
-    rejects(checks.check_fourbar_newton_step([1.0, 2.0, 3.0], BENCH, theta2, seed), "2 entries")
+    rejects(checks.check_fourbar_newton_step([1.0, 2.0, 3.0], BENCH, theta2, seed), "2 plain numbers")
 
 
 def test_seed_branch():
@@ -274,6 +274,8 @@ def test_fourbar_rates():
     rejects(check((-omega4, alpha4), BENCH, theta2, omega2, alpha2, "open"), "wrong sign", hidden=[omega4])
     rejects(check((alpha4, omega4), BENCH, theta2, omega2, alpha2, "open"), "swapped")
     rejects(check((omega3, alpha4), BENCH, theta2, omega2, alpha2, "open"), "ω3")
+    flipped4 = _rates_by_sympy(BENCH, theta2, omega2, -alpha2, "open")[1]  # α2 entered with its sign flipped
+    rejects(check((omega4, flipped4), BENCH, theta2, omega2, alpha2, "open"), "opposite sign", hidden=[alpha4])
 
 
 def test_toggle_angle():
@@ -332,7 +334,7 @@ def test_saw_position():
     rejects(check((r1, theta1, np.pi - theta3), MY_SAW, theta2), "other branch", hidden=[theta3])
     rejects(check((1000 * r1, theta1, theta3), MY_SAW, theta2), "millimetres", hidden=[r1])
     rejects(check((r1, np.degrees(theta1), np.degrees(theta3)), MY_SAW, theta2), "degrees")
-    rejects(check((r1, theta1), MY_SAW, theta2), "3 entries")
+    rejects(check((r1, theta1), MY_SAW, theta2), "3 plain numbers")
 
 
 def test_saw_slider_acceleration():
@@ -490,7 +492,7 @@ def test_motor_start_against_a_numerical_integration():
     rejects(check((T, omega), A), "rad/s", hidden=[T, rpm])
     rejects(check((T, 1.1 * rpm), A), "2·A·T/3", hidden=[T, rpm])
     rejects(check((np.sqrt(6 * np.pi / 5), rpm), A), "T is not right", hidden=[T, rpm])
-    rejects(check(T, A), "2 entries")
+    rejects(check(T, A), "2 plain numbers")
 
 
 def test_saw_rates_against_finite_differences():
@@ -502,7 +504,7 @@ def test_saw_rates_against_finite_differences():
     rejects(check(-rates, MY_SAW, theta2, omega2), "sign", hidden=rates)
     rejects(check(rates[::-1], MY_SAW, theta2, omega2), "order", hidden=rates)
     rejects(check(rates * 1.01, MY_SAW, theta2, omega2), "matrix J", hidden=rates)
-    rejects(check(rates[:2], MY_SAW, theta2, omega2), "3 entries")
+    rejects(check(rates[:2], MY_SAW, theta2, omega2), "3 plain numbers")
 
 
 def test_blade_peak_speed_against_the_textbook_slider_crank():

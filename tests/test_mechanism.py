@@ -1,0 +1,405 @@
+"""course_lib.mechanism: each result against an independent route.
+
+Routes: circle–circle intersections (tests/geometry.py) and the four-bar's closed form
+(FourBar), the textbook offset slider-crank (OffsetSliderCrank), the five-bar's closed form
+(FiveBar.forward), central finite differences along time paths with nonzero accelerations,
+the time derivatives rebuilt by the chain rule with sympy Jacobians, Newton on the stacked 3n
+system, sequential one-instant solves (continuation by hand), and finite-difference Jacobians.
+"""
+
+import numpy as np
+import pytest
+import sympy as sp
+from geometry import circle_intersections, fourbar_pins
+
+from course_lib.errors import (
+    ConvergenceError,
+    InvalidGeometryError,
+    SingularJacobianError,
+    UnreachableError,
+)
+from course_lib.fivebar import FiveBar
+from course_lib.fourbar import FourBar
+from course_lib.mechanism import Mechanism, Motion
+from course_lib.newton import NewtonResult, finite_difference_jacobian, newton
+from course_lib.slider_crank import OffsetSliderCrank
+
+th2, th3, th4, th5, th6 = sp.symbols("theta2 theta3 theta4 theta5 theta6")
+l1, l2, l3, l4 = sp.symbols("l1:5", positive=True)
+LOOP = sp.Matrix([l2 * sp.cos(th2) + l3 * sp.cos(th3) - l4 * sp.cos(th4) - l1,
+                  l2 * sp.sin(th2) + l3 * sp.sin(th3) - l4 * sp.sin(th4)])
+WIPER_LENGTHS = {l1: 0.20, l2: 0.06, l3: 0.18, l4: 0.12}
+WIPER_POINTS = {"O2": sp.Matrix([0, 0]), "A": sp.Matrix([l2 * sp.cos(th2), l2 * sp.sin(th2)]),
+                "B": sp.Matrix([l1 + l4 * sp.cos(th4), l4 * sp.sin(th4)]), "O4": sp.Matrix([l1, 0])}
+WIPER = Mechanism(loops=[LOOP], unknowns=[th3, th4], inputs=[th2], parameters=WIPER_LENGTHS,
+                  points=WIPER_POINTS, links=[("O2", "A"), ("A", "B"), ("B", "O4")])
+DESK = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
+GUESS = {th3: 0.4, th4: 1.6}
+
+
+def fourbar(lengths):
+    """The four-bar loop with other lengths (ground, crank, coupler, rocker)."""
+    return Mechanism([LOOP], [th3, th4], [th2], dict(zip((l1, l2, l3, l4), lengths, strict=True)))
+
+
+def angle_gap(a, b):
+    return float(np.abs(np.angle(np.exp(1j * (np.asarray(a) - np.asarray(b))))).max())
+
+
+def stacked(mapping, names):
+    return np.stack([np.asarray(mapping[name]) for name in names], axis=-1)
+
+
+# ------------------------------------------------------------------ the contract
+
+
+def test_contract_sweep_is_the_open_branch_of_the_circle_construction():
+    theta2 = np.radians(np.arange(0, 360, 2))
+    motion = WIPER.solve({th2: theta2}, rates={th2: 10.0}, accelerations={th2: 3.0}, guess=GUESS)
+    assert isinstance(motion, Motion)
+    for mapping in (motion.position, motion.velocity, motion.acceleration):
+        assert set(mapping) == {"theta3", "theta4"}
+        assert all(np.shape(value) == theta2.shape for value in mapping.values())
+    assert motion.converged.all() and not motion.singular.any()
+    A, B = fourbar_pins(0.20, 0.06, 0.18, 0.12, theta2, "open")
+    _, B_crossed = fourbar_pins(0.20, 0.06, 0.18, 0.12, theta2, "crossed")
+    assert angle_gap(motion.position["theta3"], np.arctan2(B[:, 1] - A[:, 1], B[:, 0] - A[:, 0])) < 1e-12
+    assert angle_gap(motion.position["theta4"], np.arctan2(B[:, 1], B[:, 0] - 0.20)) < 1e-12
+    # the guess reaches the open assembly, and stays on it: never the crossed one
+    crossed_theta4 = np.arctan2(B_crossed[:, 1], B_crossed[:, 0] - 0.20)
+    assert np.all(np.abs(np.angle(np.exp(1j * (motion.position["theta4"] - crossed_theta4)))) > 0.1)
+
+
+def test_contract_rates_match_the_fourbar_closed_form():
+    theta2 = np.radians(np.arange(0, 360, 2))
+    motion = WIPER.solve({th2: theta2}, rates={th2: 10.0}, accelerations={th2: 3.0}, guess=GUESS)
+    closed = DESK.solve(theta2, 10.0, 3.0, branch="open")
+    np.testing.assert_allclose(motion.velocity["theta3"], closed.omega3, atol=1e-10)
+    np.testing.assert_allclose(motion.velocity["theta4"], closed.omega4, atol=1e-10)
+    np.testing.assert_allclose(motion.acceleration["theta3"], closed.alpha3, atol=1e-9)
+    np.testing.assert_allclose(motion.acceleration["theta4"], closed.alpha4, atol=1e-9)
+
+
+def test_one_instant_gives_numbers_and_newton_history():
+    motion = WIPER.solve({th2: 0.7}, rates={th2: 10.0}, accelerations={th2: 0.0}, guess=GUESS)
+    closed = DESK.solve(0.7, 10.0, 0.0)
+    assert isinstance(motion.position["theta4"], float) and isinstance(motion.converged, bool)
+    assert isinstance(motion.iterations, int) and motion.singular is False
+    assert angle_gap(motion.position["theta3"], closed.theta3) < 1e-12
+    assert abs(motion.velocity["theta4"] - closed.omega4) < 1e-10
+    assert abs(motion.acceleration["theta3"] - closed.alpha3) < 1e-9
+    assert isinstance(motion.newton, NewtonResult) and motion.newton.converged
+    assert motion.newton.history[0].tolist() == [0.4, 1.6]
+    assert motion.newton.iterations == motion.iterations == len(motion.newton.history) - 1
+    assert motion.inputs == {"theta2": 0.7}
+
+
+def test_without_rates_velocity_and_acceleration_are_none():
+    motion = WIPER.solve({"theta2": [0.1, 0.2]}, guess={"theta3": 0.4, "theta4": 1.6})
+    assert motion.velocity is None and motion.acceleration is None and motion.newton is None
+    only_acceleration = WIPER.solve({th2: 0.1}, accelerations={th2: 2.0}, guess=GUESS)
+    closed = DESK.solve(0.1, 0.0, 2.0)
+    assert only_acceleration.velocity["theta4"] == 0.0
+    assert abs(only_acceleration.acceleration["theta4"] - closed.alpha4) < 1e-10
+
+
+def test_inputs_and_rates_broadcast():
+    theta2 = np.linspace(0.0, 1.0, 3)
+    omega2 = np.array([[1.0], [-2.0]])
+    motion = WIPER.solve({th2: theta2}, rates={th2: omega2}, guess=GUESS)
+    assert motion.velocity["theta4"].shape == (2, 3) and motion.position["theta3"].shape == (2, 3)
+    closed = DESK.solve(theta2, omega2)
+    np.testing.assert_allclose(motion.velocity["theta4"], closed.omega4, atol=1e-10)
+    assert motion.inputs["theta2"].shape == (2, 3)
+
+
+def test_joints_from_declared_points():
+    theta2 = np.linspace(0, 2 * np.pi, 9)
+    joints = WIPER.joints(WIPER.solve({th2: theta2}, guess=GUESS))
+    A, B = fourbar_pins(0.20, 0.06, 0.18, 0.12, theta2, "open")
+    np.testing.assert_allclose(joints["A"], A, atol=1e-12)
+    np.testing.assert_allclose(joints["B"], B, atol=1e-12)
+    np.testing.assert_allclose(joints["O4"], np.tile([0.20, 0.0], (9, 1)))
+    assert WIPER.links == (("O2", "A"), ("A", "B"), ("B", "O4"))
+
+
+# ------------------------------------------------------------------ rates by finite differences
+
+
+def test_rates_match_central_differences_along_a_time_path():
+    # θ2(t) = 0.3 + 2t + 1.5t²: ω2 = 2 + 3t, α2 = 3
+    h = 1e-4
+    t = np.linspace(0.2, 1.2, 11)
+    path = lambda s: 0.3 + 2 * s + 1.5 * s**2  # noqa: E731
+    here = WIPER.solve({th2: path(t)}, {th2: 2 + 3 * t}, {th2: 3.0}, guess=GUESS)
+    names = ["theta3", "theta4"]
+    q, q_rate, q_acc = (stacked(m, names) for m in (here.position, here.velocity, here.acceleration))
+    after, before = (stacked(WIPER.solve({th2: path(t + s)}, guess=GUESS).position, ["theta3", "theta4"])
+                     for s in (h, -h))
+    np.testing.assert_allclose(q_rate, (after - before) / (2 * h), atol=1e-6)
+    np.testing.assert_allclose(q_acc, (after - 2 * q + before) / h**2, atol=2e-4)
+
+
+# ------------------------------------------------------------------ a length unknown: offset slider-crank
+
+
+x, a_, b_, c_ = sp.symbols("x a b c")
+SLIDER = Mechanism([sp.Matrix([a_ * sp.cos(th2) + b_ * sp.cos(th3) - x,
+                               a_ * sp.sin(th2) + b_ * sp.sin(th3) - c_])],
+                   unknowns=[th3, x], inputs=[th2], parameters={a_: 0.075, b_: 0.170, c_: 0.045})
+
+
+@pytest.mark.parametrize(("branch", "guess"), [("right", {th3: -0.2, x: 0.2}), ("left", {th3: 2.9, x: -0.1})])
+def test_slider_travel_as_unknown_matches_the_textbook_slider_crank(branch, guess):
+    theta2 = np.linspace(0, 4 * np.pi, 200)
+    omega2, alpha2 = 6.0 + theta2, 1.0
+    motion = SLIDER.solve({th2: theta2}, {th2: omega2}, {th2: alpha2}, guess=guess)
+    book = OffsetSliderCrank(0.075, 0.170, 0.045).solve(theta2, omega2, alpha2, branch=branch)
+    np.testing.assert_allclose(motion.position["x"], book.x, atol=1e-12)
+    assert angle_gap(motion.position["theta3"], book.theta3) < 1e-12
+    np.testing.assert_allclose(motion.velocity["x"], book.v, atol=1e-10)
+    np.testing.assert_allclose(motion.acceleration["x"], book.a, atol=1e-8)
+    np.testing.assert_allclose(motion.acceleration["theta3"], book.alpha3, atol=1e-8)
+    assert SLIDER.rate_symbols[x][0].name == "v_x"
+
+
+# ------------------------------------------------------------------ two loops sharing θ4: a Watt II six-bar
+
+l5, l6, l7, delta = sp.symbols("l5 l6 l7 delta", positive=True)
+WATT_LENGTHS = {l1: 0.20, l2: 0.06, l3: 0.18, l4: 0.12, l5: 0.10, l6: 0.16, l7: 0.14, delta: 0.5}
+# loop 2 hangs on the rocker (a ternary link): C = O4 + l5·(θ4 + δ), D = C + l6·θ5 = O6 + l7·θ6,
+# with O6 = O4 + (0.05, 0.25)
+WATT = Mechanism(
+    loops=[LOOP, sp.Matrix([l5 * sp.cos(th4 + delta) + l6 * sp.cos(th5) - l7 * sp.cos(th6) - 0.05,
+                            l5 * sp.sin(th4 + delta) + l6 * sp.sin(th5) - l7 * sp.sin(th6) - 0.25])],
+    unknowns=[th3, th4, th5, th6], inputs=[th2], parameters=WATT_LENGTHS)
+WATT_GUESS = {th3: 0.4, th4: 1.6, th5: 0.3, th6: 1.2}
+
+
+def test_six_bar_loops_close_and_match_circle_constructions():
+    theta2 = np.linspace(0, 2 * np.pi, 90)
+    motion = WATT.solve({th2: theta2}, guess=WATT_GUESS)
+    t3, t4, t5, t6 = (motion.position[name] for name in ("theta3", "theta4", "theta5", "theta6"))
+    # both loops close, written out with numpy
+    loop1 = (0.06 * np.exp(1j * theta2) + 0.18 * np.exp(1j * t3) - 0.12 * np.exp(1j * t4) - 0.20)
+    loop2 = 0.10 * np.exp(1j * (t4 + 0.5)) + 0.16 * np.exp(1j * t5) - 0.14 * np.exp(1j * t6) - (0.05 + 0.25j)
+    assert np.abs(loop1).max() < 1e-12 and np.abs(loop2).max() < 1e-12
+    # the first loop is the wiper four-bar; D is where the two circles about C and O6 meet
+    assert angle_gap(t4, DESK.solve(theta2).theta4) < 1e-12
+    O4 = np.array([0.20, 0.0])
+    C = O4 + 0.10 * np.stack([np.cos(t4 + 0.5), np.sin(t4 + 0.5)], axis=-1)
+    left, right = circle_intersections(C, 0.16, O4 + [0.05, 0.25], 0.14)
+    D = C + 0.16 * np.stack([np.cos(t5), np.sin(t5)], axis=-1)
+    on_left, on_right = np.abs(D - left).max(axis=1), np.abs(D - right).max(axis=1)
+    assert np.all(on_left < 1e-12) or np.all(on_right < 1e-12)  # one assembly all the way round
+
+
+def test_six_bar_rates_by_finite_differences():
+    h, names = 1e-5, ["theta3", "theta4", "theta5", "theta6"]
+    theta2 = np.linspace(0.1, 6.0, 12)
+    here = WATT.solve({th2: theta2}, {th2: 7.0}, {th2: 0.0}, guess=WATT_GUESS)
+    after, before = (stacked(WATT.solve({th2: theta2 + s}, guess=WATT_GUESS).position, names)
+                     for s in (h, -h))
+    velocity, acceleration = stacked(here.velocity, names), stacked(here.acceleration, names)
+    np.testing.assert_allclose(velocity, 7.0 * (after - before) / (2 * h), atol=1e-6)
+    q = stacked(here.position, names)
+    np.testing.assert_allclose(acceleration, 49.0 * (after - 2 * q + before) / h**2, atol=5e-3)
+
+
+# ------------------------------------------------------------------ two inputs: the five-bar robot
+
+
+def test_two_inputs_five_bar_forward_kinematics():
+    x3, y3, t1, t4 = sp.symbols("x3 y3 theta1 theta4")
+    k1, k2, k3, k4, k5 = 0.10, 0.15, 0.15, 0.10, 0.08
+    robot = Mechanism([(x3 - k1 * sp.cos(t1) - k5 / 2) ** 2 + (y3 - k1 * sp.sin(t1)) ** 2 - k2**2,
+                       (x3 - k4 * sp.cos(t4) + k5 / 2) ** 2 + (y3 - k4 * sp.sin(t4)) ** 2 - k3**2],
+                      unknowns=[x3, y3], inputs=[t1, t4])
+    s = np.linspace(0.0, 0.5, 6)
+    theta1, theta4 = 1.0 + s, 2.0 - s**2
+    motion = robot.solve({t1: theta1, t4: theta4}, rates={t1: 1.0, t4: -2 * s}, guess={x3: 0.0, y3: 0.2})
+    closed = FiveBar(k1, k2, k3, k4, k5).forward(theta1, theta4, mode=+1)
+    np.testing.assert_allclose(motion.position["x3"], closed.x3, atol=1e-12)
+    np.testing.assert_allclose(motion.position["y3"], closed.y3, atol=1e-12)
+    h = 1e-6
+    ahead = FiveBar(k1, k2, k3, k4, k5).forward(theta1 + h, 2.0 - (s + h) ** 2, mode=+1)
+    behind = FiveBar(k1, k2, k3, k4, k5).forward(theta1 - h, 2.0 - (s - h) ** 2, mode=+1)
+    np.testing.assert_allclose(motion.velocity["y3"], (ahead.y3 - behind.y3) / (2 * h), atol=1e-7)
+
+
+# ------------------------------------------------------------------ the derivation, by another route
+
+
+def test_time_derivatives_equal_the_chain_rule():
+    q, u = sp.Matrix([th3, th4]), sp.Matrix([th2])
+    z = sp.Matrix([*q, *u])
+    rates = WIPER.rate_symbols
+    z_rate = sp.Matrix([rates[s][0] for s in z])
+    z_acc = sp.Matrix([rates[s][1] for s in z])
+    first = LOOP.jacobian(z) * z_rate                              # dF/dt = ∂F/∂z · ż
+    second = first.jacobian(z) * z_rate + first.jacobian(z_rate) * z_acc
+    assert sp.simplify(WIPER.velocity_equations - first) == sp.zeros(2, 1)
+    assert sp.simplify(WIPER.acceleration_equations - second) == sp.zeros(2, 1)
+    # and the velocity system is J·q̇ = −F_u·u̇ with J = ∂F/∂q
+    q_rate = sp.Matrix([rates[s][0] for s in q])
+    by_jacobians = LOOP.jacobian(q) * q_rate + LOOP.jacobian(u) * rates[th2][0]
+    assert sp.simplify(WIPER.velocity_equations - by_jacobians) == sp.zeros(2, 1)
+
+
+def test_numeric_jacobians_match_finite_differences():
+    rng = np.random.default_rng(3)
+    q, u = rng.uniform(-3, 3, (5, 2)), rng.uniform(-3, 3, (5, 1))
+    np.testing.assert_allclose(WIPER.jacobian(q, u),
+                               finite_difference_jacobian(lambda v: WIPER.residual(v, u), q), atol=1e-9)
+    np.testing.assert_allclose(WIPER.input_jacobian(q, u),
+                               finite_difference_jacobian(lambda v: WIPER.residual(q, v), u), atol=1e-9)
+    x6, rates = rng.uniform(-3, 3, 6), (u[0], [1.5], [-0.5])
+    G, JG = WIPER.system(x6, *rates)
+    np.testing.assert_allclose(JG, finite_difference_jacobian(lambda v: WIPER.system(v, *rates)[0], x6),
+                               atol=1e-8)
+    assert G.shape == (6,) and JG.shape == (6, 6)
+
+
+def test_simultaneous_3n_system_gives_the_staged_answer():
+    u, u_rate, u_acc = [0.7], [10.0], [3.0]
+    staged = WIPER.solve({th2: 0.7}, {th2: 10.0}, {th2: 3.0}, guess=GUESS)
+    result = newton(lambda v: WIPER.system(v, u, u_rate, u_acc)[0], np.array([0.4, 1.6, 0, 0, 0, 0]),
+                    jac=lambda v: WIPER.system(v, u, u_rate, u_acc)[1], tol=1e-12)
+    expected = [staged.position["theta3"], staged.position["theta4"], staged.velocity["theta3"],
+                staged.velocity["theta4"], staged.acceleration["theta3"], staged.acceleration["theta4"]]
+    np.testing.assert_allclose(result.x, expected, atol=1e-9)
+
+
+# ------------------------------------------------------------------ continuation
+
+
+def sequential(mechanism, values, guess):
+    """Continuation by hand: one-instant solves, each seeded with the previous solution."""
+    out, seed = [], guess
+    for value in values:
+        position = mechanism.solve({th2: value}, guess=seed).position
+        seed = dict(position)
+        out.append([position[s.name] for s in mechanism.unknowns])
+    return np.array(out)
+
+
+@pytest.mark.parametrize("count", [7, 180])
+def test_sweep_lands_where_sequential_continuation_does(count):
+    theta2 = np.linspace(0, 2 * np.pi, count)
+    motion = WIPER.solve({th2: theta2}, guess=GUESS)
+    np.testing.assert_allclose(stacked(motion.position, ["theta3", "theta4"]),
+                               sequential(WIPER, theta2, GUESS), atol=1e-12)
+
+
+def test_continuation_follows_a_double_crank_through_full_turns():
+    # ground shortest: coupler and rocker turn fully; continuation keeps the angles continuous
+    double_crank = fourbar((0.05, 0.12, 0.15, 0.13))
+    theta2 = np.linspace(0, 4 * np.pi, 300)
+    motion = double_crank.solve({th2: theta2}, guess={th3: 0.3, th4: 1.0})
+    q = stacked(motion.position, ["theta3", "theta4"])
+    np.testing.assert_allclose(q, sequential(double_crank, theta2, {th3: 0.3, th4: 1.0}), atol=1e-12)
+    assert np.abs(np.diff(q, axis=0)).max() < 0.2          # no 2π jumps
+    assert q[-1, 1] - q[0, 1] == pytest.approx(4 * np.pi)  # two full turns of the rocker
+
+
+# ------------------------------------------------------------------ failures
+
+
+TRIPLE_ROCKER = fourbar((0.20, 0.15, 0.10, 0.12))  # θ2 only within ±1.333578 rad
+
+
+def test_input_beyond_reach_raises_unreachable_or_gives_nan():
+    theta2 = np.linspace(0, 1.6, 50)
+    with pytest.raises(UnreachableError, match=r"theta2=1\.33\d+ .*first at index 41") as info:
+        TRIPLE_ROCKER.solve({th2: theta2}, guess={th3: 1.0, th4: 2.0})
+    reference = FourBar(0.15, 0.10, 0.12, 0.20).solve(theta2, on_unreachable="nan")
+    np.testing.assert_array_equal(info.value.mask, reference.mask)
+    motion = TRIPLE_ROCKER.solve({th2: theta2}, {th2: 1.0}, guess={th3: 1.0, th4: 2.0}, on_failure="nan")
+    np.testing.assert_array_equal(motion.converged, ~reference.mask)
+    assert np.isnan(motion.position["theta4"][reference.mask]).all()
+    assert np.isnan(motion.velocity["theta4"][reference.mask]).all()
+    assert angle_gap(motion.position["theta4"][~reference.mask], reference.theta4[~reference.mask]) < 1e-12
+
+
+def test_unreachable_from_the_guess_is_a_convergence_error_with_history():
+    with pytest.raises(ConvergenceError, match=r"theta2=2.*from the guess") as info:
+        TRIPLE_ROCKER.solve({th2: 2.0}, guess={th3: 1.0, th4: 2.0})
+    assert isinstance(info.value.result, NewtonResult) and not info.value.result.converged
+    with pytest.raises(ConvergenceError, match="theta2=2"):
+        TRIPLE_ROCKER.solve({th2: [2.0, 0.0]}, guess={th3: 1.0, th4: 2.0})
+    motion = TRIPLE_ROCKER.solve({th2: 2.0}, guess={th3: 1.0, th4: 2.0}, on_failure="nan")
+    assert motion.converged is False and np.isnan(motion.position["theta3"]) and motion.newton is not None
+
+
+def test_singular_jacobian_raises_or_is_masked():
+    # x + y = u and 2x + 2y = 2u: J = [[1, 1], [2, 2]] is singular everywhere
+    p, r, s = sp.symbols("p r s")
+    flat = Mechanism([p + r - s, 2 * p + 2 * r - 2 * s], unknowns=[p, r], inputs=[s])
+    with pytest.raises(SingularJacobianError, match="s=1"):
+        flat.solve({s: 1.0}, guess={p: 0.0, r: 0.0})
+    with pytest.raises(SingularJacobianError, match="s=1"):
+        flat.solve({s: [1.0, 2.0]}, guess={p: 0.0, r: 0.0})
+    motion = flat.solve({s: [1.0, 2.0]}, {s: 1.0}, guess={p: 0.0, r: 0.0}, on_failure="nan")
+    assert motion.singular.all() and not motion.converged.any() and np.isnan(motion.velocity["p"]).all()
+
+
+# ------------------------------------------------------------------ bad declarations and inputs
+
+
+@pytest.mark.parametrize(
+    ("arguments", "message"),
+    [
+        (dict(unknowns=[th3, th5]), r"unknowns: theta5 appears in no loop"),
+        (dict(inputs=[th5]), r"inputs: theta5 appears in no loop"),
+        (dict(unknowns=[th3]), r"loops give 2 equations for the 1 unknowns \[theta3\]"),
+        (dict(unknowns=[th3, "theta4"]), r"unknowns must be sympy Symbols; got 'theta4'"),
+        (dict(inputs=[th3]), r"unknowns and inputs must not share a symbol"),
+        (dict(parameters={l1: 0.2, l2: 0.06, l3: 0.18}), r"parameters: l4 has no value.*'l1': 0\.2"),
+        (dict(parameters={**WIPER_LENGTHS, l5: 1.0}), r"parameters: l5 appears in no loop"),
+        (dict(parameters={**WIPER_LENGTHS, l4: float("nan")}), r"parameters\[l4\] must be finite; got nan"),
+        (dict(parameters={**WIPER_LENGTHS, th3: 1.0}), r"parameters: theta3 is an unknown or input"),
+        (dict(loops=[LOOP, "not an equation ("]), r"loops\[1\] must be a sympy Matrix or expression"),
+        (dict(points={"A": sp.Matrix([l2, l2, l2])}), r"points\['A'\] must be a 2x1 Matrix"),
+        (dict(points={"A": sp.Matrix([l2, 0])}, links=[("A", "Z")]), r"links: \('A', 'Z'\) names a point"),
+    ],
+)
+def test_bad_declarations_name_the_argument(arguments, message):
+    declaration = dict(loops=[LOOP], unknowns=[th3, th4], inputs=[th2], parameters=WIPER_LENGTHS) | arguments
+    with pytest.raises(InvalidGeometryError, match=message):
+        Mechanism(**declaration)
+
+
+def test_a_symbol_left_over_in_the_loops_is_named():
+    k = sp.Symbol("k")
+    with pytest.raises(InvalidGeometryError, match=r"parameters: k has no value"):
+        Mechanism([LOOP + sp.Matrix([k, 0])], [th3, th4], [th2], WIPER_LENGTHS)
+
+
+@pytest.mark.parametrize(
+    ("arguments", "message"),
+    [
+        (dict(inputs={th3: 0.1}), r"inputs has the key theta3, which is not one of \['theta2'\]"),
+        (dict(inputs={}), r"inputs must give a value for theta2"),
+        (dict(inputs=[0.1]), r"inputs must be a dict keyed by theta2; got \[0\.1\]"),
+        (dict(inputs={th2: [0.0, np.inf]}), r"inputs\[theta2\] must be finite.*got inf"),
+        (dict(rates={th2: np.nan}), r"rates\[theta2\] must be finite.*got nan"),
+        (dict(rates={"omega2": 1.0}), r"rates has the key 'omega2'"),
+        (dict(guess={th3: np.nan, th4: 1.6}), r"guess\[theta3\] must be finite.*got nan"),
+        (dict(guess={th3: 0.4}), r"guess must give a value for theta4"),
+        (dict(guess=None), r"guess must give a value for theta3, theta4"),
+        (dict(guess={th3: [0.4, 0.5], th4: 1.6}), r"guess must give one number per unknown"),
+        (dict(inputs={th2: [0.1, 0.2, 0.3]}, rates={th2: [1.0, 2.0]}),
+         r"must broadcast to one shape; got shapes .*'inputs\[theta2\]': \(3,\).*'rates\[theta2\]': \(2,\)"),
+        (dict(on_failure="ignore"), r"on_failure must be one of 'raise', 'nan'; got 'ignore'"),
+        (dict(tol=-1.0), r"tol must be a positive number; got -1\.0"),
+    ],
+)
+def test_bad_inputs_name_the_argument_and_value(arguments, message):
+    call = dict(inputs={th2: 0.3}, guess=GUESS) | arguments
+    with pytest.raises(InvalidGeometryError, match=message):
+        WIPER.solve(**call)
+
+
+def test_joints_need_declared_points():
+    with pytest.raises(InvalidGeometryError, match="joints needs points"):
+        fourbar((0.2, 0.06, 0.18, 0.12)).joints(WIPER.solve({th2: 0.3}, guess=GUESS))

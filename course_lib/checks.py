@@ -36,6 +36,7 @@ __all__ = [
     "Feedback",
     "check_mobility",
     "check_tilted_loop",
+    "check_link_vector",
     "check_point_velocity",
     "check_redundant_parallelogram",
     "check_newton_update",
@@ -376,6 +377,29 @@ def check_tilted_loop(answer) -> Feedback:
             "so R1 and R4 carry the minus sign."
         )
     return _wrong("compare each term with the walk O2 → A → B versus O2 → O4 → B (signs, lengths, angles).")
+
+
+def check_link_vector(answer, length: float, angle_degrees: float) -> Feedback:
+    """Lesson 00, Try it: the vector (x, y) in metres of a link of ``length`` (m) at ``angle_degrees``.
+
+    >>> check_link_vector((0.0, 0.06), 0.06, 90.0).ok
+    True
+    """
+    values = _as_vector(answer, 2, "the vector (x, y)")
+    if isinstance(values, Feedback):
+        return values
+    theta = float(np.radians(angle_degrees))
+    reference = length * np.array([np.cos(theta), np.sin(theta)])
+    scale = dict(rtol=1e-6, atol=1e-9 * length)
+    if np.allclose(values, reference, **scale):
+        return _right("Correct: R = l (cos θ, sin θ).")
+    if np.allclose(values[::-1], reference, **scale):
+        return _wrong("x and y are swapped: x goes with cos θ, y with sin θ.")
+    if np.allclose(values / 1000.0, reference, **scale) or np.allclose(values / 100.0, reference, **scale):
+        return _wrong("the length is in metres, not mm or cm.")
+    if np.allclose(values, length * np.array([np.cos(angle_degrees), np.sin(angle_degrees)]), **scale):
+        return _wrong("the angle went into cos/sin in degrees; numpy's trigonometric functions take radians.")
+    return _wrong("R = l (cos θ î + sin θ ĵ): evaluate cos θ and sin θ for the given angle.")
 
 
 def check_point_velocity(

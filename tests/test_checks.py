@@ -95,6 +95,18 @@ def test_tilted_loop():
     rejects(checks.check_tilted_loop(x), "list")
 
 
+def test_link_vector():
+    # a crank of 0.06 m pointing straight up is (0, 0.06) m; at 30° it is 0.06·(√3/2, 1/2)
+    check = checks.check_link_vector
+    assert check((0.0, 0.06), 0.06, 90.0).ok and check([0.06 * 3**0.5 / 2, 0.03], 0.06, 30.0).ok
+    rejects(check((0.06, 0.0), 0.06, 90.0), "swapped")
+    rejects(check((0.0, 60.0), 0.06, 90.0), "metres")
+    rejects(check((-0.448073616 * 0.06, 0.893996664 * 0.06), 0.06, 90.0), "degrees")  # cos 90 rad, sin 90 rad
+    rejects(check((0.0, -0.06), 0.06, 90.0), "cos θ and sin θ", hidden=[0.06])
+    assert check(None, 0.06, 90.0).message.startswith("No answer yet")
+    rejects(check("0, 0.06", 0.06, 90.0), "plain numbers")
+
+
 def test_point_velocity():
     length, degrees, speed = 0.080, 135.0, 12.0
     theta, h = np.radians(degrees), 1e-7

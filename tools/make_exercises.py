@@ -9,11 +9,12 @@ Every code cell of ``notebooks/solutions/*.ipynb`` may hold one solution block::
     answer = ...
     ### END SOLUTION
 
-In the student copy (``notebooks/exercises/``, same file name) the block becomes
-``raise NotImplementedError("hint: ...")`` with the text of the ``# HINT:`` line, and the
-cell is tagged ``raises-exception``.  Every later code cell that uses a name the removed
-block would have defined (directly, or through another such cell) is tagged
-``raises-exception`` too: it cannot run until the student has answered.
+In the student copy (``notebooks/exercises/``, same file name) the block becomes the hint, as a
+comment, and ``name = None`` for each name the block defines that a later cell uses: the check
+cell right after it then prints "No answer yet" instead of failing, so Run All runs every cell of
+an untouched copy without a traceback.  Any other later code cell that uses such a name (directly,
+or through another such cell) is tagged ``raises-exception``: it cannot run until the student has
+answered.
 
 Each solution notebook is then re-executed in place, and the student copy written and
 executed in a fresh kernel (``tools/execute_notebooks.execute``), so both are committed
@@ -49,12 +50,14 @@ class ExerciseFormatError(ValueError):
     """A solution notebook breaks the block conventions (message names the cell)."""
 
 
-def split_solution(source: str, where: str = "cell") -> tuple[str, list[str], str] | None:
+def split_solution(
+    source: str, where: str = "cell", answers: tuple[str, ...] = ()
+) -> tuple[str, list[str], str] | None:
     """Split a cell's source at its solution block.
 
     Returns ``(student_source, body_lines, hint)`` — the source with the block replaced by a
-    stub, the lines of the block's body (hint line included), and the hint text — or ``None``
-    when the cell has no block.
+    stub that sets each of ``answers`` to ``None``, the lines of the block's body (hint line
+    included), and the hint text — or ``None`` when the cell has no block.
     """
     lines = source.split("\n")
     begins = [i for i, line in enumerate(lines) if line.strip() == BEGIN]
@@ -71,10 +74,7 @@ def split_solution(source: str, where: str = "cell") -> tuple[str, list[str], st
     if not hints:
         raise ExerciseFormatError(f"{where}: the solution block has no '{HINT} ...' line")
     hint = " ".join(hints)
-    stub = [
-        "# Your answer here (replace the next line).",
-        f"raise NotImplementedError({('hint: ' + hint)!r})",
-    ]
+    stub = [f"# Hint: {hint}", "# Your answer: replace None."] + [f"{name} = None" for name in answers]
     student = "\n".join(lines[:start] + stub + lines[stop + 1 :])
     return student, body, hint
 
@@ -108,10 +108,22 @@ def _set_tag(cell, tag: str) -> None:
         cell.setdefault("metadata", {})["tags"] = tags + [tag]
 
 
+def _answer_names(body: list[str], later: list[str]) -> tuple[str, ...]:
+    """The names a solution body defines that later cells use, in order of definition."""
+    used = set().union(*(_used_names(ast.parse(source)) for source in later))
+    order = [node.id for node in ast.walk(ast.parse("\n".join(body))) if isinstance(node, ast.Name)]
+    bound = _bound_names(ast.parse("\n".join(body)))
+    return tuple(dict.fromkeys(name for name in order if name in bound and name in used))
+
+
+def _is_check(cell) -> bool:
+    return cell.cell_type == "code" and cell.source.startswith("checks.check_")
+
+
 def student_copy(solution: nbformat.NotebookNode, name: str = "") -> nbformat.NotebookNode:
     """The student copy of a solution notebook (not executed: no outputs)."""
     notebook = copy.deepcopy(solution)
-    undefined: set[str] = set()  # names that are unbound once the solutions are removed
+    undefined: set[str] = set()  # names that are unbound or None once the solutions are removed
     for index, cell in enumerate(notebook.cells):
         if cell.cell_type == "code":
             cell.outputs, cell.execution_count = [], None
@@ -120,16 +132,17 @@ def student_copy(solution: nbformat.NotebookNode, name: str = "") -> nbformat.No
         where = f"{name} cell {index}"
         split = split_solution(cell.source, where)
         if split is not None:
-            student, body, _ = split
-            lines = cell.source.split("\n")
-            start = next(i for i, line in enumerate(lines) if line.strip() == BEGIN)
-            unrun = [line for line in lines[start + 1 :] if line.strip() != END]  # body and what follows
-            undefined |= _bound_names(ast.parse("\n".join(unrun)))
-            cell.source = student
-            _set_tag(cell, RAISES)
+            body = split[1]
+            later = [
+                other.source
+                for other in notebook.cells[index + 1 :]
+                if other.cell_type == "code" and BEGIN not in other.source  # a later task defines its own
+            ]
+            cell.source = split_solution(cell.source, where, _answer_names(body, later))[0]
+            undefined |= _bound_names(ast.parse("\n".join(body)))
             continue
         tree = ast.parse(cell.source)
-        if _used_names(tree) & undefined:
+        if _used_names(tree) & undefined and not _is_check(cell):
             _set_tag(cell, RAISES)
             undefined |= _bound_names(tree)
     note = nbformat.v4.new_markdown_cell(NOTE.format(name=name or "…"))

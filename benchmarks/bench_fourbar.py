@@ -5,6 +5,8 @@
    branch's range), then the rates from stacked 2×2 ``numpy.linalg.solve`` with the same Jacobian.
 3. A Python loop calling ``scipy.optimize.root`` per crank angle (plus two 2×2 solves per point):
    too slow for 10⁶ points, so it is timed on an evenly spread sample and scaled per point.
+4. The generic core: the loop declared once on ``course_lib.mechanism.Mechanism`` (sympy, lambdified),
+   ``solve`` sweeping every crank angle with continuation from the same seed, then the rates.
 
 The wiper linkage of lessons 03–04 (l1..l4 = 0.20, 0.06, 0.18, 0.12 m), ω2 = 10 rad/s, α2 = 5 rad/s².
 Prints a table, then one JSON line whose "vs_scipy_loop" is (scipy-loop time per point) /
@@ -18,14 +20,23 @@ import sys
 
 import numpy as np
 import scipy.optimize
+import sympy as sp
 from timing import best_of
 
 from course_lib.fourbar import FourBar
+from course_lib.mechanism import Mechanism
 from course_lib.newton import newton_batch
 
 LINKAGE = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
 OMEGA2, ALPHA2 = 10.0, 5.0
 SEED = np.array([0.6, 2.0])  # (θ3, θ4) near the middle of the open branch: 17°–57°, 86°–146°
+
+TH2, TH3, TH4 = sp.symbols("theta2 theta3 theta4")
+L1, L2, L3, L4 = sp.symbols("l1:5", positive=True)
+CORE = Mechanism(
+    loops=[sp.Matrix([L2 * sp.cos(TH2) + L3 * sp.cos(TH3) - L4 * sp.cos(TH4) - L1,
+                      L2 * sp.sin(TH2) + L3 * sp.sin(TH3) - L4 * sp.sin(TH4)])],
+    unknowns=[TH3, TH4], inputs=[TH2], parameters={L1: 0.20, L2: 0.06, L3: 0.18, L4: 0.12})
 
 
 
@@ -64,6 +75,15 @@ def batched_newton(theta2):
     return np.concatenate([angles, rates(theta2, angles, OMEGA2, ALPHA2)], axis=-1), result
 
 
+def core_sweep(theta2):
+    """The declared loop through Mechanism.solve: position, velocity and acceleration."""
+    motion = CORE.solve({TH2: theta2}, {TH2: OMEGA2}, {TH2: ALPHA2}, guess={TH3: SEED[0], TH4: SEED[1]},
+                        tol=1e-12, max_iter=30)
+    columns = [getattr(motion, kind)[name] for kind in ("position", "velocity", "acceleration")
+               for name in ("theta3", "theta4")]
+    return np.stack(columns, axis=-1), motion
+
+
 def scipy_loop(theta2):
     out = np.empty((theta2.size, 6))
     for k, angle in enumerate(theta2):
@@ -89,11 +109,14 @@ def main(n_points: int = 1_000_000, sample: int = 2000) -> dict:
 
     closed_time, reference = best_of(3, lambda: closed_form(theta2))
     newton_time, (newton_out, newton_result) = best_of(2, lambda: batched_newton(theta2))
+    core_sweep(theta2[:10])  # derive and lambdify once, outside the timing
+    core_time, (core_out, core_motion) = best_of(2, lambda: core_sweep(theta2))
     scipy_time, scipy_out = best_of(1, lambda: scipy_loop(theta2[sample_index]))
 
     per_point = {"closed": closed_time / n_points, "newton": newton_time / n_points,
-                 "scipy": scipy_time / sample}
+                 "core": core_time / n_points, "scipy": scipy_time / sample}
     newton_gap = largest_difference(newton_out, reference)
+    core_gap = largest_difference(core_out, reference)
     scipy_gap = largest_difference(scipy_out, reference[sample_index])
 
     print(f"Four-bar (l1..l4 = 0.20, 0.06, 0.18, 0.12 m), position + velocity + acceleration, "
@@ -102,6 +125,7 @@ def main(n_points: int = 1_000_000, sample: int = 2000) -> dict:
     rows = [
         ("closed form, vectorized (FourBar.solve)", closed_time, per_point["closed"]),
         ("Newton, batched (newton_batch + 2x2 solves)", newton_time, per_point["newton"]),
+        ("Mechanism core (declared loop, continuation)", core_time, per_point["core"]),
         (f"scipy.optimize.root loop (timed on {sample}, scaled)", per_point["scipy"] * n_points,
          per_point["scipy"]),
     ]
@@ -110,6 +134,8 @@ def main(n_points: int = 1_000_000, sample: int = 2000) -> dict:
     print(f"batched Newton: {int(newton_result.converged.sum()):,} of {n_points:,} converged, "
           f"mean {newton_result.iterations.mean():.2f} iterations; vs closed form: "
           f"angles {newton_gap[0]:.1e} rad, rates {newton_gap[1]:.1e} (relative)")
+    print(f"Mechanism core: {int(core_motion.converged.sum()):,} of {n_points:,} converged; vs closed form: "
+          f"angles {core_gap[0]:.1e} rad, rates {core_gap[1]:.1e} (relative)")
     print(f"scipy loop vs closed form on the sample: angles {scipy_gap[0]:.1e} rad, rates {scipy_gap[1]:.1e}")
 
     return {
@@ -123,6 +149,11 @@ def main(n_points: int = 1_000_000, sample: int = 2000) -> dict:
         "vs_scipy_loop": round(per_point["scipy"] / per_point["closed"], 1),
         "vs_newton_batch": round(per_point["newton"] / per_point["closed"], 2),
         "newton_converged_fraction": float(newton_result.converged.mean()),
+        "mechanism_core_s": round(core_time, 4),
+        "vs_mechanism_core": round(per_point["core"] / per_point["closed"], 2),
+        "core_vs_newton_batch": round(core_time / newton_time, 2),
+        "core_converged_fraction": float(core_motion.converged.mean()),
+        "core_max_angle_diff_rad": core_gap[0],
         "newton_max_angle_diff_rad": newton_gap[0],
         "scipy_max_angle_diff_rad": scipy_gap[0],
     }

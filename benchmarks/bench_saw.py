@@ -12,7 +12,10 @@ Solvers compared, all in this one process:
                 at every Newton iteration numbers are substituted into them with sympy (subs) and the
                 result converted to floats.  Far too slow for 1000 instants: a few instants are timed
                 and the time is scaled to 1000 (said so in the table);
-* analytic    - course_lib.saw.sweep(method="analytic"): the closed form, vectorized.
+* analytic    - course_lib.saw.sweep(method="analytic"): the closed form, vectorized;
+* core        - the saw's loop r1 = r2 + r3 and slider line declared on course_lib.mechanism.Mechanism
+                (derived and lambdified once, outside the timing): Mechanism.solve sweeps every instant
+                with continuation from the printed seed, then the rates by linear solves.
 
 The table is followed by the cost of batched and analytic for n = 10^3 ... 10^6 instants, to show
 the cost grows linearly.  The last line is JSON with the ratios.
@@ -31,6 +34,7 @@ import sympy as sp
 from timing import best_of
 
 from course_lib import saw
+from course_lib.mechanism import Mechanism
 from course_lib.profile import first_turn_time, motor_profile
 
 N = 1000
@@ -42,6 +46,25 @@ METHOD = "lm"  # MINPACK Levenberg–Marquardt; "hybr" stalls on the all-zero se
 
 def profile_points(n):
     return motor_profile(np.linspace(0.0, 2 * first_turn_time(), n))
+
+
+# ------------------------------------------------------------------ the generic core
+
+R1, TH1, TH2, TH3 = sp.symbols("r1 theta1 theta2 theta3")
+R1Y, R2, R3 = sp.symbols("r1y r2 r3", positive=True)
+CORE = Mechanism(
+    loops=[sp.Matrix([-R1 * sp.cos(TH1) + R2 * sp.cos(TH2) + R3 * sp.cos(TH3),
+                      R1 * sp.sin(TH1) - R2 * sp.sin(TH2) - R3 * sp.sin(TH3)]),
+           R1 * sp.sin(TH1) - R1Y],
+    unknowns=[R1, TH1, TH3], inputs=[TH2], parameters={R1Y: 0.045, R2: 0.075, R3: 0.170})
+
+
+def core_sweep(n=N):
+    theta2, omega2, alpha2 = profile_points(n)
+    motion = CORE.solve({TH2: theta2}, {TH2: omega2}, {TH2: alpha2},
+                        guess=dict(zip((R1, TH1, TH3), saw.SEED_PRINTED[:3], strict=True)), tol=TOL)
+    return np.stack([getattr(motion, kind)[name] for kind in ("position", "velocity", "acceleration")
+                     for name in ("r1", "theta1", "theta3")], axis=-1)
 
 
 # ------------------------------------------------------------------ scipy.optimize.root, point by point
@@ -115,6 +138,8 @@ def main():
     t_batched, batched = best_of(5, lambda: saw.sweep(N, method="batched", tol=TOL))
     t_direct, direct = best_of(5, lambda: saw.sweep(N, method="batched", tol=TOL, linear_stages="direct"))
     t_analytic, _ = best_of(20, lambda: saw.sweep(N, method="analytic"))
+    core_sweep(10)  # derive and lambdify once, outside the timing
+    t_core, core_x = best_of(5, core_sweep)
     t_scipy, scipy_x = best_of(1, scipy_loop)
     t_consecutive, consecutive = best_of(1, lambda: saw.sweep(N, method="consecutive", tol=TOL))
     t_simultaneous, simultaneous = best_of(1, lambda: saw.sweep(N, method="simultaneous", tol=TOL))
@@ -133,6 +158,7 @@ def main():
     rows = [
         ("batched Newton (newton_batch, all stages)", t_batched, error(batched.x)),
         ("batched, linear stages solved directly", t_direct, error(direct.x)),
+        ("Mechanism core (declared loop, continuation, linear rate solves)", t_core, error(core_x)),
         ("consecutive Newton, point by point", t_consecutive, error(consecutive.x)),
         ("simultaneous Newton 9x9, point by point", t_simultaneous, error(simultaneous.x)),
         ("scipy.optimize.root loop, point by point", t_scipy, error(scipy_x)),
@@ -161,6 +187,8 @@ def main():
         "vs_symbolic": round(t_symbolic / t_batched, 1),
         "vs_analytic": round(t_batched / t_analytic, 2),
         "vs_analytic_one_step_linear_stages": round(t_direct / t_analytic, 2),
+        "core_vs_analytic": round(t_core / t_analytic, 2),
+        "core_vs_batched": round(t_core / t_batched, 2),
     }))
 
 

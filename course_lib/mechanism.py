@@ -1,17 +1,12 @@
 """One core for every planar mechanism: write the vector loops once, get position, velocity, acceleration.
 
-A mechanism is declared by its loop equations F(q, u) = 0 in sympy: the unknowns q (angles,
-or lengths such as a slider's travel), the inputs u (the driven joints) and numeric values
-for every other symbol.  From that declaration the core derives, once and only when first
-needed, and lambdified with common subexpressions:
-
-* the residual F(q, u), its Jacobian J = ∂F/∂q and the input Jacobian F_u = ∂F/∂u;
-* the velocity system J·q̇ = −F_u·u̇ and the acceleration system J·q̈ = −(the rest of d²F/dt²),
-  both by differentiating the loops in time with q(t), u(t) functions of time;
-* the stacked 3n system of position, velocity and acceleration equations in (q, q̇, q̈).
-
-:meth:`Mechanism.solve` finds the position by Newton–Raphson (:mod:`course_lib.newton`), then
-the rates by linear solves with the same J.  SI units and radians throughout.
+A mechanism is declared by its loop equations F(q, u) = 0 in sympy: the unknowns q (angles, or
+lengths such as a slider's travel), the inputs u (the driven joints) and a number for every other
+symbol.  From that the core derives, once and when first needed, lambdified with common
+subexpressions: F, J = ∂F/∂q and F_u = ∂F/∂u; the velocity system J·q̇ = −F_u·u̇ and the
+acceleration system J·q̈ = −(the rest of d²F/dt²), by differentiating the loops in time; and the
+stacked 3n system in (q, q̇, q̈).  :meth:`Mechanism.solve` finds the position by Newton–Raphson
+(:mod:`course_lib.newton`), then the rates by linear solves with the same J.  SI units, radians.
 
 >>> import numpy as np, sympy as sp
 >>> th2, th3, th4 = sp.symbols("theta2 theta3 theta4")
@@ -159,9 +154,9 @@ class Mechanism:
     2×1 matrix of x, y) and ``links`` (pairs of point names) describe the drawing.
 
     >>> x, th = sp.symbols("x theta")
-    >>> slider = Mechanism([x - sp.cos(th)], unknowns=[x], inputs=[th])
-    >>> float(slider.solve({th: 0.0}, rates={th: 1.0}, guess={x: 0.5}).velocity["x"])
-    -0.0
+    >>> follower = Mechanism([x - sp.cos(th)], unknowns=[x], inputs=[th])
+    >>> follower.solve({th: np.pi / 2}, rates={th: 2.0}, guess={x: 0.5}).velocity["x"]
+    -2.0
     """
 
     def __init__(self, loops, unknowns, inputs, parameters: Mapping | None = None, *,
@@ -180,9 +175,8 @@ class Mechanism:
         if not isinstance(parameters, Mapping) or not all(isinstance(k, sp.Symbol) for k in parameters):
             raise InvalidGeometryError(f"parameters must map sympy Symbols to numbers; got {parameters!r}")
         values = {k: require_finite(f"parameters[{k}]", v) for k, v in parameters.items()}
-        for k, v in values.items():
-            if v.ndim:
-                raise InvalidGeometryError(f"parameters[{k}] must be one number; got {parameters[k]!r}")
+        if any(v.ndim for v in values.values()):
+            raise InvalidGeometryError(f"parameters must map each symbol to one number; got {parameters!r}")
         self.parameters = MappingProxyType({k: float(v) for k, v in values.items()})
         self.points = {str(name): sp.Matrix(xy) for name, xy in (points or {}).items()}
         self.links = tuple((str(a), str(b)) for a, b in links)
@@ -247,19 +241,15 @@ class Mechanism:
         """dF/dt = J·q̇ + F_u·u̇ (= 0), in the symbols of :attr:`rate_symbols`.
 
         >>> th, x = sp.symbols("theta2 x")
-        >>> Mechanism([x - sp.cos(th)], [x], [th]).velocity_equations
-        Matrix([[omega2*sin(theta2) + v_x]])
+        >>> follower = Mechanism([x - sp.cos(th)], [x], [th])
+        >>> follower.velocity_equations, follower.acceleration_equations
+        (Matrix([[omega2*sin(theta2) + v_x]]), Matrix([[a_x + alpha2*sin(theta2) + omega2**2*cos(theta2)]]))
         """
         return self._time_derivatives[0]
 
     @property
     def acceleration_equations(self) -> sp.Matrix:
-        """d²F/dt² (= 0): J·q̈ + F_u·ü plus the terms in products of rates.
-
-        >>> th, x = sp.symbols("theta2 x")
-        >>> Mechanism([x - sp.cos(th)], [x], [th]).acceleration_equations
-        Matrix([[a_x + alpha2*sin(theta2) + omega2**2*cos(theta2)]])
-        """
+        """d²F/dt² (= 0): J·q̈ + F_u·ü plus the terms in products of rates (see :attr:`velocity_equations`)."""
         return self._time_derivatives[1]
 
     def _rates_of(self, symbols, order: int) -> list[sp.Symbol]:
@@ -318,27 +308,18 @@ class Mechanism:
         """F(q, u), shape (..., n): ``q`` (..., n) ordered as ``unknowns``, ``u`` (..., m) as ``inputs``.
 
         >>> th, x = sp.symbols("theta x")
-        >>> Mechanism([x - sp.cos(th)], [x], [th]).residual([1.5], [0.0]).tolist()
-        [0.5]
+        >>> follower, q, u = Mechanism([x - sp.cos(th)], [x], [th]), [1.5], [np.pi / 2]
+        >>> [f(q, u).tolist() for f in (follower.residual, follower.jacobian, follower.input_jacobian)]
+        [[1.5], [[1.0]], [[1.0]]]
         """
         return self._newton_terms(q, u)[0]
 
     def jacobian(self, q, u) -> np.ndarray:
-        """J = ∂F/∂q, shape (..., n, n).
-
-        >>> th, x = sp.symbols("theta x")
-        >>> Mechanism([x - sp.cos(th)], [x], [th]).jacobian([1.5], [0.0]).tolist()
-        [[1.0]]
-        """
+        """J = ∂F/∂q, shape (..., n, n) (see :meth:`residual`)."""
         return self._newton_terms(q, u)[1]
 
     def input_jacobian(self, q, u) -> np.ndarray:
-        """F_u = ∂F/∂u, shape (..., n, m).
-
-        >>> th, x = sp.symbols("theta x")
-        >>> Mechanism([x - sp.cos(th)], [x], [th]).input_jacobian([1.0], [np.pi / 2]).tolist()
-        [[1.0]]
-        """
+        """F_u = ∂F/∂u, shape (..., n, m) (see :meth:`residual`)."""
         terms = self._input_jacobian(q, u)
         return terms.reshape(terms.shape[:-1] + (len(self.unknowns), len(self.inputs)))
 
@@ -482,8 +463,9 @@ class Mechanism:
             q_acc = solve(np.where(good[:, None], rest, 0.0))
             q_acc[~good] = np.nan
             velocity, acceleration = self._by_name(q_rate, shape), self._by_name(q_acc, shape)
-        def shaped(mask):
-            return scalar_or_array(mask.reshape(shape))
+
+        def shaped(values):
+            return scalar_or_array(values.reshape(shape))
 
         inputs_used = {s.name: scalar_or_array(a) for s, a in zip(self.inputs, arrays[:m], strict=True)}
         return Motion(position=self._by_name(q, shape), velocity=velocity, acceleration=acceleration,
@@ -492,22 +474,20 @@ class Mechanism:
 
     def _one_instant(self, u, seed, tol, max_iter, on_failure):
         """Newton with its history at one instant; failures re-raised naming the inputs."""
+        where = self._where(u, 0)
         try:
             result = newton(lambda q: self.residual(q, u), seed, jac=lambda q: self.jacobian(q, u),
                             tol=tol, max_iter=max_iter)
         except SingularJacobianError as err:
             if on_failure == "raise":
-                raise SingularJacobianError(f"at {self._where(u, 0)}: {err}", x=err.x,
-                                            condition_number=err.condition_number) from err
-            return np.full((1, seed.size), np.nan), np.zeros(1, bool), np.ones(1, bool), np.zeros(1, int), \
-                None
+                raise SingularJacobianError(f"at {where}: {err}", err.x, err.condition_number) from err
+            return np.full((1, seed.size), np.nan), np.array([False]), np.array([True]), np.array([0]), None
         except ConvergenceError as err:
             if on_failure == "raise":
-                raise ConvergenceError(f"at {self._where(u, 0)}, from the guess: {err}",
-                                       result=err.result) from err
+                raise ConvergenceError(f"at {where}, from the guess: {err}", result=err.result) from err
             result = err.result
-        q = result.x[None, :].copy()
-        return q, np.array([result.converged]), np.zeros(1, bool), np.array([result.iterations]), result
+        return (result.x[None, :].copy(), np.array([result.converged]), np.array([False]),
+                np.array([result.iterations]), result)
 
     def _where(self, u, index) -> str:
         row = np.atleast_2d(u)[index]

@@ -636,7 +636,7 @@ def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreac
 
 
 def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
-    """Crank pivot O2, crank pin A and slider pin B (m), shape (..., 3, 2), for drawing.
+    """Crank pivot O2, crank pin A and slider pin C (m), shape (..., 3, 2), for drawing.
 
     >>> np.round(joint_positions(0.0), 4).tolist()
     [[0.0, 0.0], [0.075, 0.0], [-0.0889, 0.045]]

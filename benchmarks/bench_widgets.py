@@ -1,11 +1,16 @@
-"""Time per slider event of the explorers: compute + redraw + PNG, Agg backend, one process.
+"""Time per event of the explorers: compute + redraw + PNG, Agg backend, one process.
 
 Each explorer gets 200 events of its main input (θ2 for the four-bar, t for the saw, θ1 forward and
-X3 inverse for the five-bar), moved as a user drags the slider, plus 50 events of a geometry input
-(a length, the branch or the working mode), which re-render the whole figure.  Printed: a table of
-medians, then the last line a JSON object; "median_update_ms" is the worst explorer's median over its
-200 main-input events (the goal is ≤ 50 ms); "median_update_cpu_ms" the same in process CPU time,
-which a busy machine inflates less.
+X3 inverse for the five-bar), moved as a user drags the slider, and 40 events of each other control a
+student changes (the four-bar's lengths and branch, the five-bar's mode and assembly toggles), each
+followed by one main-input event, as a student changes a control and then moves the slider again.
+Printed: a table of medians, then the last line a JSON object:
+
+- ``median_update_ms``: the worst explorer's median over its main-input events (goal ≤ 50 ms);
+  ``median_update_cpu_ms`` the same in process CPU time, which a busy machine inflates less;
+- ``median_change_ms``: the worst explorer's median over its length, branch and mode changes
+  (goal < 30 ms; ``median_change_cpu_ms`` the same in CPU time), and ``change_vs_update``, the worst
+  explorer's ratio of that median to its own main-input median (goal ≤ 2).
 """
 
 from __future__ import annotations
@@ -21,64 +26,105 @@ matplotlib.use("Agg")
 from course_lib.widgets import fivebar_explorer, fourbar_explorer, saw_explorer  # noqa: E402
 
 EVENTS = 200
-GEOMETRY_EVENTS = 50
+CHANGE_EVENTS = 40
 
 
-CPU = {}  # id(list of wall times) → list of CPU times of the same events
-
-
-def timed(explorer, states) -> list[float]:
-    """Wall-clock milliseconds per event (each state set on the widgets as a slider would);
-    the process CPU milliseconds of the same events are kept in ``CPU`` (robust on a busy machine)."""
-    times, cpu = [], []
+def timed(explorer, states) -> tuple[list[float], list[float]]:
+    """Wall-clock and process-CPU milliseconds per event, each state set on the widgets as a user would."""
+    wall, cpu = [], []
     for state in states:
         start, start_cpu = time.perf_counter(), time.process_time()
         for key, value in state.items():
             explorer.controls[key].value = value
-        times.append(1e3 * (time.perf_counter() - start))
+        wall.append(1e3 * (time.perf_counter() - start))
         cpu.append(1e3 * (time.process_time() - start_cpu))
-    CPU[id(times)] = cpu
-    return times
+    return wall, cpu
+
+
+def changes(explorer, key: str, values, main_key: str, main_values) -> tuple[list[float], list[float]]:
+    """Wall and CPU milliseconds of ``CHANGE_EVENTS`` changes of ``key`` (cycling ``values``), each
+    followed by one (untimed) main-input event, so every change starts from a slider-moved state."""
+    wall, cpu = [], []
+    for k in range(CHANGE_EVENTS):
+        one_wall, one_cpu = timed(explorer, [{key: values[k % len(values)]}])
+        wall += one_wall
+        cpu += one_cpu
+        timed(explorer, [{main_key: main_values[k % len(main_values)]}])
+    return wall, cpu
 
 
 def main() -> None:
-    rows = []
+    rows = []  # (explorer, main input, main wall, main cpu, {change name: (wall times, cpu times)})
+
     fourbar = fourbar_explorer()
-    main_fourbar = timed(fourbar, [{"theta2_deg": -180.0 + (k * 7) % 360} for k in range(EVENTS)])
-    geometry_fourbar = timed(fourbar, [{"coupler": 0.16 + 0.001 * (k % 40)} for k in range(GEOMETRY_EVENTS)])
-    rows.append(("four-bar", "θ2 slider", main_fourbar, "coupler length", geometry_fourbar))
+    theta2 = [-180.0 + (k * 7) % 360 for k in range(EVENTS)]
+    wall, cpu = timed(fourbar, [{"theta2_deg": value} for value in theta2])
+    couplers, cranks = [0.16 + 0.001 * k for k in range(40)], [0.05 + 0.001 * k for k in range(20)]
+    fourbar_changes = {
+        "coupler length": changes(fourbar, "coupler", couplers, "theta2_deg", theta2),
+        "crank length": changes(fourbar, "crank", cranks, "theta2_deg", theta2),
+        "branch": changes(fourbar, "branch", ["crossed", "open"], "theta2_deg", theta2),
+    }
+    rows.append(("four-bar", "θ2 slider", wall, cpu, fourbar_changes))
 
     saw = saw_explorer()
     step = saw.controls["t"].step
-    main_saw = timed(saw, [{"t": step * (k % 121)} for k in range(EVENTS)])
-    play_saw = timed(saw, [{"t": step * ((k + 3) % 121)} for k in range(GEOMETRY_EVENTS)])
-    rows.append(("power saw", "time slider", main_saw, "(no geometry input)", play_saw))
+    wall, cpu = timed(saw, [{"t": step * (k % 121)} for k in range(EVENTS)])
+    rows.append(("power saw", "time slider", wall, cpu, {}))
 
     robot = fivebar_explorer()
-    main_forward = timed(robot, [{"theta1_deg": 40.0 + (k % 60)} for k in range(EVENTS)])
-    geometry_robot = timed(robot, [{"mode": ("inverse", "forward")[k % 2]} for k in range(GEOMETRY_EVENTS)])
+    theta1 = [40.0 + (k % 60) for k in range(EVENTS)]
+    wall, cpu = timed(robot, [{"theta1_deg": value} for value in theta1])
+    forward_changes = {"σ toggle": changes(robot, "sigma", [-1, 1], "theta1_deg", theta1)}
+    rows.append(("five-bar forward", "θ1 slider", wall, cpu, forward_changes))
+
     robot.update(mode="inverse", x3=0.0, y3=0.18)
-    main_inverse = timed(robot, [{"x3": -0.06 + 0.005 * (k % 25)} for k in range(EVENTS)])
-    rows.append(("five-bar forward", "θ1 slider", main_forward, "mode toggle", geometry_robot))
-    rows.append(("five-bar inverse", "X3 slider", main_inverse, "mode toggle", geometry_robot))
+    x3 = [-0.06 + 0.005 * (k % 25) for k in range(EVENTS)]
+    wall, cpu = timed(robot, [{"x3": value} for value in x3])
+    inverse_changes = {
+        "mode toggle": changes(robot, "mode", ["forward", "inverse"], "x3", x3),
+        "σ1 toggle": changes(robot, "sigma1", [-1, 1], "x3", x3),
+        "σ2 toggle": changes(robot, "sigma2", [-1, 1], "x3", x3),
+    }
+    rows.append(("five-bar inverse", "X3 slider", wall, cpu, inverse_changes))
 
     print(f"{'explorer':18s} {'main input':12s} {'median ms':>9s} {'p90 ms':>7s} {'CPU ms':>7s}   "
-          f"{'geometry input':20s} {'median ms':>9s}")
-    for name, main_name, main_times, geometry_name, geometry_times in rows:
-        p90 = statistics.quantiles(main_times, n=10)[-1]
-        cpu = statistics.median(CPU[id(main_times)])
-        print(f"{name:18s} {main_name:12s} {statistics.median(main_times):9.1f} {p90:7.1f} {cpu:7.1f}   "
-              f"{geometry_name:20s} {statistics.median(geometry_times):9.1f}")
-    medians = {name: round(statistics.median(times), 2) for name, _, times, _, _ in rows}
-    geometry = {name: round(statistics.median(times), 2) for name, _, _, _, times in rows}
-    cpu = {name: round(statistics.median(CPU[id(times)]), 2) for name, _, times, _, _ in rows}
+          f"{'control change':16s} {'median ms':>9s} {'CPU ms':>7s}")
+    for name, main_name, wall, cpu, changed in rows:
+        p90 = statistics.quantiles(wall, n=10)[-1]
+        print(f"{name:18s} {main_name:12s} {statistics.median(wall):9.1f} {p90:7.1f} "
+              f"{statistics.median(cpu):7.1f}   "
+              + ("\n" + " " * 62).join(f"{change:16s} {statistics.median(times):9.1f} "
+                                       f"{statistics.median(cpu_times):7.1f}"
+                                       for change, (times, cpu_times) in changed.items()))
+    medians = {name: round(statistics.median(wall), 2) for name, _, wall, _, _ in rows}
+    cpu = {name: round(statistics.median(cpu), 2) for name, _, _, cpu, _ in rows}
+    # the five-bar's two rows are one explorer: its changes are pooled, its main input is its faster slider
+    pooled: dict[str, list[float]] = {}
+    pooled_cpu: dict[str, list[float]] = {}
+    main_of: dict[str, float] = {}
+    for name, _, wall, _, changed in rows:
+        if changed:
+            explorer = name.split()[0]
+            for times, cpu_times in changed.values():
+                pooled.setdefault(explorer, []).extend(times)
+                pooled_cpu.setdefault(explorer, []).extend(cpu_times)
+            main_of[explorer] = min(main_of.get(explorer, float("inf")), statistics.median(wall))
+    change = {name: round(statistics.median(times), 2) for name, times in pooled.items()}
+    change_cpu = {name: round(statistics.median(times), 2) for name, times in pooled_cpu.items()}
+    ratio = {name: round(change[name] / main_of[name], 2) for name in change}
     print(json.dumps({
         "median_update_ms": max(medians.values()),
         "median_update_cpu_ms": max(cpu.values()),
+        "median_change_ms": max(change.values()),
+        "median_change_cpu_ms": max(change_cpu.values()),
+        "change_vs_update": max(ratio.values()),
         "median_update_ms_by_explorer": medians,
-        "median_geometry_update_ms_by_explorer": geometry,
+        "median_change_ms_by_explorer": change,
+        "change_vs_update_by_explorer": ratio,
         "events_per_explorer": EVENTS,
-    }))
+        "changes_per_control": CHANGE_EVENTS,
+    }, ensure_ascii=False))
 
 
 if __name__ == "__main__":

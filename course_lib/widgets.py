@@ -5,12 +5,24 @@ returns an :class:`Explorer`: the controls (sliders, toggles), **one** matplotli
 is reused for every event, a readout, and the plain update step ``update(**state)``.  The
 figure is a bare ``matplotlib.figure.Figure`` on an Agg canvas (never registered with pyplot,
 so it is never shown twice and never leaks); each event moves the artists' data and renders the
-figure to PNG bytes, which become the value of an ``ipywidgets.Image``.  Artists that move with
-the input angle or time are drawn over a cached background (blitting), so a slider event costs a
-few milliseconds; the background is re-rendered only when a length, branch or mode changes.
+figure to PNG bytes, which become the value of an ``ipywidgets.Image``.
 
-An input for which the mechanism cannot be assembled never raises: the explorer catches the
-``course_lib.errors.CourseLibError`` and explains, in the readout and on the drawing, why.
+The picture is drawn in three layers, each cached: the axes, ticks and fixed curves (redrawn only
+when an axis' limits change); the *geometry layer*, what depends on a length, branch or mode
+(coupler curve, singularity curve, ground pivots), redrawn over the first when one of those
+changes; and the moving links, drawn over the second at every event (blitting).  Limits are kept
+while the picture fits them, so changing a control costs about as much as moving a slider.
+
+No value a student can pass to ``update`` makes it raise: a value that is not one of a toggle's
+options, or not a finite number, is refused (the control keeps its value, the status says
+``"invalid"`` and why); a slider value outside its range is clamped, and an angle outside
+[−180°, 180°] wrapped, with a line in the readout that says so.  An input for which the mechanism
+cannot be assembled is explained in the readout and on the drawing.  A builder's argument outside
+its slider's range raises ``course_lib.errors.InvalidGeometryError`` naming it, its value and the range.
+
+Displayed in a notebook, an explorer shows the live widget where a widget manager runs (JupyterLab,
+Jupyter Notebook) and a PNG of its current figure, with its readout, everywhere else (GitHub,
+``nbconvert``, a notebook opened before it is run).
 
 Units: lengths in metres, time in seconds; the sliders show angles in degrees (the state keys
 say so: ``theta2_deg``), the library underneath works in radians.
@@ -20,12 +32,17 @@ say so: ``theta2_deg``), the library underneath works in radians.
 'ok'
 >>> explorer.image.value[:4] == b"\\x89PNG"
 True
+>>> explorer.update(branch="sideways").status
+'invalid'
 """
 
 from __future__ import annotations
 
+import base64
 import html
 import io
+import math
+import numbers
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
@@ -37,7 +54,7 @@ from matplotlib.patches import Circle, Polygon
 from PIL import Image as PILImage
 
 from .errors import CourseLibError, InvalidGeometryError
-from .fourbar import FourBar
+from .fourbar import BRANCHES, FourBar
 from .plotting import LINK_COLORS
 
 __all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer"]
@@ -46,6 +63,8 @@ __all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_e
 _STYLE = {"description_width": "120px"}
 _SLIDER_LAYOUT = {"width": "340px"}
 _ERROR_COLOR = "#b00020"
+#: Errors a drawing step may meet on a state it cannot draw (the explorer reports them, never raises).
+_DRAWING_ERRORS = (CourseLibError, ArithmeticError, ValueError, TypeError, IndexError)
 
 
 @dataclass(frozen=True)
@@ -54,8 +73,8 @@ class Readout:
 
     Attributes
     ----------
-    status : ``"ok"``, or a short word for why nothing could be drawn (``"unreachable"``,
-        ``"invalid"``, ``"singular"``, …).
+    status : ``"ok"``, or a short word for why the picture is not the requested state
+        (``"unreachable"``, ``"singular"``, ``"invalid"`` for a refused input, ``"error"``).
     lines : the readout, one plain-text line each (shown in the widget as HTML).
 
     >>> Readout("ok", ("θ3 = 10°",)).text
@@ -94,15 +113,19 @@ class Explorer:
     name : which mechanism ("four-bar", "power saw", "five-bar").
     controls : the input widgets by state key (e.g. ``"theta2_deg"``); their values are the state.
     figure : the one matplotlib Figure (Agg canvas) every event redraws.
-    artists : the moving artists by name (lines, markers, texts), for tests and for curious users.
+    artists : the artists the update step changes, by name (lines, markers, texts), for tests and
+        for curious users.  Those created ``animated`` are drawn at every event; the rest belong to
+        the cached picture.
     draw : ``draw(state, geometry_changed) -> Readout`` — computes the mechanism and moves the artists.
-    geometry_keys : state keys whose change alters the static background (lengths, branch, mode).
+    geometry_keys : state keys whose change alters the geometry layer (lengths, branch, mode).
+    geometry_artists : names of the artists of the geometry layer (changed only by those keys).
     extra : further widgets shown under the controls (e.g. the Play button); not part of the state.
     image, readout, widget : the ``ipywidgets.Image`` showing the figure, the ``ipywidgets.HTML``
         readout, and the top-level container to display.
     last : the :class:`Readout` of the latest update.
 
-    Displaying an explorer in a notebook displays ``widget``.
+    Displaying an explorer in a notebook displays ``widget``, with a PNG of the figure and the
+    readout as the fallback for frontends without widgets.
     """
 
     name: str
@@ -112,12 +135,21 @@ class Explorer:
     draw: Callable[[Mapping[str, object], bool], Readout]
     geometry_keys: tuple[str, ...] = ()
     extra: tuple[widgets.Widget, ...] = ()
+    geometry_artists: tuple[str, ...] = ()
     last: Readout = field(default=Readout("ok"), init=False)
 
     def __post_init__(self) -> None:
         self.canvas = FigureCanvasAgg(self.figure)
-        self._animated = [a for a in self.artists.values() if getattr(a, "get_animated", lambda: False)()]
-        self._background = None
+        self._geometry_layer = [self.artists[name] for name in self.geometry_artists]
+        for artist in self._geometry_layer:
+            artist.set_animated(True)  # left out of the base picture, drawn into the cached background
+        moving = [artist for name, artist in self.artists.items()
+                  if name not in self.geometry_artists and getattr(artist, "get_animated", lambda: False)()]
+        self._moving = sorted(moving, key=lambda artist: artist.get_zorder())  # stable: ties keep their order
+        self._base = self._background = None
+        self._base_limits: list | None = None
+        self._background_visible: tuple[bool, ...] | None = None
+        self._palette, self._palette_shown = None, None
         self._drawn_geometry: dict[str, object] | None = None
         self._holding = False
         self.image = widgets.Image(format="png", layout={"width": f"{self.figure.bbox.width:.0f}px"})
@@ -162,27 +194,45 @@ class Explorer:
     def update(self, **state) -> Readout:
         """Set some inputs (by state key) and redraw once; returns the :class:`Readout`.
 
-        Values are set on the widgets, so a slider clamps them to its range as it would for a user.
-        An unknown key raises ``InvalidGeometryError`` naming it and the valid keys.
+        Never raises for a value: a toggle takes one of its options (text in any letter case, e.g.
+        ``branch="Open"``); a slider takes a finite number, clamped to its range (angles in degrees
+        wrapped into [−180°, 180°]), and the readout says when it clamped.  Any other value is refused:
+        the control keeps its value, the status is ``"invalid"`` and the readout's first line says why.
+        Only an unknown key raises ``InvalidGeometryError``, naming it and the valid keys.
 
-        >>> fourbar_explorer().update(theta2_deg=45.0, branch="crossed").status
+        >>> explorer = fourbar_explorer()
+        >>> explorer.update(theta2_deg=45.0, branch="Crossed").status
         'ok'
+        >>> readout = explorer.update(theta2_deg=float("nan"))
+        >>> readout.status, readout.lines[0]
+        ('invalid', 'θ2 (°): refused NaN, not a number; kept 45')
         """
         unknown = sorted(set(state) - set(self.controls))
         if unknown:
             raise InvalidGeometryError(
                 f"unknown explorer input {unknown[0]!r}; valid inputs: {', '.join(self.controls)}"
             )
+        notes, refused = [], False
         self._holding = True
         try:
             for key, value in state.items():
-                self.controls[key].value = value
+                control = self.controls[key]
+                accepted, note = _control_value(key, control, value)
+                if note:
+                    notes.append(note)
+                if accepted is _REFUSED:
+                    refused = True
+                else:
+                    control.value = accepted
         finally:
             self._holding = False
-        return self.refresh()
+        return self.refresh(notes=notes, refused=refused)
 
-    def refresh(self) -> Readout:
+    def refresh(self, notes=(), refused: bool = False) -> Readout:
         """Recompute and redraw from the current widget values; returns the :class:`Readout`.
+
+        ``notes`` are lines put first in the readout (``update`` passes what it clamped or refused);
+        ``refused=True`` makes the status ``"invalid"``.
 
         >>> fourbar_explorer().refresh().status
         'ok'
@@ -190,31 +240,68 @@ class Explorer:
         state = self.state
         geometry = {key: state[key] for key in self.geometry_keys}
         changed = self._drawn_geometry is None or geometry != self._drawn_geometry
-        self.last = self.draw(state, changed)
-        if changed:
+        try:
+            readout = self.draw(state, changed)
             self._drawn_geometry = geometry
-        self.image.value = self.render(full=changed)
+        except _DRAWING_ERRORS as err:  # the last safety net: report, keep the controls working
+            self._drawn_geometry = None
+            readout = Readout("error", (f"this state cannot be drawn: {err}",
+                                        "Change an input to continue."))
+        if notes or refused:
+            readout = Readout("invalid" if refused else readout.status, (*notes, *readout.lines))
+        self.last = readout
+        self.image.value = self._render(full=False, geometry_changed=changed)
         self.readout.value = self.last.html()
         return self.last
 
     # ---------------------------------------------------------------- drawing
     def render(self, full: bool = True) -> bytes:
-        """The figure as PNG bytes; ``full=False`` redraws only the moving artists over the cached background.
+        """The figure as PNG bytes; ``full=True`` redraws every layer, ``full=False`` only what changed.
 
         >>> fourbar_explorer().render()[:4] == b"\\x89PNG"
         True
         """
-        if full or self._background is None:
-            self.canvas.draw()  # animated artists are skipped here ...
+        return self._render(full=full, geometry_changed=False)
+
+    def _render(self, full: bool, geometry_changed: bool) -> bytes:
+        limits = [(axes.get_xlim(), axes.get_ylim()) for axes in self.figure.axes]
+        new_limits = self._base is None or limits != self._base_limits  # then a new PNG palette too
+        if full or new_limits:
+            self.canvas.draw()  # animated artists (geometry layer and moving ones) are skipped here ...
+            self._base = self.canvas.copy_from_bbox(self.figure.bbox)
+            self._base_limits = limits
+            self._background = None
+        visible = tuple(artist.get_visible() for artist in self._geometry_layer)
+        if self._background is None or geometry_changed or visible != self._background_visible:
+            self.canvas.restore_region(self._base)
+            self._draw_artists(self._geometry_layer)  # ... the geometry layer over the base, cached ...
             self._background = self.canvas.copy_from_bbox(self.figure.bbox)
+            self._background_visible = visible
         else:
             self.canvas.restore_region(self._background)
-        for artist in self._animated:  # ... and drawn on top, alone
+        self._draw_artists(self._moving)  # ... and the moving artists on top, alone
+        shown = tuple(_shows(artist) for artist in (*self._geometry_layer, *self._moving))
+        if new_limits or shown != self._palette_shown:
+            self._palette, self._palette_shown = None, shown
+        return self._png()
+
+    def _draw_artists(self, artists) -> None:
+        for artist in artists:
             if artist.get_visible():
                 (artist.axes or self.figure).draw_artist(artist)
+
+    def _png(self) -> bytes:
+        """The canvas as an opaque 256-colour PNG: line art looks the same and encodes fast and small.
+
+        The palette is chosen (an octree) for the first picture of new axis limits or of a new set
+        of artists shown, and reused while only positions change (mapping to it is 3× faster).
+        """
         width, height = self.canvas.get_width_height()
         rgba = PILImage.frombuffer("RGBA", (width, height), self.canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
-        picture = rgba.convert("RGB")  # opaque figure: RGB encodes faster and smaller
+        rgb = rgba.convert("RGB")
+        if self._palette is None:
+            self._palette = rgb.quantize(256, method=PILImage.Quantize.FASTOCTREE)
+        picture = rgb.quantize(palette=self._palette, dither=PILImage.Dither.NONE)  # nearest colours
         buffer = io.BytesIO()
         picture.save(buffer, format="PNG", compress_level=1)
         return buffer.getvalue()
@@ -223,8 +310,125 @@ class Explorer:
         if not self._holding:
             self.refresh()
 
-    def _repr_mimebundle_(self, **kwargs):
-        return self.widget._repr_mimebundle_(**kwargs)
+    # ------------------------------------------------------------ notebook display
+    def _repr_mimebundle_(self, include=None, exclude=None, **kwargs) -> dict:
+        """The widget view, a PNG of the current figure and the readout as text.
+
+        A frontend with a widget manager renders the live widget; every other one (GitHub,
+        ``nbconvert``, JupyterLab before the notebook is run and trusted) shows the picture.
+
+        >>> bundle = fourbar_explorer()._repr_mimebundle_()
+        >>> sorted(bundle)
+        ['application/vnd.jupyter.widget-view+json', 'image/png', 'text/plain']
+        >>> bundle["text/plain"].splitlines()[0]
+        'four-bar explorer (ok)'
+        """
+        widget_bundle = getattr(self.widget, "_repr_mimebundle_", None)  # None once the widget is closed
+        bundle = dict(widget_bundle(**kwargs) or {}) if callable(widget_bundle) else {}
+        bundle["image/png"] = base64.b64encode(self.image.value).decode("ascii")
+        bundle["text/plain"] = "\n".join((f"{self.name} explorer ({self.status})", *self.last.lines))
+        return bundle
+
+
+# ---------------------------------------------------------------------------- input values
+_REFUSED = object()  # marks a value update() does not set
+
+
+def _plain_number(value):
+    """``value`` as a float if it is a real number (not a bool, not a string), else None."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        value = value.item()
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+        return None
+    return float(value)
+
+
+def _wrap_degrees(degrees: float) -> float:
+    """An angle in degrees, unchanged inside [−180, 180], else wrapped into [−180, 180)."""
+    return degrees if -180.0 <= degrees <= 180.0 else (degrees + 180.0) % 360.0 - 180.0
+
+
+def _option(value, labels, values):
+    """The option ``value`` stands for: equal to an option's value, or (text) to a label or value
+    in any letter case; ``_REFUSED`` if none."""
+    number = _plain_number(value)
+    for option in values:
+        if isinstance(option, str) and isinstance(value, str) and value == option:
+            return option
+        if not isinstance(option, str) and number is not None and number == option:
+            return option
+    if isinstance(value, str):
+        wanted = value.strip().casefold()
+        for label, option in zip(labels, values, strict=True):
+            if wanted in (str(label).strip().casefold(), str(option).strip().casefold()):
+                return option
+    return _REFUSED
+
+
+def _echo(value) -> str:
+    """A refused value as the readout quotes it (NaN named as such, never as a computed "nan")."""
+    number = _plain_number(value)
+    if number is not None and math.isnan(number):
+        return "NaN"
+    return repr(value) if number is None else f"{number:g}"
+
+
+def _control_value(key: str, control, value) -> tuple[object, str]:
+    """What ``update`` sets for ``value`` on ``control`` (or ``_REFUSED``) and a readout note, or ""."""
+    name = control.description or key
+    if isinstance(control, widgets.ToggleButtons):
+        labels, values = control._options_labels, control._options_values
+        option = _option(value, labels, values)
+        if option is _REFUSED:
+            listed = ", ".join(repr(option) for option in values)
+            return _REFUSED, f"{name}: refused {_echo(value)}, not one of {listed}; kept {control.value!r}"
+        return option, ""
+    number = _plain_number(value)
+    kept = f"kept {control.value:g}"
+    if number is None:
+        return _REFUSED, f"{name}: refused {_echo(value)}, not a number; {kept}"
+    if not math.isfinite(number):
+        why = "not a number" if math.isnan(number) else "not a finite number"
+        return _REFUSED, f"{name}: refused {_echo(value)}, {why}; {kept}"
+    if key.endswith("_deg") and not control.min <= number <= control.max:
+        wrapped = _wrap_degrees(number)
+        return wrapped, f"{name} = {number:g} taken as {wrapped:g} (the same direction)"
+    if not control.min <= number <= control.max:
+        clamped = min(max(number, control.min), control.max)
+        return clamped, (f"{name} = {number:g} is outside the slider's range "
+                         f"[{control.min:g}, {control.max:g}]: set to {clamped:g}")
+    return number, ""
+
+
+def _number_argument(name: str, value, unit: str) -> float:
+    number = _plain_number(value)
+    if number is None or not math.isfinite(number):
+        raise InvalidGeometryError(f"{name} must be a finite number ({unit}); got {value!r}")
+    return number
+
+
+def _range_argument(name: str, value, low: float, high: float, unit: str) -> float:
+    """A builder argument that sets a slider: a finite number within the slider's range, else raise."""
+    number = _number_argument(name, value, unit)
+    if not low <= number <= high:
+        raise InvalidGeometryError(
+            f"{name} must be between {low:g} and {high:g} {unit} (its slider's range); got {value!r}"
+        )
+    return number
+
+
+def _angle_argument(name: str, value) -> float:
+    """A builder angle in radians → degrees for its slider, wrapped into [−180°, 180°]."""
+    return _wrap_degrees(math.degrees(_number_argument(name, value, "an angle in radians")))
+
+
+def _choice_argument(name: str, value, labels, values):
+    """A builder argument that sets a toggle: one of its options (text in any letter case), else raise."""
+    option = _option(value, labels, values)
+    if option is _REFUSED:
+        listed = ", ".join(repr(option) for option in values)
+        raise InvalidGeometryError(f"{name} must be one of {listed}; got {value!r}")
+    return option
 
 
 # ---------------------------------------------------------------------------- helpers
@@ -257,6 +461,17 @@ def _set_equal_limits(ax, xmin: float, xmax: float, ymin: float, ymax: float) ->
     ax.set_ylim(y_mid - scale * box_height / 2, y_mid + scale * box_height / 2)
 
 
+def _keep_or_fit_limits(ax, content, padded) -> None:
+    """Keep the axes' limits while the ``content`` box (xmin, xmax, ymin, ymax) stays inside them and
+    fills at least half of them; otherwise fit the ``padded`` box (content plus margins)."""
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    xmin, xmax, ymin, ymax = content
+    fits = x0 <= xmin and xmax <= x1 and y0 <= ymin and ymax <= y1
+    fills = max((xmax - xmin) / (x1 - x0), (ymax - ymin) / (y1 - y0)) >= 0.5
+    if not (fits and fills):
+        _set_equal_limits(ax, *padded)
+
+
 def _moving_line(ax, *args, **kwargs):
     (line,) = ax.plot(*args, animated=True, **kwargs)
     return line
@@ -267,8 +482,26 @@ def _ground_triangle(size: float) -> np.ndarray:
 
 
 def _num(value: float, digits: int) -> str:
-    """``value`` with ``digits`` decimals and no "-0.000" (rounded first)."""
-    return f"{round(float(value), digits) + 0.0:.{digits}f}"
+    """``value`` with ``digits`` decimals and no "-0.000" (rounded first); "undefined" if not finite."""
+    number = float(value)
+    if not math.isfinite(number):
+        return "undefined"
+    return f"{round(number, digits) + 0.0:.{digits}f}"
+
+
+def _shows(artist) -> bool:
+    """Whether an artist puts anything on the picture (visible, and a text or line not empty)."""
+    if not artist.get_visible():
+        return False
+    if hasattr(artist, "get_text"):
+        return artist.get_text() != ""
+    if hasattr(artist, "get_xdata"):
+        return len(artist.get_xdata()) > 0
+    return True
+
+
+def _finite(*values) -> bool:
+    return all(np.all(np.isfinite(value)) for value in values)
 
 
 def _deg(value) -> float:
@@ -277,6 +510,8 @@ def _deg(value) -> float:
 
 # ---------------------------------------------------------------------------- four-bar
 _FOURBAR_CURVE_POINTS = 361
+#: The length sliders' range (m); a builder argument outside it is refused.
+_FOURBAR_LENGTHS = (0.02, 0.40)
 
 
 def fourbar_explorer(
@@ -305,16 +540,20 @@ def fourbar_explorer(
     >>> "outside the input range" in explorer.message
     True
     """
-    p = 0.5 * coupler if p is None else p
+    lengths = {name: _range_argument(name, value, *_FOURBAR_LENGTHS, "m") for name, value in
+               (("ground", ground), ("crank", crank), ("coupler", coupler), ("rocker", rocker))}
+    p = 0.5 * lengths["coupler"] if p is None else _range_argument("p", p, 0.0, _FOURBAR_LENGTHS[1], "m")
+    branch = _choice_argument("branch", branch, BRANCHES, BRANCHES)
+    low, high, step = *_FOURBAR_LENGTHS, 0.005
     controls = {
-        "ground": _slider("ground l1 (m)", ground, 0.02, 0.40, 0.005),
-        "crank": _slider("crank l2 (m)", crank, 0.02, 0.40, 0.005),
-        "coupler": _slider("coupler l3 (m)", coupler, 0.02, 0.40, 0.005),
-        "rocker": _slider("rocker l4 (m)", rocker, 0.02, 0.40, 0.005),
-        "theta2_deg": _slider("θ2 (°)", _deg(theta2), -180.0, 180.0, 1.0, ".0f"),
-        "branch": _toggle("branch", ("open", "crossed"), branch),
-        "p": _slider("point P: p (m)", p, 0.0, 0.40, 0.005),
-        "delta_deg": _slider("point P: δ (°)", _deg(delta), -180.0, 180.0, 5.0, ".0f"),
+        "ground": _slider("ground l1 (m)", lengths["ground"], low, high, step),
+        "crank": _slider("crank l2 (m)", lengths["crank"], low, high, step),
+        "coupler": _slider("coupler l3 (m)", lengths["coupler"], low, high, step),
+        "rocker": _slider("rocker l4 (m)", lengths["rocker"], low, high, step),
+        "theta2_deg": _slider("θ2 (°)", _angle_argument("theta2", theta2), -180.0, 180.0, 1.0, ".0f"),
+        "branch": _toggle("branch", BRANCHES, branch),
+        "p": _slider("point P: p (m)", p, 0.0, high, step),
+        "delta_deg": _slider("point P: δ (°)", _angle_argument("delta", delta), -180.0, 180.0, 5.0, ".0f"),
     }
     figure = _figure(8.6, 3.8)
     grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,
@@ -361,25 +600,27 @@ def fourbar_explorer(
     ax.legend(handles=[curve_line], loc="lower right", fontsize=8)
 
     def draw(state, geometry_changed: bool) -> Readout:
-        return _draw_fourbar(state, geometry_changed, artists, ax, ax_mu)
+        return _draw_fourbar(state, geometry_changed, artists, ax)
 
     geometry = ("ground", "crank", "coupler", "rocker", "branch", "p", "delta_deg")
-    return Explorer("four-bar", controls, figure, artists, draw, geometry)
+    return Explorer("four-bar", controls, figure, artists, draw, geometry,
+                    geometry_artists=_FOURBAR_GEOMETRY_LAYER)
 
 
-def _draw_fourbar(state, geometry_changed, artists, ax, ax_mu) -> Readout:
+#: Artists that change only with a length, the branch or the coupler point (the cached geometry layer).
+_FOURBAR_GEOMETRY_LAYER = ("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4", "label_O2",
+                           "label_O4")
+
+
+def _draw_fourbar(state, geometry_changed, artists, ax) -> Readout:
     """Solve the four-bar at the state's θ2 and move the artists; the plain update step."""
     theta2 = np.radians(float(state["theta2_deg"]))
     branch = state["branch"]
-    try:
-        linkage = FourBar(crank=state["crank"], coupler=state["coupler"], rocker=state["rocker"],
-                          ground=state["ground"])
-    except CourseLibError as err:
-        _hide(artists, "ground crank coupler rocker plate joints point_p mu_cursor reach_A reach_O4")
-        artists["failure"].set_text("invalid lengths")
-        return Readout("invalid", (str(err),))
+    linkage = FourBar(crank=state["crank"], coupler=state["coupler"], rocker=state["rocker"],
+                      ground=state["ground"])
     l1, l2, l3, l4 = linkage.l1, linkage.l2, linkage.l3, linkage.l4
     p, delta = float(state["p"]), np.radians(float(state["delta_deg"]))
+    offset = 0.04 * max(l1, l2, l3, l4)
     if geometry_changed:
         sweep = np.linspace(-np.pi, np.pi, _FOURBAR_CURVE_POINTS)
         curve = linkage.coupler_point(sweep, p, delta, branch=branch, on_unreachable="nan").position
@@ -390,6 +631,9 @@ def _draw_fourbar(state, geometry_changed, artists, ax, ax_mu) -> Readout:
         size = 0.035 * max(l1, l2, l4)
         artists["ground_O2"].set_xy(_ground_triangle(size))
         artists["ground_O4"].set_xy(_ground_triangle(size) + [l1, 0.0])
+        artists["ground"].set_data([0.0, l1], [0.0, 0.0])
+        artists["label_O2"].set_position((offset, offset))
+        artists["label_O4"].set_position((l1 + offset, offset))
     grashof = linkage.grashof()
     relation = "<" if grashof.s_plus_l < grashof.p_plus_q else ">" if grashof.name.startswith("non") else "="
     lines = [
@@ -399,39 +643,51 @@ def _draw_fourbar(state, geometry_changed, artists, ax, ax_mu) -> Readout:
     ]
     A = np.array([l2 * np.cos(theta2), l2 * np.sin(theta2)])
     O4 = np.array([l1, 0.0])
-    artists["ground"].set_data([0.0, l1], [0.0, 0.0])
     artists["crank"].set_data([0.0, A[0]], [0.0, A[1]])
-    offset = 0.04 * max(l1, l2, l3, l4)
-    for key, where in (("O2", (0.0, 0.0)), ("A", A), ("O4", O4)):
-        artists[f"label_{key}"].set_position((where[0] + offset, where[1] + offset))
-    _show(artists, "ground crank joints label_O2 label_O4 label_A ground_O2 ground_O4 mu_cursor_line")
+    artists["label_A"].set_position((A[0] + offset, A[1] + offset))
+    artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
+    distance = float(np.hypot(*(O4 - A)))
     try:
         solution = linkage.solve(theta2, branch=branch)
         mu = linkage.transmission_angle(theta2, branch=branch)
         point = linkage.coupler_point(theta2, p, delta, branch=branch).position
+        failure = None
     except CourseLibError as err:
-        distance = float(np.hypot(*(O4 - A)))
+        failure = err
+    if failure is None and not _finite(solution.theta3, solution.theta4, mu, point):
+        failure = "the closed form returns no number here"
+    if failure is not None:
         _hide(artists, "coupler rocker plate point_p mu_cursor label_B label_P")
         artists["joints"].set_data([0.0, A[0], l1], [0.0, A[1], 0.0])
+        if distance < 1e-9 * max(l1, l2):  # A on O4: the coupler's direction is undefined
+            _hide(artists, "reach_A reach_O4")
+            artists["failure"].set_text(f"A lands on O4 at θ2 = {np.degrees(theta2):.0f}°")
+            return Readout("singular", (
+                f"θ2 = {np.degrees(theta2):.0f}°: the crank pin A lands on the pivot O4 (l2 = l1), "
+                "so the coupler's direction, θ3 and θ4 are undefined here.",
+                "Move θ2 a little, or change l1 or l2.",
+                lines[0], lines[1], f"course_lib says: {failure}",
+            ))
         artists["reach_A"].set(center=tuple(A), radius=l3, visible=True)
         artists["reach_O4"].set(center=tuple(O4), radius=l4, visible=True)
-        artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
         artists["failure"].set_text(f"cannot assemble at θ2 = {np.degrees(theta2):.0f}°")
         if distance > l3 + l4:
             why = f"|AO4| = {distance:.3f} m > l3 + l4 = {l3 + l4:.3f} m: coupler and rocker cannot reach"
-        else:
+        elif distance < abs(l3 - l4):
             why = f"|AO4| = {distance:.3f} m < |l3 − l4| = {abs(l3 - l4):.3f} m: the longer link overshoots"
+        else:
+            why = (f"|AO4| = {distance:.3f} m is at the limit l3 + l4 = {l3 + l4:.3f} m or "
+                   f"|l3 − l4| = {abs(l3 - l4):.3f} m: a toggle position")
         return Readout("unreachable", (
             f"θ2 = {np.degrees(theta2):.0f}° is outside the input range: the loop cannot close.",
             why + " (the dashed circles about A and O4 do not meet).",
             "Move θ2 back into the input range, or change the lengths.",
-            lines[0], lines[1], f"course_lib says: {err}",
+            lines[0], lines[1], f"course_lib says: {failure}",
         ))
     B = O4 + l4 * np.array([np.cos(solution.theta4), np.sin(solution.theta4)])
     _hide(artists, "reach_A reach_O4")
     artists["failure"].set_text("")
-    for key in ("coupler", "rocker", "plate", "point_p", "mu_cursor", "label_B", "label_P"):
-        artists[key].set_visible(True)
+    _show(artists, "coupler rocker plate point_p mu_cursor label_B label_P")
     artists["coupler"].set_data([A[0], B[0]], [A[1], B[1]])
     artists["rocker"].set_data([B[0], l1], [B[1], 0.0])
     artists["plate"].set_data([A[0], point[0], B[0]], [A[1], point[1], B[1]])
@@ -440,7 +696,6 @@ def _draw_fourbar(state, geometry_changed, artists, ax, ax_mu) -> Readout:
     artists["label_B"].set_position((B[0] + offset, B[1] + offset))
     artists["label_P"].set_position((point[0] + offset, point[1] + offset))
     artists["mu_cursor"].set_data([np.degrees(theta2)], [np.degrees(mu)])
-    artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
     warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
     return Readout("ok", (
         f"θ2 = {np.degrees(theta2):.1f}°  →  θ3 = {np.degrees(solution.theta3):.2f}°, "
@@ -462,12 +717,14 @@ def _input_range_text(linkage: FourBar) -> str:
 
 
 def _fourbar_limits(ax, linkage: FourBar, curve: np.ndarray) -> None:
-    """Fixed limits for a given geometry: crank circle, rocker circle and the coupler curve."""
+    """Limits for a geometry (crank circle, rocker circle, coupler curve), kept while the picture fits."""
     l1, l2, l4 = linkage.l1, linkage.l2, linkage.l4
     xs = [-l2, l2, l1 - l4, l1 + l4, *np.nan_to_num(curve[:, 0], nan=0.0)]
     ys = [-l2, l2, -l4, l4, *np.nan_to_num(curve[:, 1], nan=0.0)]
-    margin = 0.08 * max(max(xs) - min(xs), max(ys) - min(ys))
-    _set_equal_limits(ax, min(xs) - margin, max(xs) + margin, min(ys) - margin, max(ys) + 2.5 * margin)
+    content = (min(xs), max(xs), min(ys), max(ys))
+    margin = 0.08 * max(content[1] - content[0], content[3] - content[2])
+    padded = (content[0] - margin, content[1] + margin, content[2] - margin, content[3] + 2.5 * margin)
+    _keep_or_fit_limits(ax, content, padded)
 
 
 def _hide(artists, names: str) -> None:
@@ -512,16 +769,21 @@ def saw_explorer(
     from .profile import first_turn_time as turn_time
     from .profile import motor_profile
 
-    if isinstance(frames, bool) or int(frames) != frames or frames < 2:
-        raise InvalidGeometryError(f"frames must be an integer >= 2; got {frames!r}")
-    frames = int(frames)
-    end = 2 * turn_time() if t_end is None else float(t_end)
-    if not (np.isfinite(end) and end > 0):
-        raise InvalidGeometryError(f"t_end must be a positive time in seconds; got {t_end!r}")
+    count = _plain_number(frames)
+    if count is None or not 2 <= count <= 10_000 or count != int(count):
+        raise InvalidGeometryError(f"frames must be a whole number from 2 to 10000; got {frames!r}")
+    frames = int(count)
+    end = 2 * turn_time() if t_end is None else _number_argument("t_end", t_end, "a time in seconds")
+    if not 0 < end <= 100:
+        raise InvalidGeometryError(f"t_end must be a time in seconds, > 0 and at most 100; got {t_end!r}")
+    t = _range_argument("t", t, 0.0, end, "s")
+    interval = _number_argument("interval_ms", interval_ms, "milliseconds per frame")
+    if interval <= 0:
+        raise InvalidGeometryError(f"interval_ms must be a positive time in ms; got {interval_ms!r}")
     dt = end / frames
     geometry = saw_module.COURSE_SAW
-    time_slider = _slider("time t (s)", float(t), 0.0, end, dt, ".3f")
-    play = widgets.Play(value=int(round(float(t) / dt)), min=0, max=frames, step=1, interval=interval_ms,
+    time_slider = _slider("time t (s)", t, 0.0, end, dt, ".3f")
+    play = widgets.Play(value=int(round(t / dt)), min=0, max=frames, step=1, interval=int(round(interval)),
                         description="play")
 
     def play_moved(change) -> None:  # frame k → t = k·dt, unless t already rounds to frame k
@@ -641,6 +903,7 @@ def _draw_saw(t, artists, geometry, saw_module, motor_profile, turn) -> Readout:
 
 # ---------------------------------------------------------------------------- five-bar robot
 _SIGMA = (("+1 (up)", 1), ("−1 (down)", -1))
+_MODES = ("forward", "inverse")
 _WORKSPACE_POINTS = 161
 
 
@@ -670,15 +933,16 @@ def fivebar_explorer(
     robot = FiveBar(l1, l2, l3, l4, l5)
     reach = max(robot.l1 + robot.l2, robot.l4 + robot.l3) + robot.l5 / 2
     limit = float(np.ceil(reach * 1.1 / 0.01) * 0.01)
+    labels, values = tuple(label for label, _ in _SIGMA), tuple(value for _, value in _SIGMA)
     controls = {
-        "mode": _toggle("mode", ("forward", "inverse"), mode),
-        "theta1_deg": _slider("θ1 (°)", _deg(theta1), -180.0, 180.0, 1.0, ".0f"),
-        "theta4_deg": _slider("θ4 (°)", _deg(theta4), -180.0, 180.0, 1.0, ".0f"),
-        "sigma": _toggle("assembly σ", _SIGMA, sigma),
-        "x3": _slider("X3 (m)", x3, -limit, limit, 0.005),
-        "y3": _slider("Y3 (m)", y3, -limit, limit, 0.005),
-        "sigma1": _toggle("σ1 (θ1 root)", _SIGMA, sigma1),
-        "sigma2": _toggle("σ2 (θ4 root)", _SIGMA, sigma2),
+        "mode": _toggle("mode", _MODES, _choice_argument("mode", mode, _MODES, _MODES)),
+        "theta1_deg": _slider("θ1 (°)", _angle_argument("theta1", theta1), -180.0, 180.0, 1.0, ".0f"),
+        "theta4_deg": _slider("θ4 (°)", _angle_argument("theta4", theta4), -180.0, 180.0, 1.0, ".0f"),
+        "sigma": _toggle("assembly σ", _SIGMA, _choice_argument("sigma", sigma, labels, values)),
+        "x3": _slider("X3 (m)", _range_argument("x3", x3, -limit, limit, "m"), -limit, limit, 0.005),
+        "y3": _slider("Y3 (m)", _range_argument("y3", y3, -limit, limit, "m"), -limit, limit, 0.005),
+        "sigma1": _toggle("σ1 (θ1 root)", _SIGMA, _choice_argument("sigma1", sigma1, labels, values)),
+        "sigma2": _toggle("σ2 (θ4 root)", _SIGMA, _choice_argument("sigma2", sigma2, labels, values)),
     }
     figure = _figure(6.2, 5.0)
     ax = figure.add_axes((0.12, 0.1, 0.85, 0.86))
@@ -717,17 +981,19 @@ def fivebar_explorer(
         artists[key] = ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.35",
                                            lw=1, animated=True))
 
+    curves: dict[tuple[int, int], np.ndarray] = {}  # singularity curve per working mode, computed once
+
     def draw(state, geometry_changed: bool) -> Readout:
         if geometry_changed:
-            _fivebar_background(state, robot, grid, artists, controls)
+            _fivebar_background(state, robot, grid, artists, controls, curves)
         return _draw_fivebar(state, robot, artists, 0.03 * limit)
 
-    explorer = Explorer("five-bar", controls, figure, artists, draw, ("mode", "sigma1", "sigma2"))
-    return explorer
+    return Explorer("five-bar", controls, figure, artists, draw, ("mode", "sigma1", "sigma2"),
+                    geometry_artists=("singularity",))
 
 
-def _fivebar_background(state, robot, grid, artists, controls) -> None:
-    """Enable the controls of the current mode; in inverse mode trace the type-2 singularity curve."""
+def _fivebar_background(state, robot, grid, artists, controls, curves) -> None:
+    """Enable the controls of the current mode; in inverse mode show the type-2 singularity curve."""
     inverse = state["mode"] == "inverse"
     for key in ("theta1_deg", "theta4_deg", "sigma"):
         controls[key].disabled = inverse
@@ -738,9 +1004,17 @@ def _fivebar_background(state, robot, grid, artists, controls) -> None:
         line.set_data([], [])
         return
     modes = (int(state["sigma1"]), int(state["sigma2"]))
+    if modes not in curves:
+        curves[modes] = _singularity_curve(robot, grid, modes)
+    points = curves[modes]
+    line.set_data(points[:, 0], points[:, 1])
+
+
+def _singularity_curve(robot, grid, modes) -> np.ndarray:
+    """Points where the parallel measure changes sign between grid neighbours (linear interpolation)."""
     parallel = robot.workspace(grid, grid, modes=modes).parallel
-    # sign changes of the parallel measure between grid neighbours, as points of the curve
     points = []
+    step = grid[1] - grid[0]
     for axis in (0, 1):
         a = parallel
         b = np.roll(parallel, -1, axis=axis)
@@ -748,12 +1022,10 @@ def _fivebar_background(state, robot, grid, artists, controls) -> None:
         crossing[(-1, slice(None)) if axis == 0 else (slice(None), -1)] = False
         rows, cols = np.nonzero(crossing)
         weight = a[rows, cols] / (a[rows, cols] - b[rows, cols])
-        step = grid[1] - grid[0]
         xs = grid[cols] + (weight * step if axis == 1 else 0.0)
         ys = grid[rows] + (weight * step if axis == 0 else 0.0)
         points.append(np.stack([xs, ys], axis=1))
-    points = np.concatenate(points)
-    line.set_data(points[:, 0], points[:, 1])
+    return np.concatenate(points)
 
 
 def _draw_fivebar(state, robot, artists, offset) -> Readout:
@@ -774,6 +1046,12 @@ def _draw_fivebar(state, robot, artists, offset) -> Readout:
             x3, y3 = robot.forward(theta1, theta4, mode=int(state["sigma"]))
     except CourseLibError as err:
         return _fivebar_failure(state, robot, artists, err, P1, P5)
+    if not _finite(theta1, theta4, x3, y3):
+        _hide(artists, "leg1_crank leg1_distal leg4_distal leg4_crank end_effector label_P3")
+        artists["joints"].set_data([P1[0], P5[0]], [P1[1], P5[1]])
+        artists["failure"].set_text("no position here")
+        return Readout("singular", ("The robot's position is undefined for these inputs "
+                                    "(the closed form returns no number).", "Move a slider a little."))
     P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
     P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
     P3 = np.array([x3, y3])

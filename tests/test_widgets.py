@@ -1,15 +1,23 @@
 """Headless tests of the explorers: drive the widgets, compare the drawing with independent geometry."""
 
+import base64
 import gc
+import io
+import re
 
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 from geometry import circle_intersections, fourbar_pins
 from matplotlib.figure import Figure
+from PIL import Image
 
-from course_lib.errors import InvalidGeometryError
-from course_lib.widgets import fourbar_explorer
+from course_lib.errors import CourseLibError, InvalidGeometryError
+from course_lib.widgets import fivebar_explorer, fourbar_explorer, saw_explorer
+
+NAN, INF = float("nan"), float("inf")
+#: a number shown as nan or inf ("θ3 = nan°", "|P2P4| = inf m", "P3 = (nan, …)")
+NAN_SHOWN = re.compile(r"(=|\(|,)\s*[-+]?(nan|inf)\b", re.IGNORECASE)
 
 
 def _figures_alive() -> int:
@@ -322,3 +330,259 @@ def test_fivebar_reuses_one_figure_and_blits_exactly():
         explorer.controls["x3"].value = -0.05 + 0.01 * k
     assert len(plt.get_fignums()) == fignums and _figures_alive() == alive
     assert explorer.render(full=True) == explorer.image.value
+
+
+# ------------------------------------------------------------------------------ changing a control
+def test_length_change_keeps_limits_while_the_picture_fits_and_refits_when_it_leaves():
+    explorer = fourbar_explorer()
+    ax = explorer.figure.axes[0]
+    limits = ax.get_xlim(), ax.get_ylim()
+    explorer.update(coupler=0.17, theta2_deg=30.0)
+    assert (ax.get_xlim(), ax.get_ylim()) == limits  # the picture still fits: nothing but the links redrawn
+    assert explorer.render(full=True) == explorer.image.value
+    explorer.update(ground=0.40, rocker=0.35, coupler=0.30)  # O4 + l4 = 0.75 m leaves the old limits
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert x1 >= 0.75 and y1 >= 0.35 and y0 <= -0.35
+    assert explorer.render(full=True) == explorer.image.value
+    explorer.update(ground=0.05, crank=0.02, coupler=0.05, rocker=0.04)  # far smaller: refit to it
+    assert ax.get_xlim()[1] - ax.get_xlim()[0] < 0.5 * (x1 - x0)
+
+
+def test_mode_and_working_mode_changes_draw_the_singularity_curve_of_that_mode():
+    explorer = fivebar_explorer(mode="inverse")
+    curves = {}
+    for sigma1, sigma2 in ((1, 1), (-1, 1), (1, -1), (1, 1)):
+        explorer.update(sigma1=sigma1, sigma2=sigma2)
+        x, y = _xy(explorer.artists["singularity"])
+        curves.setdefault((sigma1, sigma2), (x.copy(), y.copy()))
+        np.testing.assert_array_equal(x, curves[(sigma1, sigma2)][0])  # cached per mode, same curve
+        assert explorer.render(full=True) == explorer.image.value
+    assert len(curves[(1, 1)][0]) > 0 and not np.array_equal(curves[(1, 1)][0], curves[(-1, 1)][0])
+    explorer.update(mode="forward")
+    assert len(_xy(explorer.artists["singularity"])[0]) == 0
+    assert explorer.render(full=True) == explorer.image.value
+
+
+# ------------------------------------------------------------------------------ display
+@pytest.mark.parametrize("build", [fourbar_explorer, saw_explorer, fivebar_explorer])
+def test_display_bundle_carries_widget_view_picture_and_readout(build):
+    explorer = build()
+    bundle = explorer._repr_mimebundle_()
+    assert bundle["application/vnd.jupyter.widget-view+json"]["model_id"] == explorer.widget.model_id
+    png = base64.b64decode(bundle["image/png"])
+    assert png == explorer.image.value
+    assert Image.open(io.BytesIO(png)).size == explorer.canvas.get_width_height()
+    lines = bundle["text/plain"].splitlines()
+    assert lines[0] == f"{explorer.name} explorer (ok)" and lines[1:] == list(explorer.last.lines)
+    explorer.update(**{next(iter(explorer.controls)): NAN})
+    after = explorer._repr_mimebundle_()
+    assert after != bundle and after["text/plain"].splitlines()[0] == f"{explorer.name} explorer (invalid)"
+
+
+def test_display_bundle_through_ipython_and_after_close():
+    from IPython.core.formatters import DisplayFormatter
+
+    explorer = fourbar_explorer()
+    data, _ = DisplayFormatter().format(explorer)
+    assert {"application/vnd.jupyter.widget-view+json", "image/png", "text/plain"} <= set(data)
+    assert "HBox" not in data["text/plain"]
+    explorer.widget.close()  # a closed widget has no view any more; the picture remains
+    bundle = explorer._repr_mimebundle_()
+    assert "application/vnd.jupyter.widget-view+json" not in bundle and "image/png" in bundle
+
+
+# ------------------------------------------------------------------------------ bad values
+# (builder, update arguments, statuses allowed, text the readout must contain or None)
+BAD_UPDATES = [
+    (fourbar_explorer, {"branch": "Open"}, {"ok"}, None),
+    (fourbar_explorer, {"branch": " CROSSED "}, {"ok"}, "crossed branch"),
+    (fourbar_explorer, {"branch": None}, {"invalid"},
+     "branch: refused None, not one of 'open', 'crossed'; kept 'open'"),
+    (fourbar_explorer, {"branch": "sideways"}, {"invalid"}, "refused"),
+    (fourbar_explorer, {"branch": 1}, {"invalid"}, "branch: refused 1, not one of"),
+    (fourbar_explorer, {"branch": True}, {"invalid"}, "refused"),
+    (fourbar_explorer, {"theta2_deg": NAN}, {"invalid"},
+     "θ2 (°): refused NaN, not a number; kept 60"),
+    (fourbar_explorer, {"theta2_deg": INF}, {"invalid"}, "not a finite number"),
+    (fourbar_explorer, {"theta2_deg": -INF}, {"invalid"}, "not a finite number"),
+    (fourbar_explorer, {"theta2_deg": "90"}, {"invalid"}, "θ2 (°): refused '90', not a number; kept 60"),
+    (fourbar_explorer, {"theta2_deg": None}, {"invalid"}, "not a number"),
+    (fourbar_explorer, {"theta2_deg": True}, {"invalid"}, "not a number"),
+    (fourbar_explorer, {"theta2_deg": [1.0, 2.0]}, {"invalid"}, "not a number"),
+    (fourbar_explorer, {"theta2_deg": np.array([1.0, 2.0])}, {"invalid"}, "not a number"),
+    (fourbar_explorer, {"theta2_deg": 1 + 2j}, {"invalid"}, "not a number"),
+    (fourbar_explorer, {"theta2_deg": np.float32(45.0)}, {"ok"}, "θ2 = 45.0°"),
+    (fourbar_explorer, {"theta2_deg": np.array(45.0)}, {"ok"}, "θ2 = 45.0°"),
+    (fourbar_explorer, {"theta2_deg": 400.0}, {"ok"}, "θ2 (°) = 400 taken as 40 (the same direction)"),
+    (fourbar_explorer, {"theta2_deg": -540.0}, {"ok"}, "taken as -180"),
+    (fourbar_explorer, {"crank": -1.0}, {"ok"},
+     "crank l2 (m) = -1 is outside the slider's range [0.02, 0.4]: set to 0.02"),
+    (fourbar_explorer, {"crank": 1e300}, {"ok", "unreachable"}, "set to 0.4"),
+    (fourbar_explorer, {"coupler": NAN}, {"invalid"}, "refused NaN"),
+    (fourbar_explorer, {"p": -INF}, {"invalid"}, "not a finite number"),
+    (fourbar_explorer, {"delta_deg": 1e6}, {"ok"}, "taken as"),
+    (fourbar_explorer, {"ground": 0.02, "crank": 0.02, "coupler": 0.02, "rocker": 0.02, "theta2_deg": 0.0},
+     {"ok", "singular"}, None),
+    (fourbar_explorer, {"ground": 0.40, "crank": 0.40, "coupler": 0.02, "rocker": 0.02, "theta2_deg": 90.0},
+     {"unreachable"}, "|AO4|"),
+    (saw_explorer, {"t": NAN}, {"invalid"}, "time t (s): refused NaN"),
+    (saw_explorer, {"t": INF}, {"invalid"}, "not a finite number"),
+    (saw_explorer, {"t": "1"}, {"invalid"}, "not a number"),
+    (saw_explorer, {"t": -1.0}, {"ok"}, "set to 0"),
+    (saw_explorer, {"t": 1e9}, {"ok"}, "outside the slider's range"),
+    (fivebar_explorer, {"mode": "Forward"}, {"ok"}, "forward, σ = +1"),
+    (fivebar_explorer, {"mode": "INVERSE"}, {"ok"}, "inverse, modes"),
+    (fivebar_explorer, {"mode": "sideways"}, {"invalid"},
+     "mode: refused 'sideways', not one of 'forward', 'inverse'; kept 'forward'"),
+    (fivebar_explorer, {"mode": None}, {"invalid"}, "refused"),
+    (fivebar_explorer, {"sigma": 2}, {"invalid"}, "assembly σ: refused 2, not one of 1, -1; kept 1"),
+    (fivebar_explorer, {"sigma": 0}, {"invalid"}, "refused"),
+    (fivebar_explorer, {"sigma": True}, {"invalid"}, "refused"),
+    (fivebar_explorer, {"sigma": NAN}, {"invalid"}, "refused"),
+    (fivebar_explorer, {"sigma": -1.0}, {"ok"}, "σ = -1"),
+    (fivebar_explorer, {"sigma": "-1"}, {"ok"}, "σ = -1"),
+    (fivebar_explorer, {"sigma": "+1 (UP)"}, {"ok"}, "σ = +1"),
+    (fivebar_explorer, {"sigma1": 3, "mode": "inverse"}, {"invalid"},
+     "σ1 (θ1 root): refused 3, not one of 1, -1"),
+    (fivebar_explorer, {"sigma2": "down", "mode": "inverse"}, {"invalid"}, "refused"),
+    (fivebar_explorer, {"theta1_deg": NAN}, {"invalid"}, "θ1 (°): refused NaN"),
+    (fivebar_explorer, {"theta4_deg": -INF}, {"invalid"}, "not a finite number"),
+    (fivebar_explorer, {"x3": NAN, "mode": "inverse"}, {"invalid"}, "X3 (m): refused NaN"),
+    (fivebar_explorer, {"y3": "0.1", "mode": "inverse"}, {"invalid"}, "not a number"),
+    (fivebar_explorer, {"x3": 10.0, "y3": 10.0, "mode": "inverse"}, {"unreachable"},
+     "X3 (m) = 10 is outside the slider's range [-0.32, 0.32]: set to 0.32"),
+    (fivebar_explorer, {"theta1_deg": 0.0, "theta4_deg": 180.0, "sigma": -1}, {"ok", "unreachable"}, None),
+]
+
+
+@pytest.mark.parametrize(("build", "state", "statuses", "text"), BAD_UPDATES,
+                         ids=[f"{build.__name__}-{state}" for build, state, _, _ in BAD_UPDATES])
+def test_update_never_raises_and_explains(build, state, statuses, text):
+    explorer = build()
+    before = explorer.state
+    readout = explorer.update(**state)
+    assert readout.status in statuses, readout.text
+    if text is not None:
+        assert text in readout.text
+    assert not NAN_SHOWN.search(readout.text), readout.text
+    if readout.status == "invalid":  # a refused value leaves its control as it was, and says so in red
+        refused = [key for key in state if f"{explorer.controls[key].description}" in readout.lines[0]]
+        assert refused and all(explorer.state[key] == before[key] for key in refused)
+        assert "color:#b00020" in explorer.readout.value
+    # and the explorer keeps working: a good value afterwards is drawn as usual
+    main = {"four-bar": "theta2_deg", "power saw": "t", "five-bar": "theta1_deg"}[explorer.name]
+    explorer.update(**({"mode": "forward"} if explorer.name == "five-bar" else {}))
+    image = explorer.image.value
+    good = explorer.update(**{main: 1.0, **({"ground": 0.2, "crank": 0.06, "coupler": 0.18, "rocker": 0.12}
+                                             if explorer.name == "four-bar" else {})})
+    assert good.status == "ok", good.text
+    assert explorer.image.value != image and explorer.render(full=True) == explorer.image.value
+
+
+EXTREME_LENGTHS = (0.02, 0.21, 0.40)
+
+
+def test_no_state_of_the_fourbar_sliders_shows_nan():
+    explorer = fourbar_explorer()
+    seen = set()
+    for ground in EXTREME_LENGTHS:
+        for crank in EXTREME_LENGTHS:
+            for coupler in EXTREME_LENGTHS:
+                for rocker in EXTREME_LENGTHS:
+                    for theta2 in (-180.0, 0.0, 180.0):
+                        readout = explorer.update(ground=ground, crank=crank, coupler=coupler, rocker=rocker,
+                                                  theta2_deg=theta2, p=0.40, delta_deg=180.0)
+                        seen.add(readout.status)
+                        assert readout.status in {"ok", "unreachable", "singular"}, readout.text
+                        assert not NAN_SHOWN.search(readout.text), readout.text
+    assert {"ok", "unreachable"} <= seen
+
+
+def test_no_state_of_the_fivebar_sliders_shows_nan():
+    explorer = fivebar_explorer()
+    limit = explorer.controls["x3"].max
+    for mode in ("forward", "inverse"):
+        for a in (-180.0, -90.0, 0.0, 90.0, 180.0):
+            for b in (-180.0, 0.0, 90.0, 180.0):
+                for sigma in (1, -1):
+                    if mode == "forward":
+                        state = dict(theta1_deg=a, theta4_deg=b, sigma=sigma)
+                    else:
+                        state = dict(x3=a / 180 * limit, y3=b / 180 * limit, sigma1=sigma, sigma2=-sigma)
+                    readout = explorer.update(mode=mode, **state)
+                    assert readout.status in {"ok", "unreachable", "singular"}, readout.text
+                    assert not NAN_SHOWN.search(readout.text), readout.text
+
+
+def test_a_failing_draw_step_is_reported_not_raised():
+    explorer = fourbar_explorer()
+    explorer.draw = lambda state, changed: 1 / 0
+    readout = explorer.refresh()
+    assert readout.status == "error" and "division by zero" in readout.text
+
+
+# (builder, arguments, name the message must give) — each raises a named course_lib error
+BAD_BUILDERS = [
+    (fourbar_explorer, {"crank": -1.0}, "crank"),
+    (fourbar_explorer, {"crank": 0.0}, "crank"),
+    (fourbar_explorer, {"coupler": 1.0}, "coupler"),
+    (fourbar_explorer, {"rocker": NAN}, "rocker"),
+    (fourbar_explorer, {"ground": INF}, "ground"),
+    (fourbar_explorer, {"crank": "0.1"}, "crank"),
+    (fourbar_explorer, {"crank": True}, "crank"),
+    (fourbar_explorer, {"crank": None}, "crank"),
+    (fourbar_explorer, {"p": -0.1}, "p"),
+    (fourbar_explorer, {"p": 2.0}, "p"),
+    (fourbar_explorer, {"branch": "sideways"}, "branch"),
+    (fourbar_explorer, {"branch": None}, "branch"),
+    (fourbar_explorer, {"theta2": NAN}, "theta2"),
+    (fourbar_explorer, {"theta2": "1"}, "theta2"),
+    (fourbar_explorer, {"delta": INF}, "delta"),
+    (saw_explorer, {"frames": 1}, "frames"),
+    (saw_explorer, {"frames": 2.5}, "frames"),
+    (saw_explorer, {"frames": "10"}, "frames"),
+    (saw_explorer, {"frames": True}, "frames"),
+    (saw_explorer, {"frames": NAN}, "frames"),
+    (saw_explorer, {"t_end": 0.0}, "t_end"),
+    (saw_explorer, {"t_end": -1.0}, "t_end"),
+    (saw_explorer, {"t_end": NAN}, "t_end"),
+    (saw_explorer, {"t_end": 1e308}, "t_end"),
+    (saw_explorer, {"t": -0.5}, "t"),
+    (saw_explorer, {"t": 100.0}, "t"),
+    (saw_explorer, {"t": NAN}, "t"),
+    (saw_explorer, {"interval_ms": 0}, "interval_ms"),
+    (saw_explorer, {"interval_ms": NAN}, "interval_ms"),
+    (fivebar_explorer, {"mode": "sideways"}, "mode"),
+    (fivebar_explorer, {"sigma": 0}, "sigma"),
+    (fivebar_explorer, {"sigma1": 2}, "sigma1"),
+    (fivebar_explorer, {"sigma2": None}, "sigma2"),
+    (fivebar_explorer, {"theta1": NAN}, "theta1"),
+    (fivebar_explorer, {"theta4": "2"}, "theta4"),
+    (fivebar_explorer, {"x3": 5.0}, "x3"),
+    (fivebar_explorer, {"y3": NAN}, "y3"),
+    (fivebar_explorer, {"l1": -1.0}, "l1"),
+    (fivebar_explorer, {"l5": NAN}, "l5"),
+]
+
+
+@pytest.mark.parametrize(("build", "arguments", "name"), BAD_BUILDERS,
+                         ids=[f"{build.__name__}-{arguments}" for build, arguments, _ in BAD_BUILDERS])
+def test_builder_refuses_out_of_range_arguments_by_name(build, arguments, name):
+    with pytest.raises(CourseLibError) as caught:
+        build(**arguments)
+    message = str(caught.value)
+    assert message.startswith(f"{name} ") or f" {name} " in message, message
+    assert repr(arguments[name]) in message or str(arguments[name]) in message, message
+
+
+@pytest.mark.parametrize(("build", "arguments", "key", "value"), [
+    (fourbar_explorer, {"theta2": 7.0}, "theta2_deg", pytest.approx(np.degrees(7.0) - 360.0)),
+    (fourbar_explorer, {"branch": "Crossed"}, "branch", "crossed"),
+    (fourbar_explorer, {"crank": 0.02, "p": 0.0}, "crank", 0.02),
+    (saw_explorer, {"t": np.float64(1.5), "frames": 60.0}, "t", 1.5),
+    (fivebar_explorer, {"sigma": -1.0, "mode": "Inverse"}, "sigma", -1),
+])
+def test_builder_accepts_equivalent_arguments(build, arguments, key, value):
+    explorer = build(**arguments)
+    assert explorer.state[key] == value
+    assert explorer.status in {"ok", "unreachable"}

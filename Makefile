@@ -13,7 +13,7 @@ PORTABLE_ENV := PYTHONHASHSEED=1 $(if $(filter x86_64,$(shell uname -m)),\
 	NPY_DISABLE_CPU_FEATURES="X86_V3 X86_V4 AVX512_ICL AVX512_SPR" OPENBLAS_CORETYPE=Prescott,)
 NBVAL := --nbval --nbval-current-env --nbval-sanitize-with tests/sanitize.cfg --nbval-cell-timeout=600
 
-.PHONY: lab test test-portable execute exercises bench clean
+.PHONY: lab test test-portable execute exercises bench clean site nbgrader
 
 $(STAMP): environment.txt pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -41,3 +41,11 @@ bench: $(STAMP)
 
 clean:
 	rm -rf $(VENV)
+
+# the course website, _build/html/index.html, from the committed outputs (nothing is executed)
+site: $(STAMP)
+	$(BIN)/python tools/build_site.py
+
+# an nbgrader course source, nbgrader/source/exNN/, from notebooks/solutions/ (README: For instructors)
+nbgrader: $(STAMP)
+	$(BIN)/python tools/export_nbgrader.py

@@ -82,8 +82,10 @@ class FourBarSolution:
     alpha3, alpha4 : angular accelerations, rad/s².
     mask : True where the loop cannot close (entries are NaN there; only with
         ``on_unreachable="nan"``, otherwise all False).
-    singular : True where the linkage sits at a toggle (J singular) while ω2 or α2 ≠ 0
-        (rates are NaN there; only with ``on_unreachable="nan"``).
+    singular : True where the linkage sits at a toggle (J singular) while ω2 or α2 ≠ 0 (rates
+        are NaN there), or where the position is not determined — the crank pin on O4 with
+        coupler = rocker, B free on a circle (everything NaN there); only with
+        ``on_unreachable="nan"``, otherwise such inputs raise ``SingularJacobianError``.
     branch : ``"open"`` or ``"crossed"``.
 
     >>> FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0]).theta4.shape
@@ -252,24 +254,40 @@ class FourBar:
         return np.stack([row_x, row_y], axis=-2)
 
     # ------------------------------------------------------------- position
+    def _unit_lengths(self) -> tuple[float, float, float, float]:
+        """l1 … l4 divided by the longest: angles and angular rates do not depend on the scale, and
+        lengths of order 1 keep every square and product below overflow and above underflow."""
+        longest = max(self.l1, self.l2, self.l3, self.l4)
+        return self.l1 / longest, self.l2 / longest, self.l3 / longest, self.l4 / longest
+
     def _half_angle_coefficients(self, cos2: np.ndarray, sin2: np.ndarray):
-        """Norton's A, B, C of A·t² + B·t + C = 0, t = tan(θ4/2)."""
-        l1, l2, l3, l4 = self.l1, self.l2, self.l3, self.l4
-        K1, K2 = l1 / l2, l1 / l4
-        K3 = (l2**2 - l3**2 + l4**2 + l1**2) / (2 * l2 * l4)
-        A = cos2 - K1 - K2 * cos2 + K3
-        B = -2 * sin2
-        C = K1 - (K2 + 1) * cos2 + K3
+        """Norton's A, B, C of A·t² + B·t + C = 0, t = tan(θ4/2), times 2·l2·l4 (> 0: same roots).
+
+        With K1 = l1/l2, K2 = l1/l4, K3 = (l2² − l3² + l4² + l1²)/(2 l2 l4) Norton writes
+        A = cos θ2 − K1 − K2 cos θ2 + K3, B = −2 sin θ2, C = K1 − (K2 + 1) cos θ2 + K3; multiplied
+        out no ratio of lengths is formed, so a very short crank cannot overflow them.
+        """
+        l1, l2, l3, l4 = self._unit_lengths()
+        k3 = l2**2 - l3**2 + l4**2 + l1**2
+        A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
+        B = -4 * l2 * l4 * sin2
+        C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
         return A, B, C
 
     def _positions(self, theta2: np.ndarray, branch: str):
-        """θ3, θ4 (NaN where unreachable), the unreachable mask, and (cos, sin) of θ2, θ3, θ4."""
+        """θ3, θ4 (NaN where unreachable or undetermined), the unreachable and undetermined masks,
+        and (cos, sin) of θ2, θ3, θ4."""
+        l1, l2, l3, l4 = self._unit_lengths()
         cos2, sin2 = np.cos(theta2), np.sin(theta2)
         A, B, C = self._half_angle_coefficients(cos2, sin2)
         discriminant = B**2 - 4 * A * C
-        # B² + (A − C)² = 4|AO4|²/l2² > 0 sets the scale (B² − 4AC is 4(|AO4|²/l2² − S²))
+        # B² + (A − C)² = 16 l4² |AO4|² sets the scale (B² − 4AC is 16 l4² (|AO4|² − (l2 S)²))
         unreachable = discriminant < -DISCRIMINANT_TOL * (B**2 + (A - C) ** 2)
-        root = np.sqrt(np.where(unreachable, np.nan, np.maximum(discriminant, 0.0)))
+        # the crank pin A on O4 with coupler = rocker: B may be anywhere on a circle (a change point)
+        distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
+        undetermined = (distance_AO4 < SINGULAR_TOL**2) & (abs(l3 - l4) < SINGULAR_TOL**2)
+        unreachable &= ~undetermined
+        root = np.sqrt(np.where(unreachable | undetermined, np.nan, np.maximum(discriminant, 0.0)))
         root = -root if branch == "open" else root
         # t = y/x with (y, x) = (−B ± √Δ, 2A) or, the same root, (2C, −B ∓ √Δ): take the larger pair
         y1, x1 = -B + root, 2 * A
@@ -281,11 +299,11 @@ class FourBar:
         cos4, sin4 = (x * x - y * y) / norm, 2 * x * y / norm
         theta4 = np.arctan2(sin4, cos4)
         # θ3 from the loop: R3 = R1 + R4 − R2 = B − A, of length l3
-        coupler_x = self.l1 + self.l4 * cos4 - self.l2 * cos2
-        coupler_y = self.l4 * sin4 - self.l2 * sin2
+        coupler_x = l1 + l4 * cos4 - l2 * cos2
+        coupler_y = l4 * sin4 - l2 * sin2
         theta3 = np.arctan2(coupler_y, coupler_x)
-        trig = (cos2, sin2, coupler_x / self.l3, coupler_y / self.l3, cos4, sin4)
-        return theta3, theta4, unreachable, trig
+        trig = (cos2, sin2, coupler_x / l3, coupler_y / l3, cos4, sin4)
+        return theta3, theta4, unreachable, undetermined, trig
 
     # ---------------------------------------------------------------- solve
     def solve(
@@ -308,8 +326,9 @@ class FourBar:
             arrays how many and the first).  With ``on_unreachable="nan"`` those entries
             are NaN and flagged in ``mask`` instead.
         SingularJacobianError : a toggle position (coupler and rocker collinear) with
-            ω2 ≠ 0 or α2 ≠ 0; with ``on_unreachable="nan"`` rates are NaN there and
-            flagged in ``singular``.
+            ω2 ≠ 0 or α2 ≠ 0, or a position that is not determined (crank pin on O4 with
+            coupler = rocker); with ``on_unreachable="nan"`` they are NaN and flagged in
+            ``singular``.
 
         >>> linkage = FourBar(0.06, 0.18, 0.12, 0.20)
         >>> crossed = linkage.solve(np.pi / 2, branch="crossed")
@@ -323,17 +342,27 @@ class FourBar:
             require_finite("omega2", omega2, "rad/s"),
             require_finite("alpha2", alpha2, "rad/s^2"),
         )
-        with np.errstate(invalid="ignore"):
-            theta3, theta4, unreachable, trig = self._positions(theta2, branch)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            theta3, theta4, unreachable, undetermined, trig = self._positions(theta2, branch)
         report_unreachable(
             unreachable,
             {"theta2": theta2},
             f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle quadratic)",
             on_unreachable,
         )
-        omega3, omega4, alpha3, alpha4, singular = self._rates(
-            theta2, trig, omega2, alpha2, unreachable, on_unreachable
-        )
+        if undetermined.any() and on_unreachable == "raise":
+            first = np.unravel_index(np.flatnonzero(undetermined)[0], undetermined.shape)
+            raise SingularJacobianError(
+                f"at theta2={theta2[first]:.6g} the crank pin A lands on O4 and coupler = rocker, so B "
+                "may be anywhere on a circle of radius l3: the position is not determined (a change "
+                "point; any other theta2 is fine)",
+                x=float(theta2[first]),
+            )
+        with np.errstate(invalid="ignore"):
+            omega3, omega4, alpha3, alpha4, singular = self._rates(
+                theta2, trig, omega2, alpha2, unreachable | undetermined, on_unreachable
+            )
+        singular = singular | undetermined
         return FourBarSolution(
             theta3=scalar_or_array(theta3),
             theta4=scalar_or_array(theta4),
@@ -348,7 +377,7 @@ class FourBar:
 
     def _rates(self, theta2, trig, omega2, alpha2, unreachable, on_unreachable):
         """Velocity and acceleration from J·x = b (Cramer's rule on the 2×2 systems)."""
-        l2, l3, l4 = self.l2, self.l3, self.l4
+        _, l2, l3, l4 = self._unit_lengths()
         cos2, sin2, cos3, sin3, cos4, sin4 = trig
         # J = [[j00, j01], [j10, j11]], det J = l3 l4 sin(θ3 − θ4)
         j00, j01, j10, j11 = -l3 * sin3, l4 * sin4, l3 * cos3, -l4 * cos4
@@ -496,13 +525,23 @@ class FourBar:
         >>> r.full_rotation, [round(a, 6) for a in r.toggle_angles]
         (False, [-1.333578, 1.333578])
         """
-        l1, l2, l3, l4 = self.l1, self.l2, self.l3, self.l4
-        cos_extended = (l1**2 + l2**2 - (l3 + l4) ** 2) / (2 * l1 * l2)  # need cos θ2 ≥ this
-        cos_folded = (l1**2 + l2**2 - (l3 - l4) ** 2) / (2 * l1 * l2)  # need cos θ2 ≤ this
-        if cos_extended > 1 or cos_folded < -1 or cos_extended > cos_folded:
+        l1, l2, l3, l4 = self._unit_lengths()
+
+        def toggle(reach):  # θ2 in [0, π] where |AO4| = reach, or None when |AO4| never equals it
+            # 1 − cos θ2 = (reach² − (l1 − l2)²)/(2 l1 l2), 1 + cos θ2 = ((l1 + l2)² − reach²)/(2 l1 l2):
+            # as products of differences, accurate even where θ2 is near 0 or π
+            below, above = (reach - l1 + l2) * (reach + l1 - l2), (l1 + l2 - reach) * (l1 + l2 + reach)
+            if below < 0 or above < 0:
+                return None
+            return float(2 * np.arctan2(np.sqrt(below), np.sqrt(above)))
+
+        extended, folded = toggle(l3 + l4), toggle(abs(l3 - l4))  # need θ2 ≤ extended, θ2 ≥ folded
+        if (l3 + l4 < abs(l1 - l2)) or (abs(l3 - l4) > l1 + l2) or (
+            extended is not None and folded is not None and extended < folded
+        ):
             return InputRange(full_rotation=False, intervals=(), toggle_angles=())
-        theta_max = float(np.arccos(max(cos_extended, -1.0)))  # binds when < π
-        theta_min = float(np.arccos(min(cos_folded, 1.0)))  # binds when > 0
+        theta_max = np.pi if extended is None else extended  # binds when < π
+        theta_min = 0.0 if folded is None else folded  # binds when > 0
         upper, lower = theta_max < np.pi, theta_min > 0
         if not upper and not lower:
             return InputRange(full_rotation=True, intervals=((0.0, 2 * np.pi),), toggle_angles=())

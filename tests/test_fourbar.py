@@ -361,3 +361,67 @@ def test_change_point_assembles_where_its_branches_meet():
     for branch in ("open", "crossed"):
         joints = change_point.joints(theta2, branch=branch)
         np.testing.assert_allclose(joints[120, 2], [-0.06 + 0.18, 0.0], atol=1e-7)
+
+
+# ---------------------------------------------------------------- extreme and degenerate inputs
+def test_crank_pin_on_o4_with_equal_coupler_and_rocker_is_reported_not_nan():
+    # A = O4 and l3 = l4: B may be anywhere on the circle of radius l3 about O4
+    for linkage in (FourBar(1, 1, 1, 1), FourBar(0.4942090157781592, 1, 1, 0.4942090157781592)):
+        assert linkage.input_range().full_rotation
+        with pytest.raises(SingularJacobianError, match=r"theta2=0\b.*not determined"):
+            linkage.solve(0.0)
+        flagged = linkage.solve([0.0, 1.0], on_unreachable="nan")
+        assert flagged.singular.tolist() == [True, False] and not flagged.mask.any()
+        assert np.isnan(flagged.theta4[0]) and np.isfinite(flagged.theta4[1])
+        A, B = fourbar_pins(linkage.l1, linkage.l2, linkage.l3, linkage.l4, 1.0, "open")
+        assert angle_difference(flagged.theta4[1], np.arctan2(B[1], B[0] - linkage.l1)) < 1e-12
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e-100, 1e100, 1e200])
+def test_the_scale_of_the_lengths_does_not_matter(scale):
+    A, B = fourbar_pins(0.2, 0.06, 0.18, 0.12, 1.0, "open")   # circles at the desk scale
+    scaled = FourBar(0.06 * scale, 0.18 * scale, 0.12 * scale, 0.2 * scale).solve(1.0, 10.0, 3.0)
+    assert angle_difference(scaled.theta4, np.arctan2(B[1], B[0] - 0.2)) < 1e-12
+    assert angle_difference(scaled.theta3, np.arctan2(*(B - A)[::-1])) < 1e-12
+    reference = DESK.solve(1.0, 10.0, 3.0)   # angular rates do not depend on the scale either
+    assert np.allclose([scaled.omega4, scaled.alpha4], [reference.omega4, reference.alpha4], rtol=1e-12)
+
+
+def test_a_vanishing_crank_leaves_a_triangle():
+    # l2 → 0: A sits on O2, and B closes the triangle O2 B O4 with sides l3, l4, l1
+    theta4 = FourBar(1e-300, 0.18, 0.12, 0.2).solve(1.0).theta4
+    cos_at_o4 = (0.12**2 + 0.2**2 - 0.18**2) / (2 * 0.12 * 0.2)   # law of cosines
+    assert abs(theta4 - (np.pi - np.arccos(cos_at_o4))) < 1e-12
+
+
+@pytest.mark.parametrize(
+    "linkage", [FourBar(0.2, 0.1, 0.1001, 0.2), FourBar(0.25, 0.375, 0.37632995787983853, 0.25),
+                FourBar(0.14, 0.12, 0.10, 0.20), FourBar(0.12, 0.06, 0.18, 0.20)]
+)
+def test_solve_accepts_every_angle_input_range_reports(linkage):
+    for start, end in linkage.input_range().intervals:
+        for branch in ("open", "crossed"):
+            solution = linkage.solve(np.linspace(start, end, 50), branch=branch)
+            assert np.all(np.isfinite(solution.theta4))
+
+
+@given(
+    lengths=st.lists(st.floats(0.05, 1.0), min_size=4, max_size=4),
+    where=st.floats(0.0, 1.0),
+)
+def test_input_range_edges_and_inside_assemble(lengths, where):
+    turns = (0, 2 * np.pi, -2 * np.pi)
+    linkage = FourBar(*lengths)
+    assume(abs(linkage.l1 - linkage.l2) > 1e-6 or abs(linkage.l3 - linkage.l4) > 1e-6)  # B undetermined
+    intervals = linkage.input_range().intervals
+    for start, end in intervals:
+        inside = start + where * (end - start)
+        for theta2 in (start, end, inside):
+            joints = linkage.joints(theta2)
+            assert abs(np.linalg.norm(joints[2] - joints[1]) - linkage.l3) < 1e-9
+        outside = end + 1e-6   # just past a toggle the loop cannot close, unless another interval starts
+        if not linkage.input_range().full_rotation and not any(
+            a - 1e-6 <= outside + turn <= b + 1e-6 for a, b in intervals for turn in turns
+        ):
+            with pytest.raises(UnreachableError):
+                linkage.solve(outside)

@@ -42,9 +42,9 @@ from .errors import (
     require_choice,
     require_finite,
 )
-from .newton import MAX_CONDITION, NewtonResult, _hadamard_ratio, newton, newton_batch
+from .newton import NewtonResult, is_singular, linear_solver, newton, newton_batch
 from .planar import scalar_or_array
-from .symbolic import TIME, _rate_name
+from .symbolic import TIME, rate_name
 
 __all__ = ["Mechanism", "Motion"]
 
@@ -124,27 +124,6 @@ def _keyed(argument: str, mapping, symbols, required: bool = True) -> dict[str, 
     return out
 
 
-def _linear_solver(J: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
-    """b ↦ x with J·x = b for a stack J (N, n, n): Cramer's rule, cofactors formed once, for n ≤ 3.
-
-    >>> solve = _linear_solver(np.array([[[2.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 4.0]]]))
-    >>> solve(np.array([[3.0, 1.0, 4.0]])).tolist()
-    [[1.0, 1.0, 1.0]]
-    """
-    n = J.shape[-1]
-    if n > 3:
-        return lambda b: np.linalg.solve(J, b[..., None])[..., 0]
-    if n == 1:
-        return lambda b: b / J[:, 0]
-    if n == 2:
-        adjugate = np.stack([J[:, 1, 1], -J[:, 0, 1], -J[:, 1, 0], J[:, 0, 0]], axis=-1).reshape(-1, 2, 2)
-    else:  # rows of the adjugate: cross products of the columns
-        c0, c1, c2 = J[:, :, 0], J[:, :, 1], J[:, :, 2]
-        adjugate = np.stack([np.cross(c1, c2), np.cross(c2, c0), np.cross(c0, c1)], axis=1)
-    det = np.einsum("nj,nj->n", adjugate[:, 0], J[:, :, 0])
-    return lambda b: np.einsum("nij,nj->ni", adjugate, b) / det[:, None]
-
-
 class Mechanism:
     """A planar mechanism declared by its loop equations (each expression = 0).
 
@@ -217,7 +196,7 @@ class Mechanism:
         taken = {s.name for s in self.equations.free_symbols | set(self.parameters)}
         rates = {}
         for symbol in self.unknowns + self.inputs:
-            pair = tuple(sp.Symbol(_rate_name(symbol.name, order), real=True) for order in (1, 2))
+            pair = tuple(sp.Symbol(rate_name(symbol.name, order), real=True) for order in (1, 2))
             if {p.name for p in pair} & taken:
                 raise InvalidGeometryError(f"the rates of {symbol} would be named {pair}, a name already "
                                            "used in the loops or parameters: rename that symbol")
@@ -374,7 +353,7 @@ class Mechanism:
                 break
             rows, previous, x = rows[k + 1:], first.x[k:-1], first.x[k + 1:]
             F, J = self._newton_terms(previous, u[rows])
-            stepped = previous + _linear_solver(J)(-F)
+            stepped = previous + linear_solver(J)(-F)
             start_gap = distance(previous, x)
             closer = (start_gap <= agree) | (distance(stepped, x) <= 0.1 * start_gap)
             same = first.converged[k + 1:] & closer
@@ -447,7 +426,7 @@ class Mechanism:
                 result = None
                 q, converged, stuck, iterations = self._continuation(u, seed, tol, max_iter)
             J = self._newton_terms(q, u)[1]
-            singular = stuck | (converged & ~(_hadamard_ratio(J) > 1.0 / MAX_CONDITION))
+            singular = stuck | (converged & is_singular(J))
         want_rates = rates is not None or accelerations is not None
         if on_failure == "raise":
             self._report(~converged | (singular & want_rates), singular, u)
@@ -455,7 +434,7 @@ class Mechanism:
         velocity = acceleration = None
         if want_rates:
             good = converged & ~singular
-            solve = _linear_solver(np.where(good[:, None, None], J, np.eye(n)))
+            solve = linear_solver(np.where(good[:, None, None], J, np.eye(n)))
             q_rate = solve(-np.einsum("nij,nj->ni", self.input_jacobian(q, u), u_rate))
             q_rate[~good] = np.nan
             with np.errstate(invalid="ignore"):

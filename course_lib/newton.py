@@ -3,12 +3,19 @@
 The stopping rule is the course's: stop when the step ‖x_{n+1} − x_n‖ < ``tol``.
 A residual check is added so that a tiny step far from a root is not mistaken
 for convergence: ‖F(x_{n+1})‖ must also be ≤ ``residual_tol`` (default ``tol``).
-Linear steps are taken with ``numpy.linalg.solve``; no inverse is ever formed.
+Steps are linear solves (Cramer's rule for n ≤ 3, LU above); no inverse is formed.
 
->>> from course_lib.newton import newton
+One rule for both solvers.  A misuse — a bad setting, a seed that is not finite, an ``F`` or
+``jac`` that returns None, complex numbers or the wrong shape — raises ``InvalidGeometryError``
+at once.  A run that fails — a singular Jacobian, a NaN or inf value, ``max_iter`` updates
+without converging — ends with ``converged=False`` and a ``message``; with
+``on_failure="raise"`` (the default of :func:`newton`) it raises ``SingularJacobianError`` or
+``ConvergenceError`` (``err.result`` is the result), with ``on_failure="report"`` (the default
+of :func:`newton_batch`, where one bad system must not stop a million good ones) it returns.
+
 >>> result = newton(lambda x: x**2 - 2.0, 1.0, jac=lambda x: 2.0 * x)
->>> round(result.x, 12), result.iterations, result.converged
-(1.414213562373, 5, True)
+>>> round(result.x, 12), result.iterations, result.converged, result.message
+(1.414213562373, 5, True, 'converged in 5 iterations')
 """
 
 from __future__ import annotations
@@ -18,46 +25,39 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ConvergenceError, InvalidGeometryError, SingularJacobianError
+from .errors import ConvergenceError, InvalidGeometryError, SingularJacobianError, require_choice
 
-__all__ = [
-    "NewtonResult",
-    "BatchNewtonResult",
-    "newton",
-    "newton_batch",
-    "finite_difference_jacobian",
-    "singular_jacobian_text",
-]
+__all__ = ["NewtonResult", "BatchNewtonResult", "newton", "newton_batch", "finite_difference_jacobian",
+           "hadamard_ratio", "is_singular", "linear_solver", "singular_jacobian_text"]
 
-#: A Jacobian whose 2-norm condition number exceeds this is treated as singular.
+#: J counts as singular when |det J| < Π‖row of J‖ / MAX_CONDITION (see :func:`hadamard_ratio`).
 MAX_CONDITION = 1e12
+#: The most updates a run may take: the history of one run stays small.
+MAX_ITERATIONS = 10_000
+ON_FAILURE = ("raise", "report")
 
 
-def singular_jacobian_text(condition: float) -> str:
-    """How a rejected Jacobian is described: by the bound it broke, not by round-off digits.
+def singular_jacobian_text(n: int = 2) -> str:
+    """How a rejected n×n Jacobian is described: by the bounds it broke, never by round-off digits.
+    Its condition number then exceeds MAX_CONDITION^(1/(n − 1)), as ‖row‖ ≤ σ_max.
 
-    The condition number of an exactly singular matrix is inf on one machine and 4e16 on another,
-    so only the bound is stated.
-
-    >>> singular_jacobian_text(float("inf"))
-    'singular (condition number > 1e+12)'
+    >>> singular_jacobian_text(2)
+    'singular (|det J| < 1e-12 × the product of its row lengths, so condition number > 1e+12)'
     """
-    return f"singular (condition number > {MAX_CONDITION:.0e})"
+    bound = MAX_CONDITION ** (1 / max(n - 1, 1))
+    return f"singular (|det J| < {1 / MAX_CONDITION:.0e} × the product of its row lengths, so " \
+           f"condition number > {bound:.0e})"
 
 
 @dataclass(frozen=True)
 class NewtonResult:
     """What one Newton run did.
 
-    Attributes
-    ----------
-    x : the last iterate (a float for a scalar problem, else an array of shape (n,)).
-    converged : True when the step and residual tests both passed.
-    iterations : number of updates x_n → x_{n+1} performed.
-    history : x_0 followed by every iterate, shape (iterations + 1, n).
-    step_norms : ‖x_{n+1} − x_n‖ (2-norm) for each iteration, shape (iterations,).
-    step_components : |x_{n+1} − x_n| per variable, shape (iterations, n).
-    residual_norms : ‖F(x_k)‖ for k = 0 … iterations, shape (iterations + 1,).
+    x : the last iterate (a float for a scalar problem, else an array (n,)).
+    converged : the step and residual tests both passed.  singular : stopped by a singular J.
+    iterations : updates x_n → x_{n+1} performed.  message : what happened, in words.
+    history : x_0 and every iterate, (iterations + 1, n).  step_norms : ‖x_{n+1} − x_n‖ per
+    update.  step_components : |x_{n+1} − x_n| per variable.  residual_norms : ‖F(x_k)‖, k = 0 … iterations.
     """
 
     x: float | np.ndarray
@@ -67,20 +67,15 @@ class NewtonResult:
     step_norms: np.ndarray
     step_components: np.ndarray
     residual_norms: np.ndarray
+    message: str = ""
+    singular: bool = False
 
 
 @dataclass(frozen=True)
 class BatchNewtonResult:
-    """What a batched Newton run did, one entry per system.
-
-    Attributes
-    ----------
-    x : last iterates, shape (N, n).
-    converged : per-system convergence, shape (N,).
-    iterations : updates performed per system, shape (N,).
-    singular : systems stopped because their Jacobian became (numerically) singular.
-    step_norms : the last step norm per system, shape (N,).
-    residual_norms : ‖F(x)‖ at the last iterate per system, shape (N,).
+    """What a batched Newton run did, one entry per system (the fields of :class:`NewtonResult`
+    without the history): x (N, n); converged, singular, iterations (N,); step_norms and
+    residual_norms (N,) of the last update; message, a summary.
     """
 
     x: np.ndarray
@@ -89,28 +84,21 @@ class BatchNewtonResult:
     singular: np.ndarray
     step_norms: np.ndarray
     residual_norms: np.ndarray
+    message: str = ""
 
 
-def finite_difference_jacobian(
-    F: Callable[[np.ndarray], np.ndarray], x: np.ndarray, fx: np.ndarray | None = None
-) -> np.ndarray:
-    """Central-difference Jacobian of ``F`` at ``x``.
+def finite_difference_jacobian(F: Callable, x: np.ndarray, fx: np.ndarray | None = None) -> np.ndarray:
+    """Central-difference Jacobian of ``F`` at ``x`` ((n,) or a batch (N, n)); step ε^(1/3)·max(1, |x_j|).
+    ``fx`` is accepted for signature symmetry and ignored.
 
-    ``x`` may be (n,) or a batch (N, n); ``F`` must map the same shape to the
-    same shape.  The step is ε^(1/3)·max(1, |x_j|) per variable.  ``fx`` is
-    accepted for signature symmetry and ignored (central differences do not
-    reuse F(x)).
-
-    >>> import numpy as np
     >>> J = finite_difference_jacobian(lambda v: np.array([v[0] * v[1], v[0]]), np.array([2.0, 3.0]))
     >>> np.round(J, 8).tolist()
     [[3.0, 2.0], [1.0, 0.0]]
     """
     x = np.asarray(x, dtype=float)
-    n = x.shape[-1]
     h = np.finfo(float).eps ** (1 / 3) * np.maximum(1.0, np.abs(x))
     columns = []
-    for j in range(n):
+    for j in range(x.shape[-1]):
         step = np.zeros_like(x)
         step[..., j] = h[..., j]
         difference = np.asarray(F(x + step), float) - np.asarray(F(x - step), float)
@@ -118,245 +106,297 @@ def finite_difference_jacobian(
     return np.stack(columns, axis=-1)
 
 
-def _as_system(F, jac, scalar):
-    """Wrap scalar callables so the loop below only deals with vectors and matrices."""
-    if scalar:
-
-        def F_vec(x):
-            return np.atleast_1d(np.asarray(F(x[0]), dtype=float))
-
-        if jac is None:
-            return F_vec, lambda x: finite_difference_jacobian(F_vec, x)
-        return F_vec, lambda x: np.asarray(jac(x[0]), dtype=float).reshape(1, 1)
-
-    def F_vec(x):
-        return np.asarray(F(x), dtype=float).reshape(-1)
-
-    if jac is None:
-        return F_vec, lambda x: finite_difference_jacobian(F_vec, x)
-    return F_vec, lambda x: np.asarray(jac(x), dtype=float)
+def _columns(J: np.ndarray) -> list[np.ndarray]:
+    """The entries J[:, i, j] of a stack (N, n, n) as n·n contiguous arrays, row by row."""
+    return list(np.ascontiguousarray(J.reshape(J.shape[0], -1).T))
 
 
-def _hadamard_ratio(J: np.ndarray) -> np.ndarray:
+def _det3(a) -> np.ndarray:
+    return a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) + a[2] * (
+        a[3] * a[7] - a[4] * a[6])
+
+
+def hadamard_ratio(J: np.ndarray) -> np.ndarray:
     """|det J| / Π‖row of J‖ per matrix of a stack (N, n, n): 1 for orthogonal rows, 0 when singular.
 
-    Written out for n ≤ 3 (the mechanisms' sizes), where it is several times faster than
-    ``numpy.linalg.det`` on a stack.
+    The library's one singularity test (:func:`is_singular`): it does not change when a row
+    is scaled, and is written out for n ≤ 3, several times faster than ``numpy.linalg.det``.
 
-    >>> float(_hadamard_ratio(np.array([[[2.0, 0.0], [0.0, 3.0]]]))[0])
+    >>> float(hadamard_ratio(np.array([[[2.0, 0.0], [0.0, 3.0]]]))[0])
     1.0
     """
-    N, n = J.shape[0], J.shape[-1]
+    n = J.shape[-1]
     if n > 3:
         return np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-    # a[n·i + j] is the contiguous column of entries J[:, i, j]
-    a = np.ascontiguousarray(J.reshape(N, n * n).T)
-    squares = a * a
+    a = _columns(J)
+    squares = [entry * entry for entry in a]
+    rows = [sum(squares[n * i:n * i + n]) for i in range(n)]
+    det = a[0] if n == 1 else a[0] * a[3] - a[1] * a[2] if n == 2 else _det3(a)
+    return np.abs(det) / np.sqrt(np.prod(rows, axis=0))
+
+
+def is_singular(J: np.ndarray) -> np.ndarray:
+    """True per matrix of a stack (N, n, n) that is singular or not finite (ratio ≤ 1/MAX_CONDITION).
+
+    >>> is_singular(np.array([[[1.0, 1.0], [2.0, 2.0]], [[1.0, 0.0], [0.0, 1.0]]])).tolist()
+    [True, False]
+    """
+    with np.errstate(all="ignore"):
+        return ~(hadamard_ratio(J) > 1.0 / MAX_CONDITION)
+
+
+def linear_solver(J: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """b ↦ x with J·x = b for a stack J (N, n, n) and b (N, n): Cramer's rule with the cofactors
+    formed once (so several right-hand sides cost little) for n ≤ 3, LU for larger n.
+
+    >>> solve = linear_solver(np.array([[[2.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 4.0]]]))
+    >>> solve(np.array([[3.0, 1.0, 4.0]])).tolist()
+    [[1.0, 1.0, 1.0]]
+    """
+    n = J.shape[-1]
+    if n > 3:
+        return lambda b: np.linalg.solve(J, b[..., None])[..., 0]
+    a = _columns(J)
     if n == 1:
-        return np.abs(a[0]) / np.sqrt(squares[0])
-    if n == 2:
+        return lambda b: b / a[0][:, None]
+    if n == 2:  # adjugate rows (d, −b), (−c, a)
         det = a[0] * a[3] - a[1] * a[2]
-        rows = (squares[0] + squares[1]) * (squares[2] + squares[3])
-        return np.abs(det) / np.sqrt(rows)
-    det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) + a[2] * (
-        a[3] * a[7] - a[4] * a[6]
-    )
-    rows = (squares[0] + squares[1] + squares[2]) * (squares[3] + squares[4] + squares[5])
-    return np.abs(det) / np.sqrt(rows * (squares[6] + squares[7] + squares[8]))
+        cofactors = [a[3], -a[1], -a[2], a[0]]
+    else:  # adjugate rows: cross products of the columns
+        cofactors = [a[4] * a[8] - a[5] * a[7], a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
+                     a[5] * a[6] - a[3] * a[8], a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
+                     a[3] * a[7] - a[4] * a[6], a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]]
+        det = a[0] * cofactors[0] + a[1] * cofactors[3] + a[2] * cofactors[6]
+
+    def solve(b):
+        b = np.asarray(b, dtype=float)
+        out = np.empty(np.broadcast_shapes(b.shape, (det.size, n)))
+        for i in range(n):
+            out[:, i] = sum(cofactors[n * i + j] * b[:, j] for j in range(n)) / det
+        return out
+
+    return solve
 
 
-def _check_settings(tol, max_iter):
-    if not (np.isfinite(tol) and tol > 0):
-        raise InvalidGeometryError(f"tol must be a positive number; got {tol!r}")
-    if int(max_iter) != max_iter or max_iter < 1:
+def _settings(tol, max_iter, residual_tol, on_failure) -> tuple[float, int, float]:
+    """The checked settings: tol > 0 finite, 1 ≤ max_iter ≤ MAX_ITERATIONS, residual_tol > 0 (inf allowed)."""
+    require_choice("on_failure", on_failure, ON_FAILURE)
+
+    def number(name, value, allow_inf=False):
+        real = isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
+        if not (real and value > 0 and (np.isfinite(value) or (allow_inf and value == np.inf))):
+            raise InvalidGeometryError(f"{name} must be a positive number; got {value!r}")
+        return float(value)
+
+    tol = number("tol", tol)
+    residual_tol = tol if residual_tol is None else number("residual_tol", residual_tol, allow_inf=True)
+    integer = isinstance(max_iter, int | np.integer | float | np.floating) and not isinstance(max_iter, bool)
+    if not (integer and np.isfinite(max_iter) and int(max_iter) == max_iter and max_iter >= 1):
         raise InvalidGeometryError(f"max_iter must be a positive integer; got {max_iter!r}")
+    if max_iter > MAX_ITERATIONS:
+        raise InvalidGeometryError(f"max_iter must be at most {MAX_ITERATIONS:,} (Newton converges in a "
+                                   f"handful of updates or not at all); got max_iter={max_iter!r}")
+    return tol, int(max_iter), residual_tol
 
 
-def newton(
-    F: Callable,
-    x0: float | np.ndarray,
-    jac: Callable | None = None,
-    tol: float = 1e-6,
-    max_iter: int = 50,
-    residual_tol: float | None = None,
-) -> NewtonResult:
-    """Solve F(x) = 0 by Newton–Raphson from the seed ``x0``.
+def _real(name: str, value, shape: tuple, x) -> np.ndarray:
+    """``value`` returned by the callable ``name`` at ``x`` as a float array of ``shape``, else raise."""
+    where = f"at x={np.round(x, 12).tolist()}" if np.size(x) <= 9 else f"at x of shape {np.shape(x)}"
+    if value is None or np.iscomplexobj(value):
+        what = "None" if value is None else "complex numbers"
+        raise InvalidGeometryError(f"{name} returned {what} {where}: it must return real numbers "
+                                   "(Newton here works with real numbers only)")
+    try:
+        raw = np.asarray(value)
+        if raw.dtype == object and any(entry is None for entry in raw.ravel()):
+            raise TypeError
+        array = raw.astype(float)
+    except (TypeError, ValueError):
+        raise InvalidGeometryError(f"{name} must return real numbers; got {value!r} {where}") from None
+    if array.shape != shape and array.size == int(np.prod(shape)) and (len(shape) == 1 or shape == (1, 1)):
+        array = array.reshape(shape)
+    if array.shape != shape:
+        what = "residuals" if name == "F" else "Jacobians" if len(shape) == 3 else "a Jacobian"
+        raise InvalidGeometryError(f"{name} must return {what} of shape {shape} for x of shape "
+                                   f"{np.shape(x)}; got shape {array.shape} {where}")
+    return array
 
-    ``x0`` may be a number (then ``F`` and ``jac`` take and return numbers) or a
-    vector of n unknowns (then ``F`` returns n residuals and ``jac`` the n×n
-    Jacobian).  Without ``jac`` a central-difference Jacobian is used.
 
-    Each iteration solves J(x_n)·Δx = −F(x_n) and sets x_{n+1} = x_n + Δx.
-    It stops when ‖Δx‖ < ``tol`` and ‖F(x_{n+1})‖ ≤ ``residual_tol``.
+def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_iter: int = 50,
+           residual_tol: float | None = None, on_failure: str = "raise") -> NewtonResult:
+    """Solve F(x) = 0 by Newton–Raphson from the seed ``x0``, keeping the whole history.
 
-    Raises
-    ------
-    SingularJacobianError : J(x_n) is singular or its condition number exceeds 1e12.
-    ConvergenceError : ``max_iter`` updates without converging, or a non-finite iterate;
-        ``err.result`` is the ``NewtonResult`` so far.
+    ``x0`` a number (then ``F`` and ``jac`` take and return numbers) or a vector of n unknowns
+    (``F`` returns n residuals, ``jac`` the n×n Jacobian; without ``jac``, central differences).
+    Each iteration solves J(x_n)·Δx = −F(x_n), x_{n+1} = x_n + Δx; it stops when ‖Δx‖ < ``tol``
+    and ‖F(x_{n+1})‖ ≤ ``residual_tol``.  ``max_iter`` is at most :data:`MAX_ITERATIONS`, which
+    bounds the history.  Failures as in the module's rule: ``SingularJacobianError`` (J singular,
+    see :func:`is_singular`), ``ConvergenceError`` (NaN/inf, or ``max_iter`` updates; ``err.result``).
 
-    >>> import numpy as np
     >>> F = lambda v: np.array([v[0] ** 2 + v[1] ** 2 - 1.0, v[0] - v[1]])
     >>> result = newton(F, np.array([1.0, 0.5]))
     >>> np.round(result.x, 9).tolist(), result.converged
     ([0.707106781, 0.707106781], True)
     """
-    _check_settings(tol, max_iter)
-    residual_tol = tol if residual_tol is None else float(residual_tol)
+    tol, max_iter, residual_tol = _settings(tol, max_iter, residual_tol, on_failure)
     scalar = np.ndim(x0) == 0
-    x = np.atleast_1d(np.asarray(x0, dtype=float)).copy()
+    try:
+        x = np.atleast_1d(np.asarray(x0, dtype=float)).copy()
+    except (TypeError, ValueError):
+        x = np.array([np.nan])
     if x.ndim != 1 or not np.all(np.isfinite(x)):
         raise InvalidGeometryError(f"x0 must be a finite number or 1-D vector; got {x0!r}")
-    F_vec, jac_vec = _as_system(F, jac, scalar)
+    n = x.size
 
-    history = [x.copy()]
-    steps: list[np.ndarray] = []
-    fx = F_vec(x)
-    if fx.shape != x.shape:
-        raise InvalidGeometryError(
-            f"F must return {x.size} residuals for {x.size} unknowns; got shape {fx.shape}"
-        )
+    def F_vec(v):
+        return _real("F", F(v[0] if scalar else v.copy()), (n,), v)
+
+    if jac is None:
+        def J_mat(v):
+            with np.errstate(all="ignore"):
+                return finite_difference_jacobian(F_vec, v)
+    else:
+        def J_mat(v):
+            return _real("jac", jac(v[0] if scalar else v.copy()), (n, n), v)
+
+    history, steps = [x.copy()], []
+    with np.errstate(all="ignore"):  # a failure is reported below, not as a numpy warning
+        fx = F_vec(x)
     residuals = [float(np.linalg.norm(fx))]
 
-    def result(converged: bool) -> NewtonResult:
-        history_array = np.array(history)
-        step_array = np.array(steps).reshape(-1, x.size)
+    def result(converged: bool, message: str, singular: bool = False) -> NewtonResult:
+        path, step_array = np.array(history), np.array(steps).reshape(-1, n)
         return NewtonResult(
-            x=float(history_array[-1, 0]) if scalar else history_array[-1].copy(),
-            converged=converged,
-            iterations=len(steps),
-            history=history_array[:, 0] if scalar else history_array,
-            step_norms=np.linalg.norm(step_array, axis=1),
+            x=float(path[-1, 0]) if scalar else path[-1].copy(), converged=converged, iterations=len(steps),
+            history=path[:, 0] if scalar else path, step_norms=np.linalg.norm(step_array, axis=1),
             step_components=np.abs(step_array[:, 0] if scalar else step_array),
-            residual_norms=np.array(residuals),
-        )
+            residual_norms=np.array(residuals), message=message, singular=singular)
 
-    for _ in range(int(max_iter)):
-        J = jac_vec(x)
-        condition = np.linalg.cond(J) if np.all(np.isfinite(J)) else np.inf
-        if not condition < MAX_CONDITION:
-            where = float(x[0]) if scalar else x.tolist()
-            raise SingularJacobianError(
-                f"the Jacobian is {singular_jacobian_text(condition)} at x={where}; "
-                "Newton cannot take a step from here: try another seed",
-                x=where,
-                condition_number=condition,
-            )
-        with np.errstate(over="ignore", invalid="ignore"):  # divergence is reported below
-            step = np.linalg.solve(J, -fx)
+    def here():
+        return float(x[0]) if scalar else x.tolist()
+
+    failure = None if np.all(np.isfinite(fx)) else f"F returned {fx.tolist()} at x={here()}"
+    while failure is None:
+        J = J_mat(x)
+        if not np.all(np.isfinite(J)):
+            failure = f"jac returned {J.tolist()} at x={here()}, after {len(steps)} iterations"
+            break
+        if is_singular(J[None])[0]:
+            message = f"the Jacobian is {singular_jacobian_text(n)} at x={here()}; Newton cannot take a " \
+                      "step from here: try another seed"
+            if on_failure == "raise":
+                raise SingularJacobianError(message, x=here(), condition_number=float(np.linalg.cond(J)))
+            return result(False, message, singular=True)
+        with np.errstate(all="ignore"):
+            step = linear_solver(J[None])(-fx[None])[0]
             x = x + step
             fx = F_vec(x)
-            history.append(x.copy())
-            steps.append(step)
-            residuals.append(float(np.linalg.norm(fx)))
+        history.append(x.copy())
+        steps.append(step)
+        residuals.append(float(np.linalg.norm(fx)))
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(fx))):
-            raise ConvergenceError(
-                f"Newton diverged: a non-finite value appeared after {len(steps)} iterations",
-                result=result(False),
-            )
-        if np.linalg.norm(step) < tol and residuals[-1] <= residual_tol:
-            return result(True)
-
-    last = result(False)
-    raise ConvergenceError(
-        f"Newton did not converge in max_iter={max_iter} iterations "
-        f"(last step {last.step_norms[-1]:.3g}, residual {last.residual_norms[-1]:.3g})",
-        result=last,
-    )
+            failure = f"Newton diverged: a non-finite value appeared after {len(steps)} iterations"
+        elif np.linalg.norm(step) < tol and residuals[-1] <= residual_tol:
+            return result(True, f"converged in {len(steps)} iterations")
+        elif len(steps) == max_iter:
+            failure = (f"Newton did not converge in max_iter={max_iter} iterations "
+                       f"(last step {np.linalg.norm(step):.3g}, residual {residuals[-1]:.3g})")
+    last = result(False, failure)
+    if on_failure == "raise":
+        raise ConvergenceError(failure, result=last)
+    return last
 
 
 def _row_norms(a: np.ndarray) -> np.ndarray:
-    """The 2-norm of each row of an (N, n) array."""
     return np.sqrt(np.einsum("ij,ij->i", a, a))
 
 
-def newton_batch(
-    F: Callable[[np.ndarray], np.ndarray],
-    x0: np.ndarray,
-    jac: Callable[[np.ndarray], np.ndarray] | bool | None = None,
-    tol: float = 1e-6,
-    max_iter: int = 50,
-    residual_tol: float | None = None,
-) -> BatchNewtonResult:
-    """Solve N independent systems F(x_i) = 0 at once, one vectorized loop.
+def newton_batch(F: Callable, x0, jac: Callable | bool | None = None, tol: float = 1e-6, max_iter: int = 50,
+                 residual_tol: float | None = None, on_failure: str = "report") -> BatchNewtonResult:
+    """Solve N independent systems F(x_i) = 0 at once, one vectorized loop, by the rule of :func:`newton`.
 
-    ``x0`` has shape (N, n); ``F`` maps the whole (N, n) array of iterates to
-    (N, n) residuals and ``jac`` to (N, n, n) Jacobians (row i of the output
-    depends only on row i of the input).  ``jac=True`` means that ``F`` returns
-    the pair (residuals, Jacobians), so that the two can share their work (as
-    ``jac=True`` in ``scipy.optimize.root``).  Each system stops on its own by the
-    same rule as :func:`newton`; rows that have stopped are no longer updated.
-    Nothing is raised for a system that fails: see ``converged`` and
-    ``singular`` in the result.
+    ``x0`` (N, n); ``F`` maps the (N, n) iterates to (N, n) residuals and ``jac`` to (N, n, n)
+    Jacobians (row i depends on row i only); ``jac=True``: ``F`` returns the pair, so that they
+    share their work (as in ``scipy.optimize.root``).  Each system stops on its own.  Failed
+    systems have ``converged`` False (and ``singular`` True if J stopped them); with
+    ``on_failure="raise"`` the first failed one raises as :func:`newton` would.
 
-    >>> import numpy as np
     >>> targets = np.array([[2.0], [9.0]])
     >>> result = newton_batch(lambda x: x**2 - targets, np.ones((2, 1)), jac=lambda x: 2 * x[:, :, None])
-    >>> np.round(result.x[:, 0], 9).tolist(), result.converged.tolist(), result.iterations.tolist()
-    ([1.414213562, 3.0], [True, True], [5, 6])
+    >>> np.round(result.x[:, 0], 9).tolist(), result.iterations.tolist(), result.message
+    ([1.414213562, 3.0], [5, 6], 'all 2 systems converged')
     >>> both = newton_batch(lambda x: (x**2 - targets, 2 * x[:, :, None]), np.ones((2, 1)), jac=True)
     >>> bool(np.array_equal(both.x, result.x)), both.iterations.tolist()
     (True, [5, 6])
     """
-    _check_settings(tol, max_iter)
-    residual_tol = tol if residual_tol is None else float(residual_tol)
-    x = np.array(x0, dtype=float)
+    tol, max_iter, residual_tol = _settings(tol, max_iter, residual_tol, on_failure)
+    try:
+        x = np.array(x0, dtype=float)
+    except (TypeError, ValueError):
+        x = np.array(np.nan)
     if x.ndim != 2 or not np.all(np.isfinite(x)):
         raise InvalidGeometryError(f"x0 must be a finite (N, n) array; got shape {np.shape(x0)}")
-    N = x.shape[0]
+    N, n = x.shape
     if jac is True:
-        evaluate = F
+        def evaluate(xs):
+            pair = F(xs)
+            if not (isinstance(pair, tuple) and len(pair) == 2):
+                raise InvalidGeometryError(f"with jac=True, F must return (residuals, Jacobians); got {pair!r}")
+            return _real("F", pair[0], (N, n), xs), lambda: _real("jac", pair[1], (N, n, n), xs)
     else:
-        jacobian = (lambda xs: finite_difference_jacobian(F, xs)) if jac is None or jac is False else jac
+        if jac is None or jac is False:
+            def jacobian(xs):
+                return finite_difference_jacobian(F, xs)
+        else:
+            jacobian = jac
 
         def evaluate(xs):
-            return F(xs), lambda: jacobian(xs)  # the Jacobian only when a step follows
+            return _real("F", F(xs), (N, n), xs), lambda: _real("jac", jacobian(xs), (N, n, n), xs)
 
-    converged = np.zeros(N, dtype=bool)
-    singular = np.zeros(N, dtype=bool)
-    iterations = np.zeros(N, dtype=int)
-    step_norms = np.full(N, np.inf)
-    rows = np.arange(N)  # the systems still iterating
-
-    with np.errstate(all="ignore"):  # rows that failed may hold NaN; they are masked out
+    converged, singular = np.zeros(N, dtype=bool), np.zeros(N, dtype=bool)
+    iterations, step_norms = np.zeros(N, dtype=int), np.full(N, np.inf)
+    with np.errstate(all="ignore"):  # failed rows may hold NaN; they are masked out
         fx, J = evaluate(x)
-        fx = np.asarray(fx, float)
         residual_norms = _row_norms(fx)
-        for _ in range(int(max_iter)):
+        rows = np.flatnonzero(np.isfinite(residual_norms))  # the systems still iterating
+        for _ in range(max_iter):
+            if rows.size == 0:
+                break
             whole = rows.size == N  # while every row iterates, slices avoid fancy-indexed copies
-            J = np.asarray(J() if callable(J) else J, float)
-            if not whole:
-                J = J[rows]
-            bad = ~(_hadamard_ratio(J) > 1.0 / MAX_CONDITION)
+            J = J() if whole else J()[rows]
+            bad = is_singular(J)
             if bad.any():
-                singular[rows[bad]] = True
+                singular[rows[bad & np.isfinite(J).all(axis=(1, 2))]] = True
                 rows, J, whole = rows[~bad], J[~bad], False
                 if rows.size == 0:
                     break
             sel = slice(None) if whole else rows
-            step = np.linalg.solve(J, -fx[sel][:, :, None])[:, :, 0]
+            step = linear_solver(J)(-fx[sel])
             x[sel] += step
             iterations[sel] += 1
             steps = _row_norms(step)
             fx, J = evaluate(x)
-            fx = np.asarray(fx, float)
             residuals = _row_norms(fx[sel])
-            step_norms[sel] = steps
-            residual_norms[sel] = residuals
-            finite = np.isfinite(steps + residuals)
+            step_norms[sel], residual_norms[sel] = steps, residuals
             done = (steps < tol) & (residuals <= residual_tol)
             converged[sel] |= done
-            stop = done | ~finite
+            stop = done | ~np.isfinite(steps + residuals)
             if stop.any():
                 rows = rows[~stop]
-                if rows.size == 0:
-                    break
 
-    return BatchNewtonResult(
-        x=x,
-        converged=converged,
-        iterations=iterations,
-        singular=singular,
-        step_norms=step_norms,
-        residual_norms=residual_norms,
-    )
+    failed = np.flatnonzero(~converged)
+    if failed.size == 0:
+        message = f"all {N} systems converged"
+    else:
+        k = failed[0]
+        why = ("its Jacobian is " + singular_jacobian_text(n) if singular[k] else
+               "a non-finite value appeared" if not np.isfinite(residual_norms[k] + step_norms[k]) or
+               not np.all(np.isfinite(x[k])) else f"not converged in max_iter={max_iter} iterations")
+        message = f"{failed.size} of {N} systems did not converge; the first, row {k}: {why}"
+    result = BatchNewtonResult(x=x, converged=converged, iterations=iterations, singular=singular,
+                               step_norms=step_norms, residual_norms=residual_norms, message=message)
+    if failed.size and on_failure == "raise":
+        if singular[failed[0]]:
+            raise SingularJacobianError(message, x=x[failed[0]].tolist())
+        raise ConvergenceError(message, result=result)
+    return result

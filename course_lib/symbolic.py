@@ -20,7 +20,7 @@ from collections.abc import Callable, Sequence
 
 import sympy as sp
 
-__all__ = ["TIME", "time_symbols", "d_dt", "static", "half_angle", "jacobian", "lambdify"]
+__all__ = ["TIME", "time_symbols", "rate_name", "d_dt", "static", "half_angle", "jacobian", "lambdify"]
 
 #: The time symbol used by every time-dependent symbol of the course.
 TIME = sp.Symbol("t", real=True)
@@ -35,8 +35,12 @@ def time_symbols(*names: str) -> tuple[sp.Function, ...]:
     return tuple(sp.Function(name, real=True)(TIME) for name in names)
 
 
-def _rate_name(name: str, order: int) -> str:
-    """theta2 → omega2 / alpha2; r1 → v_r1 / a_r1; anything else → d_name / dd_name."""
+def rate_name(name: str, order: int) -> str:
+    """The name of the first or second time derivative: theta2 → omega2, alpha2; anything else, r1 → v_r1, a_r1.
+
+    >>> rate_name("theta3", 1), rate_name("r1", 2)
+    ('omega3', 'a_r1')
+    """
     if name.startswith("theta"):
         return ("omega" if order == 1 else "alpha") + name[len("theta") :]
     return ("v_" if order == 1 else "a_") + name
@@ -60,7 +64,7 @@ def d_dt(expr: sp.Expr, order: int = 1) -> sp.Expr:
         base = function.expr
         count = sum(c for _, c in function.variable_count)
         name = base.func.__name__
-        replacements[function] = sp.Symbol(_rate_name(name, count), real=True)
+        replacements[function] = sp.Symbol(rate_name(name, count), real=True)
     return derivative.xreplace(replacements)
 
 

@@ -203,11 +203,105 @@ def test_batch_bad_seed_shape():
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
 def test_singularity_measure_matches_numpy_determinant(n):
-    from course_lib.newton import _hadamard_ratio
+    from course_lib.newton import hadamard_ratio
 
     J = np.random.default_rng(n).normal(size=(20, n, n))
     if n > 1:
         J[0, -1] = J[0, 0]  # two equal rows: exactly singular
     expected = np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=2), axis=1)
-    np.testing.assert_allclose(_hadamard_ratio(J), expected, rtol=1e-10, atol=1e-15)
-    assert n == 1 or _hadamard_ratio(J)[0] < 1e-15
+    np.testing.assert_allclose(hadamard_ratio(J), expected, rtol=1e-10, atol=1e-15)
+    assert n == 1 or hadamard_ratio(J)[0] < 1e-15
+
+
+# ------------------------------------------------------------------ one rule, one result shape, bad input
+
+
+def test_max_iter_is_capped_so_a_cycle_cannot_run_for_minutes():
+    # x³ − 2x + 2 from 0 cycles 0 → 1 → 0 … forever; 10⁷ updates would take minutes and grow the history
+    with pytest.raises(InvalidGeometryError, match=r"max_iter must be at most 10,000.*max_iter=10000000"):
+        newton(lambda x: x**3 - 2 * x + 2, 0.0, jac=lambda x: 3 * x * x - 2, max_iter=10**7)
+    with pytest.raises(InvalidGeometryError, match=r"max_iter=20000"):
+        newton_batch(lambda x: x, np.ones((2, 1)), max_iter=20_000)
+    with pytest.raises(ConvergenceError) as info:
+        newton(lambda x: x**3 - 2 * x + 2, 0.0, jac=lambda x: 3 * x * x - 2, max_iter=10_000)
+    assert info.value.result.history.shape == (10_001,)
+    np.testing.assert_array_equal(info.value.result.history[:4], [0.0, 1.0, 0.0, 1.0])
+
+
+@pytest.mark.parametrize(("setting", "value"), [
+    ("tol", None), ("tol", "1e-6"), ("tol", True), ("tol", np.nan), ("tol", 0.0), ("tol", -1e-6),
+    ("max_iter", np.nan), ("max_iter", np.inf), ("max_iter", None), ("max_iter", 0), ("max_iter", True),
+    ("residual_tol", np.nan), ("residual_tol", -1.0), ("residual_tol", 0.0), ("on_failure", "ignore"),
+])
+def test_bad_settings_are_named_with_their_value(setting, value):
+    for solve, seed in ((newton, 1.0), (newton_batch, np.ones((2, 1)))):
+        with pytest.raises(InvalidGeometryError, match=rf"{setting} must .*got {value!r}"):
+            solve(lambda x: x - 0.5, seed, **{setting: value})
+
+
+def test_residual_tol_inf_is_the_matlab_rule():
+    result = newton(lambda x: x - 3.0, 0.0, jac=lambda x: 1e8, max_iter=5, residual_tol=np.inf)
+    assert result.converged and result.iterations == 1
+
+
+@pytest.mark.parametrize(("F", "jac", "message"), [
+    (lambda v: v - 1, lambda v: np.eye(3), r"jac must return a Jacobian of shape \(2, 2\).*got shape \(3, 3\)"),
+    (lambda v: v - 1, lambda v: np.ones(2), r"jac must return a Jacobian of shape \(2, 2\).*got shape \(2,\)"),
+    (lambda v: None, None, r"F returned None at x=\[0\.5, 0\.5\]"),
+    (lambda v: v - 1, lambda v: None, r"jac returned None at x=\[0\.5, 0\.5\]"),
+    (lambda v: v + 1j, None, r"F returned complex numbers at x=\[0\.5, 0\.5\]"),
+    (lambda v: [v[0], None], None, r"F must return real numbers; got \[.*0\.5\), None\]"),
+])
+def test_misbehaving_callables_are_named(F, jac, message):
+    with pytest.raises(InvalidGeometryError, match=message):
+        newton(F, np.array([0.5, 0.5]), jac=jac)
+
+
+def test_nan_from_F_or_jac_is_said_so_not_called_singular():
+    with pytest.raises(ConvergenceError, match=r"F returned \[nan\] at x=-1\.0"):
+        newton(lambda x: np.sqrt(x) - 2, -1.0, jac=lambda x: 0.5 / np.sqrt(x))
+    with pytest.raises(ConvergenceError, match=r"jac returned \[\[nan\]\] at x=0\.5, after 0 iterations"):
+        newton(lambda x: x - 2, 0.5, jac=lambda x: np.nan)
+    # F defined at the seed, NaN after the first step (x < 0)
+    with pytest.raises(ConvergenceError, match="non-finite value appeared after 1 iterations"):
+        newton(lambda x: np.sqrt(x) + 1.0, 0.25, jac=lambda x: 0.5 / np.sqrt(x))
+    batch = newton_batch(lambda x: np.sqrt(x) - 2, np.array([[-1.0], [1.0]]), jac=lambda x: 0.5 / np.sqrt(x)[:, :, None])
+    assert batch.converged.tolist() == [False, True] and batch.singular.tolist() == [False, False]
+    assert "row 0: a non-finite value appeared" in batch.message
+
+
+def test_one_result_shape_and_one_rule_for_failures():
+    single = newton(lambda x: x**2 + 1.0, 2.0, jac=lambda x: 2 * x, max_iter=5, on_failure="report")
+    batch = newton_batch(lambda x: x**2 + 1.0, np.array([[2.0]]), jac=lambda x: 2 * x[:, :, None], max_iter=5)
+    for name in ("x", "converged", "singular", "iterations", "message", "step_norms", "residual_norms"):
+        assert hasattr(single, name) and hasattr(batch, name)
+    assert not single.converged and single.iterations == 5 and "max_iter=5" in single.message
+    assert batch.converged.tolist() == [False] and "max_iter=5 iterations" in batch.message
+    assert single.x == batch.x[0, 0] and single.residual_norms[-1] == batch.residual_norms[0]
+    with pytest.raises(ConvergenceError, match="1 of 1 systems did not converge") as info:
+        newton_batch(lambda x: x**2 + 1.0, np.array([[2.0]]), jac=lambda x: 2 * x[:, :, None], max_iter=5,
+                     on_failure="raise")
+    assert info.value.result.iterations.tolist() == [5]
+    stuck = newton(lambda x: x**2 - 2.0, 0.0, jac=lambda x: 2.0 * x, on_failure="report")
+    assert stuck.singular and not stuck.converged and "condition number > 1e+12" in stuck.message
+    with pytest.raises(SingularJacobianError, match="row 0: its Jacobian is singular"):
+        newton_batch(lambda x: x**2 - 2.0, np.zeros((1, 1)), jac=lambda x: 2 * x[:, :, None], on_failure="raise")
+
+
+def test_batch_callables_of_the_wrong_shape_are_named():
+    with pytest.raises(InvalidGeometryError, match=r"jac must return Jacobians of shape \(3, 2, 2\)"):
+        newton_batch(lambda x: x - 1, np.zeros((3, 2)), jac=lambda x: np.zeros((3, 2)))
+    with pytest.raises(InvalidGeometryError, match=r"F must return residuals of shape \(3, 2\).*got shape \(3,\)"):
+        newton_batch(lambda x: x[:, 0], np.zeros((3, 2)))
+    with pytest.raises(InvalidGeometryError, match=r"with jac=True, F must return \(residuals, Jacobians\)"):
+        newton_batch(lambda x: x - 1, np.zeros((3, 2)), jac=True)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_linear_solver_equals_numpy_solve(n):
+    from course_lib.newton import linear_solver
+
+    rng = np.random.default_rng(10 + n)
+    J, b = rng.normal(size=(50, n, n)) + 2 * np.eye(n), rng.normal(size=(50, n))
+    np.testing.assert_allclose(linear_solver(J)(b), np.linalg.solve(J, b[..., None])[..., 0], rtol=1e-10,
+                               atol=1e-12)

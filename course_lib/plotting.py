@@ -1,5 +1,9 @@
 """Pictures for the lessons: linkages with labelled links and numbered joints,
-Newton convergence plots, and animations rendered to HTML (no ffmpeg needed).
+Newton convergence plots, and animations rendered to HTML (no ffmpeg needed) with a still
+picture for wherever JavaScript does not run.
+
+pyplot is imported only by the functions that make a new figure, so importing this module
+(e.g. for ``LINK_COLORS``) stays cheap.
 
 >>> import matplotlib
 >>> matplotlib.use("Agg")
@@ -11,18 +15,24 @@ Newton convergence plots, and animations rendered to HTML (no ffmpeg needed).
 
 from __future__ import annotations
 
+import base64
+import hashlib
+import io
+import itertools
+import math
+import sys
 from collections.abc import Callable, Sequence
 
-import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.animation import FuncAnimation
 from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from PIL import Image
 
 from .errors import InvalidGeometryError
 from .newton import NewtonResult
 
-__all__ = ["draw_linkage", "plot_convergence", "animation_html", "LINK_COLORS"]
+__all__ = ["draw_linkage", "plot_convergence", "animation_html", "AnimationHTML", "LINK_COLORS"]
 
 #: One colour per link, in the order the links are given.
 LINK_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown")
@@ -70,6 +80,8 @@ def draw_linkage(
     if not np.all(np.isfinite(xy)):
         raise InvalidGeometryError("points must be finite: the linkage is not assembled here")
     if ax is None:
+        import matplotlib.pyplot as plt
+
         ax = plt.figure(figsize=(5, 4)).add_subplot()
     span = float(np.ptp(xy, axis=0).max()) or 1.0
     for k, (i, j, label) in enumerate(links):
@@ -148,6 +160,8 @@ def plot_convergence(
     if exact is None:
         errors = errors[:-1]
     steps = np.arange(len(history))
+    import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.4), layout="constrained")
     for k in range(n):
         axes[0].plot(steps, history[:, k], "o-", label=names[k])
@@ -168,25 +182,331 @@ def plot_convergence(
     return fig
 
 
-def animation_html(
-    fig: Figure, update: Callable[[int], object], frames: int, interval_ms: float = 40
-) -> str:
-    """Animate ``fig`` by calling ``update(frame)`` for each frame and return
-    a self-contained HTML/JavaScript player (no ffmpeg needed).
+class AnimationHTML(str):
+    """An animation player's HTML that also displays as a still picture.
 
-    The figure is closed afterwards so the notebook shows only the player;
-    display it with ``IPython.display.HTML``.
+    It *is* the player's HTML text (a ``str``, so ``IPython.display.HTML(...)`` still takes it), and
+    displayed directly in a notebook it gives three representations: ``text/html`` (the player,
+    whose HTML shows the still until JavaScript replaces it), ``image/png`` (the still: a filmstrip
+    of a few frames) and a one-line ``text/plain``.
+
+    Attributes: ``still_png`` (PNG bytes), ``frame_count``, ``interval_ms``.
+    """
+
+    still_png: bytes
+    frame_count: int
+    interval_ms: float
+
+    def _repr_html_(self) -> str:
+        return str(self)
+
+    def _repr_mimebundle_(self, include=None, exclude=None, **kwargs) -> dict:
+        """text/html (the player), image/png (the filmstrip) and text/plain.
+
+        >>> import matplotlib; matplotlib.use("Agg")
+        >>> from matplotlib.figure import Figure
+        >>> fig = Figure(figsize=(2, 1.5), dpi=40)
+        >>> line, = fig.add_subplot().plot([0, 1], [0, 0])
+        >>> bundle = animation_html(fig, lambda k: line.set_ydata([0, k]), frames=5)._repr_mimebundle_()
+        >>> sorted(bundle), bundle["text/plain"]
+        (['image/png', 'text/html', 'text/plain'], 'animation: 5 frames, 40 ms each')
+        """
+        return {
+            "text/html": str(self),
+            "image/png": base64.b64encode(self.still_png).decode("ascii"),
+            "text/plain": f"animation: {self.frame_count} frames, {self.interval_ms:g} ms each",
+        }
+
+
+#: Frames in a filmstrip (the still of an animation); a row when narrow enough, else a 2 × 2 grid.
+_STILL_FRAMES = 4
+_STILL_MAX_ROW_PX = 1100
+_players = itertools.count(1)  # numbers the players of one session, so two equal animations differ
+
+_PLAYER_JS = """(function () {
+  var root = document.getElementById("%(id)s");
+  if (!root || root.getAttribute("data-ready")) return;
+  root.setAttribute("data-ready", "1");
+  var width = %(width)d, height = %(height)d, delay = %(interval)s, k = 0, timer = null, waiting = 0;
+  // each frame: [background, left, top, patch]; the patch (what moves) is drawn over its background
+  var backgrounds = [%(backgrounds)s];
+  var frames = new Array(%(count)d);
+%(frames)s
+  function picture(uri) {
+    var image = new Image();
+    waiting += 1;
+    image.onload = function () { waiting -= 1; if (!waiting) show(k); };
+    image.src = "data:image/png;base64," + uri;
+    return image;
+  }
+  backgrounds = backgrounds.map(picture);
+  frames = frames.map(function (f) { return [f[0], f[1], f[2], f[3] ? picture(f[3]) : null]; });
+  var canvas = document.createElement("canvas");
+  canvas.width = width; canvas.height = height;
+  canvas.style.cssText = "display:block;max-width:100%%";
+  canvas.setAttribute("aria-label", "animation of %(count)d frames");
+  var context = canvas.getContext("2d");
+  var bar = document.createElement("div");
+  bar.style.cssText = "font:13px sans-serif;margin-top:2px";
+  function button(label, title, action) {
+    var b = document.createElement("button");
+    b.textContent = label; b.title = title; b.onclick = action;
+    b.style.cssText = "min-width:2.4em;margin-right:3px";
+    bar.appendChild(b);
+    return b;
+  }
+  var slider = document.createElement("input"), count = document.createElement("span");
+  function show(j) {
+    k = (j + frames.length) %% frames.length;
+    slider.value = k;
+    count.textContent = " frame " + (k + 1) + " / " + frames.length;
+    if (waiting) return;
+    var f = frames[k];
+    context.drawImage(backgrounds[f[0]], 0, 0);
+    if (f[3]) context.drawImage(f[3], f[1], f[2]);
+  }
+  function stop() { if (timer) { clearInterval(timer); timer = null; } play.textContent = "\u25B6"; }
+  function tick() { if (!document.body.contains(canvas)) { stop(); return; } show(k + 1); }
+  button("\u23EE", "first frame", function () { stop(); show(0); });
+  button("\u25C0", "previous frame", function () { stop(); show(k - 1); });
+  var play = button("\u25B6", "play / pause (loops)", function () {
+    if (timer) { stop(); } else { timer = setInterval(tick, delay); play.textContent = "\u275A\u275A"; }
+  });
+  button("\u25B6|", "next frame", function () { stop(); show(k + 1); });
+  slider.type = "range"; slider.min = 0; slider.max = frames.length - 1; slider.value = 0;
+  slider.style.cssText = "vertical-align:middle;width:12em";
+  slider.oninput = function () { stop(); show(parseInt(slider.value, 10)); };
+  bar.appendChild(slider); bar.appendChild(count);
+  while (root.firstChild) root.removeChild(root.firstChild);
+  root.appendChild(canvas); root.appendChild(bar);
+  show(0);
+})();"""
+
+
+def animation_html(
+    fig: Figure,
+    update: Callable[[int], object],
+    frames: int,
+    interval_ms: float = 40,
+    *,
+    max_frames: int = 48,
+    dpi: float | None = None,
+) -> AnimationHTML:
+    """Animate ``fig`` by calling ``update(frame)`` for each frame and return a self-contained
+    HTML/JavaScript player (no ffmpeg needed) that also displays a still picture.
+
+    Display the result in a notebook cell (as the cell's last expression) to get the player where
+    JavaScript runs and a filmstrip of four frames everywhere else (GitHub, ``nbconvert`` without
+    scripts, a notebook not yet trusted); ``IPython.display.HTML(result)`` shows the player only.
+
+    Rendering is cheap: the figure is laid out and drawn once; the artists that ``update`` changes
+    (found by matplotlib's *stale* flags) are then drawn, alone, over that cached background for
+    each frame.  The player stores the background once and, per frame, only the box where the
+    frame differs from it, as 256-colour PNGs, and paints them on a canvas.  More than
+    ``max_frames`` frames are thinned to ``max_frames`` evenly spaced ones, shown for
+    proportionally longer, so the animation keeps its duration.  ``dpi`` overrides the figure's
+    resolution.  The figure is closed afterwards (when pyplot manages it), so the notebook shows
+    only the player.
 
     >>> import matplotlib; matplotlib.use("Agg")
-    >>> fig, ax = plt.subplots()
+    >>> import matplotlib.pyplot as plt
+    >>> fig, ax = plt.subplots(figsize=(2, 1.5), dpi=40)
     >>> line, = ax.plot([0, 1], [0, 0])
     >>> html = animation_html(fig, lambda k: line.set_ydata([0, k]), frames=2)
-    >>> html.lstrip().startswith("<link") or "<script" in html
-    True
+    >>> "<script" in html and "frames[1]" in html, html.frame_count
+    (True, 2)
     """
-    if int(frames) != frames or frames < 1:
-        raise InvalidGeometryError(f"frames must be a positive integer; got {frames!r}")
-    animation = FuncAnimation(fig, update, frames=int(frames), interval=interval_ms, blit=False)
-    html = animation.to_jshtml(default_mode="loop")
-    plt.close(fig)
-    return html
+    if isinstance(frames, bool) or not isinstance(frames, int | np.integer) or frames < 1:
+        raise InvalidGeometryError(f"frames must be a positive whole number; got {frames!r}")
+    if not isinstance(fig, Figure):
+        raise InvalidGeometryError(f"fig must be a matplotlib Figure; got {type(fig).__name__}")
+    if not callable(update):
+        raise InvalidGeometryError(f"update must be a function of the frame number; got {update!r}")
+    interval = _positive_number("interval_ms", interval_ms)
+    if isinstance(max_frames, bool) or not isinstance(max_frames, int | np.integer) or max_frames < 1:
+        raise InvalidGeometryError(f"max_frames must be a positive whole number; got {max_frames!r}")
+    if dpi is not None:
+        fig.set_dpi(_positive_number("dpi", dpi))
+    chosen = [int(k) for k in np.arange(min(frames, max_frames)) * frames // min(frames, max_frames)]
+    interval *= frames / len(chosen)
+    frames_drawn, backgrounds = _render_frames(fig, update, chosen)
+    _close(fig)
+    return _player(frames_drawn, backgrounds, interval)
+
+
+def _positive_number(name: str, value) -> float:
+    ok = not isinstance(value, bool) and isinstance(value, int | float | np.integer | np.floating)
+    if not ok or not math.isfinite(value) or value <= 0:
+        raise InvalidGeometryError(f"{name} must be a positive, finite number; got {value!r}")
+    return float(value)
+
+
+def _render_frames(fig: Figure, update: Callable[[int], object], chosen: list[int]):
+    """Each chosen frame as an RGB array, with the index of its background (what does not move) in
+    the list of backgrounds also returned: one layout and one full draw, then only what moves."""
+    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+    update(chosen[0])
+    canvas.draw()  # the one layout (constrained, tight, …), then the layout engine is switched off
+    engine = fig.get_layout_engine()
+    fig.set_layout_engine("none")
+    # the artists update() makes stale are the moving ones
+    parts = [artist for artist in fig.findobj() if not isinstance(artist, Figure | Axes)]
+    _clear_stale(parts)  # (some, e.g. an empty text or a tick out of view, stay stale after a draw)
+    if len(chosen) > 1:
+        update(chosen[1])
+    moving = [artist for artist in parts if artist.stale]
+    was_animated = [artist.get_animated() for artist in moving]
+    for artist in moving:
+        artist.set_animated(True)
+    moving.sort(key=lambda artist: artist.get_zorder())
+    moving_ids = set(map(id, moving))
+    frames, backgrounds, watched, limits, saved = [], [], [], None, None
+    try:
+        for frame in chosen:
+            update(frame)
+            now = [(axes.get_xlim(), axes.get_ylim()) for axes in fig.axes]
+            if saved is None or now != limits or any(artist.stale for artist in watched):
+                canvas.draw()  # something besides the moving artists changed: a new background
+                saved, limits = canvas.copy_from_bbox(fig.bbox), now
+                backgrounds.append(_rgb(canvas))
+                watched = [artist for artist in fig.findobj()
+                           if id(artist) not in moving_ids and not isinstance(artist, Figure | Axes)]
+                _clear_stale(watched)  # from here on, stale means update() changed it
+            else:
+                canvas.restore_region(saved)
+            for artist in moving:
+                if artist.get_visible():
+                    (artist.axes or fig).draw_artist(artist)
+            frames.append((_rgb(canvas), len(backgrounds) - 1))
+    finally:
+        for artist, animated in zip(moving, was_animated, strict=True):
+            artist.set_animated(animated)
+        fig.set_layout_engine(engine)
+    return frames, backgrounds
+
+
+def _clear_stale(artists) -> None:
+    for artist in artists:
+        artist.stale = False  # (setting False propagates to nothing)
+
+
+def _rgb(canvas: FigureCanvasAgg) -> np.ndarray:
+    return np.asarray(canvas.buffer_rgba())[..., :3].copy()
+
+
+class _Quantizer:
+    """Pictures as 256-colour PNGs in one palette: exact for the picture's most frequent colours
+    (white, black, the lines' own colours), the nearest palette colour for anti-aliased blends.
+
+    Made from a first picture; later pictures of the same figure (the same colours, moved) map
+    through a lookup table of 7 bits per channel filled as new colours appear, so a 688 × 528
+    picture maps in a few milliseconds.  (PIL's own mapping to a palette works at 6 bits per
+    channel and turns white into 252 grey; this one is off by at most one level.)
+    """
+
+    _UNSEEN = 255  # lookup-table value of a cell not met yet; the palette uses entries 0…254
+
+    def __init__(self, picture: np.ndarray):
+        values, counts = np.unique(_pack(picture), return_counts=True)
+        if len(values) > self._UNSEEN:
+            common = values[np.argsort(counts, kind="stable")[::-1][:127]]
+            octree = Image.fromarray(_rgb_of(picture)).quantize(128, method=Image.Quantize.FASTOCTREE)
+            blends = np.asarray(octree.getpalette()[:384], np.uint32).reshape(-1, 3)
+            values = np.concatenate([common, (blends[:, 0] << 16) | (blends[:, 1] << 8) | blends[:, 2]])
+        self.colours = np.stack([(values >> 16) & 255, (values >> 8) & 255, values & 255], axis=1)
+        self.colours = self.colours.astype(np.int32)
+        self.table = np.full(1 << 21, self._UNSEEN, np.uint8)
+        self.palette = self.colours.astype(np.uint8).ravel().tolist()
+
+    def png(self, picture: np.ndarray, compress_level: int = 1) -> bytes:
+        """An RGB or RGBA array (height, width, 3 or 4) as a PNG in this palette."""
+        packed = _pack(picture)
+        cells = ((packed >> 3) & 0x1FC000) | ((packed >> 2) & 0x3F80) | ((packed >> 1) & 0x7F)
+        indices = self.table[cells]
+        unseen = indices == self._UNSEEN
+        if unseen.any():  # new colours: each new cell takes the palette colour nearest its first pixel
+            first_cells, first = np.unique(cells[unseen], return_index=True)
+            colours = picture[unseen][first, :3].astype(np.int32)
+            distances = ((colours[:, None, :] - self.colours[None, :, :]) ** 2).sum(axis=2)
+            self.table[first_cells] = distances.argmin(axis=1)
+            indices = self.table[cells]
+        image = Image.fromarray(indices)
+        image.putpalette(self.palette)  # (an "L" image with a palette becomes a "P" image)
+        buffer = io.BytesIO()
+        image.save(buffer, format="PNG", compress_level=compress_level)
+        return buffer.getvalue()
+
+
+def _pack(picture: np.ndarray) -> np.ndarray:
+    """Each pixel's RGB as one integer, 65536 R + 256 G + B."""
+    red, green, blue = (picture[..., k].astype(np.uint32) for k in range(3))
+    return (red << 16) | (green << 8) | blue
+
+
+def _rgb_of(picture: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(picture[..., :3])
+
+
+def _filmstrip(pictures: list[np.ndarray]) -> np.ndarray:
+    """Up to four evenly spaced frames side by side (or 2 × 2 when a row would be too wide)."""
+    count = min(_STILL_FRAMES, len(pictures))
+    chosen = [pictures[k * len(pictures) // count] for k in range(count)]
+    height, width, _ = chosen[0].shape
+    gap = 4
+    columns = count if count * width <= _STILL_MAX_ROW_PX or count < _STILL_FRAMES else 2
+    rows = -(-count // columns)
+    shape = (rows * height + (rows - 1) * gap, columns * width + (columns - 1) * gap, 3)
+    strip = np.full(shape, 200, np.uint8)
+    for k, picture in enumerate(chosen):
+        top, left = (k // columns) * (height + gap), (k % columns) * (width + gap)
+        strip[top:top + height, left:left + width] = picture
+    return strip
+
+
+def _b64(data: bytes) -> str:
+    return base64.b64encode(data).decode("ascii")
+
+
+def _player(frames: list[tuple[np.ndarray, int]], backgrounds: list[np.ndarray], interval: float
+            ) -> AnimationHTML:
+    """The HTML/JS player: the backgrounds once, and per frame only the box where it differs from its
+    background (cropped PNG), drawn on a canvas; plus the filmstrip still."""
+    quantizer = _Quantizer(frames[0][0])
+    lines, patches = [], []
+    for k, (picture, background) in enumerate(frames):
+        rows, columns = np.nonzero(np.any(picture != backgrounds[background], axis=2))
+        if rows.size:
+            top, left, bottom, right = rows.min(), columns.min(), rows.max() + 1, columns.max() + 1
+            patch = quantizer.png(picture[top:bottom, left:right], 6)
+            patches.append(patch)
+            lines.append(f'  frames[{k}] = [{background}, {left}, {top}, "{_b64(patch)}"];')
+        else:
+            lines.append(f"  frames[{k}] = [{background}, 0, 0, null];")
+    pictures = [picture for picture, _ in frames]
+    strip = _filmstrip(pictures)
+    still = _Quantizer(strip).png(strip, 9)
+    digest = hashlib.sha1(b"".join(patches) + still).hexdigest()[:12]
+    element = f"course-animation-{digest}-{next(_players)}"
+    height, width, _ = pictures[0].shape
+    script = _PLAYER_JS % {
+        "id": element, "width": width, "height": height, "count": len(frames),
+        "interval": f"{interval:.0f}",
+        "backgrounds": ", ".join(f'"{_b64(quantizer.png(background, 6))}"' for background in backgrounds),
+        "frames": "\n".join(lines),
+    }
+    strip_height, strip_width, _ = strip.shape
+    html = (
+        f'<div class="course-animation" id="{element}">'
+        f'<img src="data:image/png;base64,{_b64(still)}" width="{strip_width}" height="{strip_height}" '
+        f'alt="{len(frames)} frames of an animation; a still of {min(_STILL_FRAMES, len(frames))} of them">'
+        f"</div>\n<script>\n{script}\n</script>\n"
+    )
+    result = AnimationHTML(html)
+    result.still_png, result.frame_count, result.interval_ms = still, len(frames), round(interval, 3)
+    return result
+
+
+def _close(fig: Figure) -> None:
+    """Close the figure if pyplot manages it (a bare Figure needs nothing)."""
+    if "matplotlib.pyplot" in sys.modules:
+        sys.modules["matplotlib.pyplot"].close(fig)

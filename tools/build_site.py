@@ -16,7 +16,9 @@ Steps:
 2. **Build** with Jupyter Book 1 (Sphinx, ``execute_notebooks: off``), MathJax copied into
    ``_static/mathjax`` from a pinned package.
 3. **Publish the notebooks as committed**: each page's download link (``_sources/…ipynb``) serves
-   the committed file, not the display copy.
+   the committed file, not the display copy.  MathJax keeps its one entry point (``mathjax_path``
+   in the config) and everything that loads lazily (extensions, fonts, menu, accessibility, SVG
+   output); the package's other combined entry points, never loaded, are left out.
 4. **Check** that no page, stylesheet or script tag of the site loads anything from outside it.
 """
 
@@ -32,6 +34,7 @@ import sys
 import time
 
 import nbformat
+import yaml
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SITE_CONFIG = ROOT / "site" / "_config.yml"
@@ -210,6 +213,26 @@ def publish_committed_notebooks() -> None:
         shutil.copyfile(path, target)
 
 
+def mathjax_entry() -> str:
+    """The MathJax component the pages load, as ``mathjax_path`` in ``site/_config.yml`` names it."""
+    config = yaml.safe_load(SITE_CONFIG.read_text(encoding="utf-8"))
+    path = config["sphinx"]["config"]["mathjax_path"]
+    if "://" in path or not path.startswith("mathjax/"):
+        raise SiteError(f"mathjax_path must name a file under _static/mathjax/, not {path!r}")
+    return path.split("/", 1)[1]
+
+
+def prune_mathjax() -> None:
+    """Drop the combined MathJax components other than the one the pages load (none loads another)."""
+    folder = HTML / "_static" / "mathjax"
+    entry = folder / mathjax_entry()
+    if not entry.is_file():
+        raise SiteError(f"the site has no {entry.relative_to(HTML)}")
+    for component in folder.glob("*.js"):
+        if component.name.startswith(("tex-", "mml-", "node-main")) and component != entry:
+            component.unlink()
+
+
 def outside_loads(html_root: pathlib.Path = HTML) -> list[str]:
     """``file: snippet`` for every tag or stylesheet rule of the site that loads from outside it."""
     found = []
@@ -232,6 +255,7 @@ def main() -> int:
     staged = stage()
     build()
     publish_committed_notebooks()
+    prune_mathjax()
     outside = outside_loads()
     if outside:
         raise SiteError("pages load from outside the site:\n  " + "\n  ".join(outside))

@@ -200,6 +200,13 @@ class AnimationHTML(str):
     def _repr_html_(self) -> str:
         return str(self)
 
+    def _text(self) -> str:
+        return f"animation: {self.frame_count} frames, {self.interval_ms:g} ms each"
+
+    def _repr_pretty_(self, printer, cycle) -> None:
+        """IPython's plain text (which would otherwise print the HTML, as for any ``str``)."""
+        printer.text(self._text())
+
     def _repr_mimebundle_(self, include=None, exclude=None, **kwargs) -> dict:
         """text/html (the player), image/png (the filmstrip) and text/plain.
 
@@ -214,7 +221,7 @@ class AnimationHTML(str):
         return {
             "text/html": str(self),
             "image/png": base64.b64encode(self.still_png).decode("ascii"),
-            "text/plain": f"animation: {self.frame_count} frames, {self.interval_ms:g} ms each",
+            "text/plain": self._text(),
         }
 
 
@@ -416,7 +423,6 @@ class _Quantizer:
         self.colours = np.stack([(values >> 16) & 255, (values >> 8) & 255, values & 255], axis=1)
         self.colours = self.colours.astype(np.int32)
         self.table = np.full(1 << 21, self._UNSEEN, np.uint8)
-        self.palette = self.colours.astype(np.uint8).ravel().tolist()
 
     def png(self, picture: np.ndarray, compress_level: int = 1) -> bytes:
         """An RGB or RGBA array (height, width, 3 or 4) as a PNG in this palette."""
@@ -430,8 +436,11 @@ class _Quantizer:
             distances = ((colours[:, None, :] - self.colours[None, :, :]) ** 2).sum(axis=2)
             self.table[first_cells] = distances.argmin(axis=1)
             indices = self.table[cells]
-        image = Image.fromarray(indices)
-        image.putpalette(self.palette)  # (an "L" image with a palette becomes a "P" image)
+        used = np.flatnonzero(np.bincount(indices.ravel(), minlength=256))  # the PNG lists only these
+        remap = np.zeros(256, np.uint8)
+        remap[used] = np.arange(len(used))
+        image = Image.fromarray(remap[indices])
+        image.putpalette(self.colours[used].astype(np.uint8).ravel().tolist())  # ("L" + palette: "P")
         buffer = io.BytesIO()
         image.save(buffer, format="PNG", compress_level=compress_level)
         return buffer.getvalue()

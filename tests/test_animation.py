@@ -139,6 +139,15 @@ def test_display_bundle_has_player_filmstrip_and_text():
     assert base64.b64decode(first.group(1)) == html.still_png
 
 
+def test_ipython_displays_the_three_representations_not_the_html_as_text():
+    from IPython.core.formatters import DisplayFormatter
+
+    fig, update, count = _pendulum()
+    html = animation_html(fig, update, frames=count, interval_ms=80)
+    data, _ = DisplayFormatter().format(html)
+    assert data == html._repr_mimebundle_()
+
+
 def test_a_wide_animation_gets_a_two_by_two_still():
     fig = Figure(figsize=(6, 2), dpi=50)
     FigureCanvasAgg(fig)

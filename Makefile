@@ -20,7 +20,10 @@ $(STAMP): environment.txt pyproject.toml
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -r environment.txt
 	touch $(STAMP)
 
+# JupyterLab's settings for this project (no news pop-up): tools/lab-settings/overrides.json
 lab: $(STAMP)
+	mkdir -p $(VENV)/share/jupyter/lab/settings
+	cp tools/lab-settings/overrides.json $(VENV)/share/jupyter/lab/settings/overrides.json
 	$(BIN)/jupyter lab $(LAB_ROOT) --ServerApp.root_dir=notebooks --LabApp.default_url=/lab/tree/00_start_here.ipynb $(LAB_ARGS)
 
 test: $(STAMP)

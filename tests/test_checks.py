@@ -13,7 +13,7 @@ from geometry import circle_intersections, fourbar_pins
 from course_lib import checks
 from course_lib.fivebar import FiveBar
 from course_lib.fourbar import FourBar
-from course_lib.saw import Saw
+from course_lib.saw import Saw, analytic
 from course_lib.slider_crank import OffsetSliderCrank
 
 BENCH = FourBar(crank=0.07, coupler=0.20, rocker=0.15, ground=0.25)
@@ -287,7 +287,9 @@ def test_fourbar_rates():
     rejects(check((alpha4, omega4), BENCH, theta2, omega2, alpha2, "open"), "swapped")
     rejects(check((omega3, alpha4), BENCH, theta2, omega2, alpha2, "open"), "ω3")
     flipped4 = _rates_by_sympy(BENCH, theta2, omega2, -alpha2, "open")[1]  # α2 entered with its sign flipped
-    rejects(check((omega4, flipped4), BENCH, theta2, omega2, alpha2, "open"), "opposite sign", hidden=[alpha4])
+    rejects(
+        check((omega4, flipped4), BENCH, theta2, omega2, alpha2, "open"), "opposite sign", hidden=[alpha4]
+    )
 
 
 def test_toggle_angle():
@@ -509,7 +511,7 @@ def test_motor_start_against_a_numerical_integration():
 
 def test_saw_rates_against_finite_differences():
     theta2, omega2, h = np.pi / 2, 6.472, 1e-6
-    ahead, behind = (np.asarray(checks.analytic(theta2 + s * h, saw=MY_SAW))[:3] for s in (1, -1))
+    ahead, behind = (np.asarray(analytic(theta2 + s * h, saw=MY_SAW))[:3] for s in (1, -1))
     rates = (ahead - behind) / (2 * h) * omega2  # (ṙ1, θ̇1, θ̇3) by central differences
     check = checks.check_saw_rates
     assert check(rates, MY_SAW, theta2, omega2).ok

@@ -1,0 +1,31 @@
+"""Checkers for the exercise notebooks and the lessons' "Try it" cells: take a student's answer,
+return friendly feedback.
+
+Each checker returns a :class:`Feedback` (``ok`` and a ``message``) for any answer; it never
+raises on one.  The message names what looks wrong — a wrong branch or working mode, degrees
+instead of radians, a sign error, missing ω² terms, millimetres instead of metres — and never
+prints the reference value.  Equivalent answers are accepted: angles modulo 2π, algebraically
+equal sympy expressions, an equation multiplied by a constant, either order where order does
+not matter.  SI units (m, s) and radians throughout; nothing is printed.
+
+One module per exercise set (``ex01`` … ``ex05``) and one for the lessons (``lessons``), all on
+the shared feedback engine (``engine``: read the answer, compare it, diagnose it).
+
+>>> check_mobility({"links": 6, "full_joints": 7, "half_joints": 0, "mobility": 1}).ok
+True
+>>> print(check_mobility((5, 7, 0, -2)))
+✘ Not yet: count the ground (the frame, bancada) as one of the links.
+"""
+# ruff: noqa: F403 — each module lists its checkers in its __all__
+
+from . import ex01, ex02, ex03, ex04, ex05, lessons
+from .engine import ANGLE_TOL, RELATIVE_TOL, Feedback
+from .ex01 import *
+from .ex02 import *
+from .ex03 import *
+from .ex04 import *
+from .ex05 import *
+from .lessons import *
+
+__all__ = ["ANGLE_TOL", "RELATIVE_TOL", "Feedback"]
+__all__ += ex01.__all__ + ex02.__all__ + ex03.__all__ + ex04.__all__ + ex05.__all__ + lessons.__all__

@@ -1,0 +1,404 @@
+"""The feedback engine every checker shares: read the answer, compare it, diagnose it.
+
+A checker reads the answer with a parser (:func:`vector`, :func:`number`, :func:`integer`,
+:func:`word`, :func:`fields`; sympy answers with :func:`judge_expression`), then hands it to
+:func:`diagnose` with its rules: (candidate, verdict) pairs tried in order.  The first candidate
+is the reference and its verdict the ✔ message; the others are known mistakes (the other branch,
+degrees, a flipped sign …), each with its hint.  A candidate is a value (a tuple with None for
+"any" entries), a list of such values, or a function of the answer returning True; a verdict
+given as a :class:`Feedback` is returned as it is.  No rule prints a reference value, nothing here
+raises on an answer, and sympy is imported only by the functions that judge expressions.
+"""
+
+import functools
+import inspect
+import itertools
+import re
+import types
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..planar import wrap_angle
+
+#: Absolute tolerance on angles (rad) and relative tolerance on other numbers.
+ANGLE_TOL = 1e-6
+RELATIVE_TOL = 1e-6
+NO_ANSWER = "No answer yet: build your answer in the cell above, then run this check."
+
+
+@dataclass(frozen=True)
+class Feedback:
+    """The verdict on one answer: ``ok`` and a message for the student.
+
+    It prints (and displays in a notebook) as one line starting with ✔ or ✘;
+    ``bool(feedback)`` is ``ok``.
+
+    >>> Feedback(True, "Correct.")
+    ✔ Correct.
+    """
+
+    ok: bool
+    message: str
+
+    def __str__(self) -> str:
+        return ("✔ " if self.ok else "✘ ") + self.message
+
+    def __repr__(self) -> str:
+        return str(self)
+
+    def __bool__(self) -> bool:
+        return self.ok
+
+
+def right(message: str = "Correct.") -> Feedback:
+    return Feedback(True, message)
+
+
+def wrong(message: str) -> Feedback:
+    return Feedback(False, "Not yet: " + message)
+
+
+def unanswered(answer: Any) -> Feedback | None:
+    blanks = isinstance(answer, tuple | list) and len(answer) > 0 and all(a is None for a in answer)
+    return Feedback(False, NO_ANSWER) if answer is None or answer is Ellipsis or blanks else None
+
+
+def reads(parse: Callable[[Any], Any] | None = None):
+    """Make a checker of ``check``: "no answer yet" for None, the parser's feedback on an answer it
+    cannot read, else ``check`` called with the answer as read.  A failure while judging becomes
+    feedback, never a traceback; a call with the wrong arguments still raises."""
+
+    def decorate(check):
+        signature = inspect.signature(check)
+
+        @functools.wraps(check)
+        def checker(answer, *args, **kwargs):
+            signature.bind(answer, *args, **kwargs)
+            if (missing := unanswered(answer)) is not None:
+                return missing
+            try:
+                with np.errstate(all="ignore"):
+                    value = parse(answer) if parse else answer
+                    return value if isinstance(value, Feedback) else check(value, *args, **kwargs)
+            except Exception as error:  # the last resort: a student sees feedback, not a traceback
+                return wrong(f"this answer could not be checked ({type(error).__name__}); give it in the "
+                             "form the task asks for.")
+
+        return checker
+
+    return decorate
+
+
+# ---------------------------------------------------------------- reading numbers and words
+
+_NOT_NUMBERS = (  # what a student is told an entry is instead of a number
+    (type(None) | type(Ellipsis), "None (fill in every entry)"),
+    (bool | np.bool_, "True/False (a bool is not a number)"),
+    (str | bytes, "a string (drop the quotes)"),
+    (complex | np.complexfloating, "a complex number"),
+    (Mapping, "a dict"),
+    (set | frozenset, "a set (a set has no order: use a tuple)"),
+    (Iterator, "an iterator (make a list or tuple of it)"),
+)
+
+
+def _not_a_number(item: Any) -> str:
+    """What ``item`` (or something inside it) is when it cannot be a real number; "" otherwise."""
+    for kind, phrase in _NOT_NUMBERS:
+        if isinstance(item, kind):
+            return phrase
+    if isinstance(item, np.ndarray) and item.dtype.kind in "bcUSO":
+        item = item.ravel().tolist()
+    if isinstance(item, list | tuple):
+        return next(filter(None, map(_not_a_number, item)), "")
+    if getattr(item, "is_extended_real", None) is False:  # sympy's I, zoo
+        return "a complex number"
+    if getattr(item, "free_symbols", None):
+        return "a sympy expression with symbols (substitute numbers, then take float(...))"
+    return "a function (call it to get its value)" if callable(item) else ""
+
+
+def _floats(answer: Any) -> tuple[np.ndarray | None, str]:
+    """``answer`` as a flat float array, or None and what it is instead."""
+    if problem := _not_a_number(answer):
+        return None, problem
+    try:
+        array = np.asarray(answer)
+        if array.dtype.kind not in "iuf":
+            array = np.array([float(item) for item in array.ravel().tolist()])
+    except OverflowError:
+        return None, "a number too large for a float"
+    except Exception:
+        nested = isinstance(answer, list | tuple)
+        return None, "a ragged nested list" if nested else f"an object of type {type(answer).__name__}"
+    return array.astype(float).ravel(), ""
+
+
+def vector(size: int | tuple[int, ...], what: str):
+    """A parser: ``size`` (or any size of a tuple) finite real numbers as a float array; one as a float."""
+    sizes = (size,) if isinstance(size, int) else size
+    count = max(sizes)
+    expected = "a number (a plain float)" if count == 1 else f"{count} plain numbers (floats)"
+
+    def parse(answer):
+        values, problem = _floats(answer)
+        if values is None:
+            vector_z = count == 2 and problem == "a complex number"
+            return wrong(f"{what} should be {expected}, not {problem}"
+                         + (" (for a vector z = x + iy, give (z.real, z.imag))." if vector_z else "."))
+        if values.size not in sizes:
+            counted = {0: "no numbers", 1: "a single number"}.get(values.size, f"{values.size} numbers")
+            return wrong(f"{what} should be {expected}; got {counted}.")
+        if not np.all(np.isfinite(values)):
+            return wrong(f"{what} contains NaN or infinity.")
+        return float(values[0]) if count == 1 else values
+
+    return parse
+
+
+number = functools.partial(vector, 1)  # a parser: one finite real number, as a float
+
+
+def integer(what: str):
+    """A parser: one whole number (6 or 6.0), as an int."""
+
+    def parse(answer):
+        values, problem = _floats(answer)
+        if values is None or values.size != 1 or not float(values[0]).is_integer():
+            return wrong(f"{what} should be a whole number" + (f", not {problem}." if problem else "."))
+        return int(values[0])
+
+    return parse
+
+
+def word(choices: Sequence[str], message: str, clean=lambda text: re.sub(r"[\s_\-,()]", "", text.lower())):
+    """A parser: a string that reads, cleaned (lower case, no spaces or brackets), as one of ``choices``."""
+    return lambda text: clean(text) if isinstance(text, str) and clean(text) in choices else wrong(message)
+
+
+def fields(what: str, *parts, keys: Sequence[str] = ()):
+    """A parser: a tuple or list of len(parts) entries (or a dict with ``keys``), each read by its part."""
+
+    def parse(answer):
+        if keys and isinstance(answer, Mapping):
+            if set(keys) - set(answer):
+                return wrong(f"the dict needs the keys {', '.join(keys)}.")
+            answer = [answer[key] for key in keys]
+        answer = answer.tolist() if isinstance(answer, np.ndarray) and answer.ndim == 1 else answer
+        if not isinstance(answer, list | tuple) or len(answer) != len(parts):
+            got = f"{len(answer)} entries" if isinstance(answer, list | tuple) else _not_a_number(answer)
+            return wrong(f"give {what}; got {got or 'a single value'}.")
+        values = [part(entry) for part, entry in zip(parts, answer, strict=True)]
+        return next((v for v in values if isinstance(v, Feedback)), values)
+
+    return parse
+
+
+def choice(answer: Any, correct: str, why_not: Mapping[str, str], message: str) -> Feedback:
+    """A multiple-choice answer: one letter among the keys of ``why_not`` plus ``correct``."""
+    letters = sorted({*why_not, correct})
+    letter = word(letters, f"answer with one letter among {', '.join(letters)} (a string).")(answer)
+    if isinstance(letter, Feedback):
+        missing = unanswered(answer)
+        return letter if missing is None else missing
+    return right(message) if letter == correct else wrong(why_not[letter])
+
+
+# ---------------------------------------------------------------- comparing and diagnosing
+
+
+def _pairs(value, reference) -> tuple[np.ndarray, np.ndarray]:
+    """Float arrays to compare; None in a tuple ``reference`` stands for any value."""
+    if isinstance(reference, tuple) and any(r is None for r in reference):
+        kept = [i for i, r in enumerate(reference) if r is not None]
+        return np.asarray(value, float)[kept], np.array([reference[i] for i in kept], float)
+    return np.asarray(value, float), np.asarray(reference, float)
+
+
+def close(value, reference, rtol: float = RELATIVE_TOL, atol: float = 1e-12) -> bool:
+    value, reference = _pairs(value, reference)
+    difference = np.abs(value - reference)
+    return value.shape == reference.shape and bool(np.all(difference <= atol + rtol * np.abs(reference)))
+
+
+#: close, with an absolute floor of 1e-9 (for quantities that may be zero)
+near = functools.partial(close, atol=1e-9)
+
+
+def angles_close(value, reference, tol: float = ANGLE_TOL) -> bool:
+    value, reference = _pairs(value, reference)
+    return value.shape == reference.shape and bool(np.all(np.abs(wrap_angle(value - reference)) <= tol))
+
+
+def in_degrees(value, reference) -> bool:
+    """True when ``value`` is ``reference`` written in degrees (modulo 360°)."""
+    return angles_close(np.radians(value), reference) and not angles_close(value, reference)
+
+
+def _holds(matches: Callable[[Any, Any], bool], answer: Any, candidate: Any) -> bool:
+    """Whether a rule's candidate fits the answer; one that cannot be computed or compared does not."""
+    try:
+        with np.errstate(all="ignore"):
+            if isinstance(candidate, list):
+                return any(_holds(matches, answer, each) for each in candidate)
+            if isinstance(candidate, types.FunctionType):
+                return bool(candidate(answer))
+            return bool(matches(answer, candidate))
+    except Exception:
+        return False
+
+
+def diagnose(answer: Any, matches: Callable[[Any, Any], bool], rules, otherwise: str) -> Feedback:
+    """The verdict of the first rule whose candidate fits the answer (see the module's docstring): ✔
+    for the first rule, a hint ("Not yet: …") for the others; the hint ``otherwise`` when none fits."""
+    for index, (candidate, verdict) in enumerate(rules):
+        if _holds(matches, answer, candidate):
+            if isinstance(verdict, Feedback):
+                return verdict
+            return right(verdict) if index == 0 else wrong(verdict)
+    return wrong(otherwise)
+
+
+def first(rules, correct: str) -> Feedback:
+    """The hint of the first (condition, hint) rule whose condition is True; ✔ ``correct`` when none is."""
+    return next((wrong(hint) for condition, hint in rules if condition), right(correct))
+
+
+def angle_verdict(value: float, reference: float, alternatives, otherwise: str) -> Feedback:
+    """An angle judged modulo 2π: right, another known angle (each with its hint), or in degrees."""
+    return diagnose(value, angles_close, [
+        (reference, right("Correct (angles are compared modulo 2π).")),
+        *alternatives,
+        (lambda v: in_degrees(v, reference), "that is the right angle in degrees; the course (and "
+                                             "course_lib) works in radians."),
+        *((lambda v, o=other: in_degrees(v, o), "that is in degrees — and " + hint)
+          for other, hint in alternatives),
+    ], otherwise)
+
+
+# ---------------------------------------------------------------- sympy answers
+
+
+def _evaluate(expr, names: Sequence[str], count: int = 6) -> tuple[np.ndarray, list]:
+    """``expr`` at random points: lengths in [0.5, 2], everything else in [−1.4, 1.4] (fixed seed)."""
+    import sympy as sp
+
+    generator = np.random.default_rng(20240601)
+    ranges = [(0.5, 2.0) if re.fullmatch(r"l\d|r\d|r1y", name) else (-1.4, 1.4) for name in names]
+    points = [[generator.uniform(*limits) for limits in ranges] for _ in range(count)]
+    function = sp.lambdify(sp.symbols(names, real=True), expr, modules="numpy")
+    return np.array([complex(function(*point)) for point in points]), points
+
+
+def same(expr, reference, names: Sequence[str]) -> bool:
+    """Algebraically equal, decided by evaluation: equal at random points in double precision,
+    then at three of them with 40 significant digits.  Two different trigonometric-rational
+    expressions do not agree to 30 digits at random points.  (``sympy.simplify`` is not used:
+    its run time depends on the hash seed and can explode on these expressions.)"""
+    import sympy as sp
+
+    (a, points), (b, _) = _evaluate(expr, names), _evaluate(reference, names)
+    if not np.allclose(a, b, rtol=1e-9, atol=1e-12):
+        return False
+    for point in points[:3]:
+        values = {s: sp.Float(v, 40) for s, v in zip(sp.symbols(names, real=True), point, strict=True)}
+        scale = abs(sp.N(reference.xreplace(values), 40)) + 1
+        if not abs(sp.N((expr - reference).xreplace(values), 40)) < 1e-30 * scale:
+            return False
+    return True
+
+
+def proportional(expr, reference, names: Sequence[str]) -> bool:
+    """expr = k·reference for a nonzero constant k (the same equation expr = 0)."""
+    import sympy as sp
+
+    (a, _), (b, _) = _evaluate(expr, names), _evaluate(reference, names)
+    if np.any(np.abs(b) < 1e-9) or not np.all(np.isfinite(a)):
+        return False
+    ratio = a / b
+    if not 1e-12 < abs(ratio[0]) or abs(ratio[0].imag) >= 1e-12:
+        return False
+    if not np.allclose(ratio, ratio[0], rtol=1e-9, atol=0):
+        return False
+    return same(expr, sp.nsimplify(ratio[0].real, rational=True) * reference, names)
+
+
+def plain(answer: Any, names: Sequence[str]):
+    """One sympy expression in the symbols ``names``: θ(t) → θ, every symbol real (its assumptions
+    ignored), "a = b" read as a − b (as b for "ω4 = b"); the feedback instead when it is not one."""
+    import sympy as sp
+
+    from ..symbolic import static
+
+    if isinstance(answer, str):
+        return wrong("build a sympy expression (not a string), e.g. with sp.symbols.")
+    try:
+        problem = "" if hasattr(answer, "free_symbols") else _not_a_number(answer)
+        expr = None if problem else sp.sympify(answer, strict=True)
+    except Exception:
+        problem = f"an object of type {type(answer).__name__}"
+    if problem:
+        return wrong(f"that is not a sympy expression but {problem}; build one from sp.symbols(...).")
+    if isinstance(expr, sp.Equality):
+        expr = expr.rhs if expr.lhs.is_Symbol and expr.lhs.name not in names else expr.lhs - expr.rhs
+    if not isinstance(expr, sp.Expr) or getattr(expr, "is_Matrix", False):
+        return wrong("expected one sympy expression.")
+    if expr.atoms(sp.Derivative):
+        return wrong("your expression still holds a Derivative(θ(t), t); write it with ω "
+                     "(course_lib.symbolic.d_dt does that) or with plain symbols.")
+    if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+        return wrong("your expression is infinite or undefined — a division by zero?")
+    expr = static(expr)
+    expr = expr.xreplace({s: sp.Symbol(s.name, real=True) for s in expr.free_symbols})
+    if extra := sorted(s.name for s in expr.free_symbols if s.name not in names):
+        return wrong(f"your expression uses symbols the task does not define: {', '.join(extra)} "
+                     f"(allowed: {', '.join(names)}).")
+    return expr if expr.free_symbols else wrong(f"that holds no symbol: the task asks for a formula in "
+                                                f"{', '.join(names)}.")
+
+
+def _entries(answer: Any) -> tuple[Any, str]:
+    """A lone entry out of one-element containers; else the entries (label, entry) and what holds them."""
+    while True:
+        if isinstance(answer, Mapping):
+            entries, kind = [(str(k), v) for k, v in answer.items()], f"a dict of {len(answer)}"
+        elif getattr(answer, "is_Matrix", False):
+            entries, kind = list(enumerate(answer)), "a {}×{} Matrix".format(*answer.shape)
+        elif isinstance(answer, list | tuple | np.ndarray):
+            items = np.ravel(np.array(answer, dtype=object)) if isinstance(answer, np.ndarray) else answer
+            name = {"list": "a list", "tuple": "a tuple"}.get(type(answer).__name__, "an array")
+            entries, kind = list(enumerate(items)), f"{name} of {len(items)}"
+        else:
+            return answer, ""
+        if len(entries) != 1:
+            return entries, kind if entries else "empty"
+        answer = entries[0][1]
+
+
+def judge_expression(answer: Any, names: Sequence[str], rules, otherwise: str, system: str = "") -> Feedback:
+    """A sympy answer in the symbols ``names`` judged by :func:`diagnose` (the reference first in
+    ``rules``): one expression compared by :func:`same`; a Matrix or list of them (LUsolve's, solve's)
+    is told which element to pass.  With ``system`` (how to give it) the answer is a system of
+    equations "= 0" instead, each may be scaled by a constant, in any order (candidates are tuples)."""
+    def matches(expr, candidate):
+        return not isinstance(expr, Feedback) and same(expr, candidate, names)
+
+    entries, kind = _entries(answer)
+    if system:
+        if not kind or len(entries) != len(rules[0][0]):
+            return wrong(f"give {system}.")
+        exprs = [plain(entry, names) for _, entry in entries]
+        problem = next((expr for expr in exprs if isinstance(expr, Feedback)), None)
+        return problem if problem is not None else diagnose(exprs, lambda exprs, candidate: any(
+            all(proportional(a, b, names) for a, b in zip(order, candidate, strict=True))
+            for order in itertools.permutations(exprs)), rules, otherwise)
+    if kind:
+        hits = [label for label, entry in entries if _holds(matches, plain(entry, names), rules[0][0])]
+        where = f"pass its element [{hits[0]}] alone" if hits else "pick the one element the task asks for"
+        return wrong(f"that is {kind}; the task asks for one expression: "
+                     + ("build it from sp.symbols(...)." if kind == "empty" else where + "."))
+    expr = plain(entries, names)
+    return expr if isinstance(expr, Feedback) else diagnose(expr, matches, rules, otherwise)

@@ -1,0 +1,139 @@
+"""Checkers of exercise set 01 (vector loops and mobility) and of lesson 00's Try it."""
+
+import numpy as np
+
+from ..planar import cross_k, polar
+from .engine import Feedback, choice, close, diagnose, fields, first, integer, judge_expression, reads, vector
+
+__all__ = ["check_mobility", "check_tilted_loop", "check_link_vector", "check_point_velocity",
+           "check_redundant_parallelogram"]
+
+#: The six-bar of exercise 01: a four-bar O2-A-B-O4 plus a dyad B-C-O6 pinned at B.
+_SIX_BAR = {"links": 6, "full_joints": 7, "half_joints": 0, "mobility": 1}
+
+
+@reads(fields("(L, J1, J2, M) as a tuple of four integers, or a dict", *map(integer, ("L", "J1", "J2", "M")),
+              keys=tuple(_SIX_BAR)))
+def check_mobility(answer) -> Feedback:
+    """Exercise 01, task 1: counts (L, J1, J2) and mobility M of the six-bar with a triple pin at B.
+
+    ``answer`` is a dict with keys ``links, full_joints, half_joints, mobility`` or a tuple
+    (L, J1, J2, M).
+
+    >>> check_mobility((6, 6, 0, 3)).ok
+    False
+    """
+    L, J1, J2, M = answer
+    return first([
+        (L == _SIX_BAR["links"] - 1, "count the ground (the frame, bancada) as one of the links."),
+        (L != _SIX_BAR["links"], "recount the links: every rigid body, the ground included, counts once."),
+        (J2 != 0, "every joint here is a pin (one relative freedom): a full joint, not a half joint."),
+        (J1 == _SIX_BAR["full_joints"] - 1, "at B three links meet (coupler, rocker and link 5): a pin "
+                                            "joining three links counts as two full joints."),
+        (J1 != _SIX_BAR["full_joints"], "recount the pins; where k links share one pin it counts as k − 1 "
+                                        "joints."),
+        (M != 3 * (L - 1) - 2 * J1 - J2, "the counts are right, but M does not follow from them: "
+                                         "M = 3(L − 1) − 2·J1 − J2."),
+    ], "Correct: one input (the crank) drives the whole six-bar.")
+
+
+_LOOP_NAMES = ("l1", "l2", "l3", "l4", "theta1", "theta2", "theta3", "theta4")
+
+
+def _tilted_loop(sign3: int = 1, ground_tilt: bool = True) -> tuple:
+    import sympy as sp
+
+    l1, l2, l3, l4, t1, t2, t3, t4 = sp.symbols(_LOOP_NAMES, real=True)
+    t1 = t1 if ground_tilt else 0
+    return tuple(l2 * f(t2) + sign3 * l3 * f(t3) - l4 * f(t4) - l1 * f(t1) for f in (sp.cos, sp.sin))
+
+
+@reads()
+def check_tilted_loop(answer) -> Feedback:
+    """Exercise 01, task 2: x and y components of R2 + R3 − R4 − R1 = 0 with the ground tilted by θ1.
+
+    ``answer`` is a pair (x-component, y-component) of sympy expressions in l1…l4, θ1…θ4
+    (each "= 0"; a component multiplied by a constant is the same equation).
+
+    >>> import sympy as sp
+    >>> l1, l2, l3, l4 = sp.symbols("l1:5")
+    >>> t1, t2, t3, t4 = sp.symbols("theta1:5")
+    >>> x = l2 * sp.cos(t2) + l3 * sp.cos(t3) - l4 * sp.cos(t4) - l1 * sp.cos(t1)
+    >>> y = l2 * sp.sin(t2) + l3 * sp.sin(t3) - l4 * sp.sin(t4) - l1 * sp.sin(t1)
+    >>> check_tilted_loop([x, y]).ok, check_tilted_loop([y, -x]).ok
+    (True, True)
+    """
+    return judge_expression(answer, _LOOP_NAMES, [
+        (_tilted_loop(), "Correct: two scalar equations, one per component."),
+        (_tilted_loop(ground_tilt=False), "that is the loop with a horizontal ground; here "
+                                          "R1 = l1(cos θ1, sin θ1) is tilted."),
+        (_tilted_loop(sign3=-1), "a sign error: walking O2 → A → B adds R2 and R3; walking O2 → O4 → B adds "
+                                 "R1 and R4, so R1 and R4 carry the minus sign."),
+    ], "compare each term with the walk O2 → A → B versus O2 → O4 → B (signs, lengths, angles).",
+        system="the two components as a list [x_component, y_component] (or a 2×1 Matrix)")
+
+
+@reads(vector(2, "the vector (x, y)"))
+def check_link_vector(answer, length: float, angle_degrees: float) -> Feedback:
+    """Lesson 00, Try it: the vector (x, y) in metres of a link of ``length`` (m) at ``angle_degrees``.
+
+    >>> check_link_vector((0.0, 0.06), 0.06, 90.0).ok
+    True
+    """
+    reference = polar(length, np.radians(angle_degrees))
+    return diagnose(answer, lambda values, candidate: close(values, candidate, atol=1e-9 * length), [
+        (reference, "Correct: R = l (cos θ, sin θ)."),
+        (reference[::-1], "x and y are swapped: x goes with cos θ, y with sin θ."),
+        ([1000 * reference, 100 * reference], "the length is in metres, not mm or cm."),
+        (polar(length, angle_degrees), "the angle went into cos/sin in degrees; numpy's trigonometric "
+                                       "functions take radians."),
+    ], "R = l (cos θ î + sin θ ĵ): evaluate cos θ and sin θ for the given angle.")
+
+
+@reads(vector((1, 2), "the velocity (vx, vy)"))
+def check_point_velocity(answer, length: float, angle_degrees: float, speed: float, clockwise: bool
+                         ) -> Feedback:
+    """Exercise 01, task 3: velocity (vx, vy) in m/s of the tip of a link of ``length`` (m) at
+    ``angle_degrees`` (as the statement gives it), turning at ``speed`` (rad/s, > 0) about a
+    fixed pivot, ``clockwise`` or not.
+
+    >>> check_point_velocity([-0.6, 0.0], 0.1, 90.0, 6.0, clockwise=False).ok
+    True
+    """
+    omega = -abs(speed) if clockwise else abs(speed)
+    tip = polar(length, np.radians(angle_degrees))
+    reference = omega * cross_k(tip)
+
+    def matches(values, candidate):
+        return close(values, candidate, atol=1e-9 * max(abs(omega) * length, 1e-300))
+
+    return diagnose(answer, matches, [
+        (reference, "Correct: the tip moves perpendicular to the link with speed l·|ω|."),
+        (lambda values: values.size == 1 and close(abs(values[0]), abs(omega) * length),
+         "l·|ω| is only the speed; the velocity is a vector (vx, vy) = ω k̂ × R."),
+        (lambda values: values.size == 1, "give the velocity as a vector (vx, vy) in m/s."),
+        (1000 * reference, "that looks like mm/s: the length is in metres, so the velocity is in m/s."),
+        (omega * cross_k(polar(length, angle_degrees)), "the angle went into sin/cos in degrees; numpy's "
+                                                        "trigonometric functions take radians."),
+        (-reference, "a sign error: clockwise rotation means ω < 0, and k̂ × R turns R by +90° "
+                     "(counter-clockwise)."),
+        (reference[::-1], "the components are swapped: give (vx, vy)."),
+        (lambda values: matches(np.abs(values), np.abs(omega * tip)),
+         "that vector is along the link; the velocity is perpendicular to it (k̂ × R)."),
+    ], "use v = ω k̂ × R with R = l(cos θ, sin θ): k̂ × (x, y) = (−y, x).")
+
+
+def check_redundant_parallelogram(answer) -> Feedback:
+    """Exercise 01, task 4: why the parallelogram with a mid-height bar moves although M = 0.
+
+    >>> check_redundant_parallelogram("b").ok
+    True
+    """
+    return choice(answer, "b", {
+        "a": "the ground was counted once, correctly: L = 5 includes it, and M = 3·4 − 2·6 = 0 is the right "
+             "Gruebler count. The count is fine; its assumption is not.",
+        "c": "ideal pins have no clearance in this course; the motion is a real, finite motion.",
+        "d": "a pin is a full joint (one relative rotation); making them half joints would not explain why "
+             "this particular geometry moves and a slightly different one locks.",
+    }, "Correct: with CD equal and parallel to O2O4, the two pins at C and D repeat constraints the "
+       "parallelogram already imposes. Gruebler assumes independent equations, so it undercounts.")

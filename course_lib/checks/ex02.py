@@ -1,0 +1,130 @@
+"""Checkers of exercise set 02 (Newton–Raphson)."""
+
+import numpy as np
+
+from ..fourbar import BRANCHES, FourBar
+from ..newton import newton
+from .engine import (
+    Feedback,
+    angles_close,
+    choice,
+    diagnose,
+    fields,
+    first,
+    integer,
+    judge_expression,
+    near,
+    number,
+    reads,
+    vector,
+    word,
+)
+
+__all__ = ["check_newton_update", "check_newton_iterations", "check_newton_cycle",
+           "check_fourbar_newton_step", "check_seed_branch"]
+
+
+def _wallis(x):
+    """Newton's own example f(x) = x³ − 2x − 5 and its derivative (of a number or a sympy symbol)."""
+    return x**3 - 2 * x - 5, 3 * x**2 - 2
+
+
+@reads()
+def check_newton_update(answer) -> Feedback:
+    """Exercise 02, task 1: the Newton update x_{n+1} as a sympy expression in x for f = x³ − 2x − 5.
+
+    >>> import sympy as sp
+    >>> x = sp.Symbol("x")
+    >>> check_newton_update((2 * x**3 + 5) / (3 * x**2 - 2)).ok
+    True
+    """
+    import sympy as sp
+
+    x = sp.Symbol("x", real=True)
+    f, df = _wallis(x)
+    return judge_expression(answer, ("x",), [
+        (x - f / df, "Correct: x − f/f' (for this cubic it simplifies to (2x³ + 5)/(3x² − 2))."),
+        (x + f / df, "a sign error: the tangent reaches zero at x − f/f', not x + f/f'."),
+        (x - df / f, "the fraction is upside down: divide f by its derivative f'."),
+        ([f / df, -f / df], "that is the step Δx (up to sign); the update is x_{n+1} = x_n + Δx."),
+        (x - f, "the derivative is missing: Newton divides f by f'."),
+    ], "set the tangent line f(x) + f'(x)(x_{n+1} − x) to zero and solve for x_{n+1}.")
+
+
+@reads(fields("a pair (root, iterations)", number("the root"), integer("the number of iterations")))
+def check_newton_iterations(answer) -> Feedback:
+    """Exercise 02, task 2: (root, iterations) of Newton on x³ − 2x − 5 = 0 from x0 = 2, stopping
+    when |x_{n+1} − x_n| < 1e-6 (iterations = updates x_n → x_{n+1}).
+
+    >>> check_newton_iterations((2.0945514815423265, 4)).ok
+    True
+    """
+    root, count = answer
+    reference = newton(lambda x: _wallis(x)[0], 2.0, jac=lambda x: _wallis(x)[1])
+    far, n = not abs(root - reference.x) < 1e-6, reference.iterations
+    return first([
+        (far and abs(np.polyval([1, 0, -2, -5], root)) < 1e-3, "close, but not within the tolerance: keep "
+                                                               "iterating until |Δx| < 1e-6."),
+        (far, "that root does not satisfy x³ − 2x − 5 = 0; check f and f' in your loop."),
+        (count == n + 1, "one iteration too many: the seed x0 is not an iteration; count the updates."),
+        (count == n - 1, "one iteration too few: the last update is the one whose step falls below 1e-6."),
+        (count != n, "the root is right, but recount the updates x_n → x_{n+1} until |Δx| < 1e-6."),
+    ], "Correct: quadratic convergence — a handful of updates from a good seed.")
+
+
+def check_newton_cycle(answer) -> Feedback:
+    """Exercise 02, task 3: why Newton on x³ − 2x + 2 from x0 = 0 never converges.
+
+    >>> check_newton_cycle("a").ok
+    True
+    """
+    return choice(answer, "a", {
+        "b": "f'(x) = 3x² − 2 is not zero at the iterates 0 and 1, so every step is defined; look at the "
+             "history.",
+        "c": "the iterates stay bounded (look at err.result.history): nothing runs off to infinity.",
+        "d": "a cubic always has a real root (plot it); Newton just never gets near it from 0.",
+    }, "Correct: 0 → 1 → 0 → 1 … a 2-cycle. The tangent at 0 points to 1 and the tangent at 1 back to 0.")
+
+
+@reads(vector(2, "the step Δx"))
+def check_fourbar_newton_step(answer, linkage: FourBar, theta2: float, seed) -> Feedback:
+    """Exercise 02, task 4: the first Newton step Δx = (Δθ3, Δθ4) (rad) for the four-bar loop at
+    crank angle ``theta2`` (rad) from ``seed`` = (θ3, θ4).
+
+    >>> import numpy as np
+    >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
+    >>> F = bar.loop_residual(0.7, 0.5, 1.5); J = bar.loop_jacobian(0.5, 1.5)
+    >>> check_fourbar_newton_step(np.linalg.solve(J, -F), bar, 0.7, (0.5, 1.5)).ok
+    True
+    """
+    seed = np.asarray(seed, float)
+    F, J = linkage.loop_residual(theta2, *seed), linkage.loop_jacobian(*seed)
+    step = np.linalg.solve(J, -F)
+    return diagnose(answer, near, [
+        (step, "Correct: J·Δx = −F, solved without forming J⁻¹."),
+        (seed + step, "that is the new iterate x1 = x0 + Δx; the task asks for the step Δx itself."),
+        (-step, "a sign error: the step solves J·Δx = −F (minus the residual)."),
+        (step[::-1], "the entries are swapped: order them (Δθ3, Δθ4) like the unknowns."),
+        (np.linalg.solve(J.T, -F), "the Jacobian is transposed: row i holds ∂F_i/∂θ3, ∂F_i/∂θ4."),
+        (np.linalg.solve(J, -linkage.loop_residual(np.degrees(theta2), *seed)),
+         "θ2 went into the loop in degrees; convert it with np.radians."),
+    ], "check F (the two loop components at the seed) and J = ∂F/∂(θ3, θ4), then solve J·Δx = −F.")
+
+
+@reads(word(BRANCHES, 'answer "open" or "crossed" (a string).'))
+def check_seed_branch(answer, linkage: FourBar, theta2: float, seed) -> Feedback:
+    """Exercise 02, task 5: which assembly ("open" or "crossed") Newton reaches from ``seed``.
+
+    >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
+    >>> check_seed_branch("crossed", bar, 0.7, (-0.8, -2.0)).ok
+    True
+    """
+    # the course's Newton, with the course's stopping rule
+    theta4 = newton(lambda x: linkage.loop_residual(theta2, *x), np.asarray(seed, float),
+                    jac=lambda x: linkage.loop_jacobian(*x)).x[1]
+    reached = [b for b in BRANCHES if angles_close(theta4, linkage.solve(theta2, branch=b).theta4)]
+    return first([(answer not in reached,
+                   "that is the other branch. Solve from the seed, then compare θ4 with FourBar.solve(θ2, "
+                   'branch="open") and branch="crossed" (angles modulo 2π).')],
+                 "Correct: the seed, not the equations, picks the assembly — compare your θ4 with the closed "
+                 "form of each branch.")

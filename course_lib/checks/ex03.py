@@ -1,0 +1,126 @@
+"""Checkers of exercise set 03 (the four-bar); lesson 03's Try it uses check_fourbar_theta4."""
+
+import numpy as np
+
+from ..fourbar import FourBar
+from .engine import (
+    Feedback,
+    angle_verdict,
+    diagnose,
+    fields,
+    first,
+    in_degrees,
+    judge_expression,
+    near,
+    number,
+    reads,
+    vector,
+    word,
+)
+
+__all__ = ["check_fourbar_theta4", "check_omega4_expression", "check_fourbar_rates", "check_toggle_angle"]
+
+
+def _other(branch: str) -> str:
+    return "crossed" if branch == "open" else "open"
+
+
+@reads(number("θ4"))
+def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -> Feedback:
+    """Exercise 03, task 1: the rocker angle θ4 (rad) at crank angle ``theta2`` on ``branch``.
+
+    >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
+    >>> check_fourbar_theta4(bar.solve(2.0, branch="crossed").theta4 + 2 * np.pi, bar, 2.0, "crossed").ok
+    True
+    """
+    other = _other(branch)
+    this, that = linkage.solve(theta2, branch=branch), linkage.solve(theta2, branch=other)
+    return angle_verdict(answer, this.theta4, [
+        (that.theta4, f"that is θ4 of the {other} branch; the task asks for the {branch} one (the other "
+                      "root of the half-angle quadratic)."),
+        (this.theta3, "that is the coupler angle θ3; the task asks for the rocker angle θ4."),
+        (that.theta3, f"that is θ3 of the {other} branch; the task asks for the rocker angle θ4 of the "
+                      f"{branch} branch."),
+    ], "recheck the half-angle coefficients A, B, C and which root (±√) you took.")
+
+
+_RATE_NAMES = ("l2", "l3", "l4", "theta2", "theta3", "theta4", "omega2")
+
+
+@reads()
+def check_omega4_expression(answer) -> Feedback:
+    """Exercise 03, task 2: ω4 as a sympy expression in l2, l3, l4, θ2, θ3, θ4, ω2.
+
+    >>> import sympy as sp
+    >>> l2, l4, t2, t3, t4, w2 = sp.symbols("l2 l4 theta2 theta3 theta4 omega2")
+    >>> check_omega4_expression(w2 * l2 * sp.sin(t2 - t3) / (l4 * sp.sin(t4 - t3))).ok
+    True
+    """
+    import sympy as sp
+
+    l2, l3, l4, t2, t3, t4, w2 = sp.symbols(_RATE_NAMES, real=True)
+    omega4 = w2 * l2 * sp.sin(t2 - t3) / (l4 * sp.sin(t4 - t3))
+    omega3 = w2 * l2 * sp.sin(t4 - t2) / (l3 * sp.sin(t3 - t4))
+    return judge_expression(answer, _RATE_NAMES, [
+        (omega4, "Correct: ω4 = ω2·l2·sin(θ2 − θ3) / (l4·sin(θ4 − θ3)) in some equivalent form."),
+        (-omega4, "a sign error: recheck the signs of the velocity equations (the minus on R4)."),
+        ([omega3, -omega3], "that is ω3, the coupler's angular velocity; the task asks for the rocker's ω4."),
+        (omega4 / w2, "the factor ω2 is missing: the velocity equations are proportional to the input "
+                      "speed."),
+    ], "differentiate the two loop components, then solve the linear 2×2 system for ω3, ω4.")
+
+
+@reads(vector(2, "(ω4, α4)"))
+def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, alpha2: float, branch: str
+                        ) -> Feedback:
+    """Exercise 03, task 3: (ω4, α4) of the rocker (rad/s, rad/s²) at ``theta2`` on ``branch``.
+
+    >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
+    >>> s = bar.solve(3.5, 15.0, -40.0)
+    >>> check_fourbar_rates((s.omega4, s.alpha4), bar, 3.5, 15.0, -40.0, "open").ok
+    True
+    """
+    this, other = (linkage.solve(theta2, omega2, alpha2, branch=b) for b in (branch, _other(branch)))
+    omega4, alpha4 = this.omega4, this.alpha4
+    return diagnose(answer, near, [
+        ((omega4, alpha4), "Correct: the same Jacobian J solves both the velocity and the acceleration "
+                           "equations."),
+        ((alpha4, omega4), "the two are swapped: give (ω4, α4)."),
+        ((other.omega4, other.alpha4), f"those are the rates of the {_other(branch)} branch; the task is on "
+                                       f"the {branch} branch."),
+        ((omega4, linkage.solve(theta2, 0.0, alpha2, branch=branch).alpha4),  # every ω² term dropped
+         "ω4 is right, but α4 misses the ω² (centripetal) terms: A_k = α_k k̂ × R_k − ω_k² R_k for every "
+         "link, including ω2², ω3² and ω4²."),
+        ((omega4, -alpha4), "ω4 is right, but α4 has the wrong sign."),
+        ((omega4, linkage.solve(theta2, omega2, -alpha2, branch=branch).alpha4),
+         "ω4 is right, but α4 is that of a crank whose α2 has the opposite sign: check the sign of the "
+         "α2 k̂ × R2 terms when you move them to the right-hand side."),
+        ((omega4, None), "ω4 is right; α4 is off — differentiate the velocity equations once more (with the "
+                         "ω² terms)."),
+        ((-omega4, None), "ω4 has the wrong sign: check the signs in the velocity equations (−ω4 l4 …)."),
+        ((this.omega3, None), "that ω is the coupler's ω3; the rocker's is ω4."),
+    ], "ω4 is off: solve J·(ω3, ω4) = −ω2·∂F/∂θ2 at the solved position.")
+
+
+@reads(fields('a pair (theta2_max, "extended" or "folded")', number("θ2_max"),
+              word(("extended", "folded"), 'the second entry is the string "extended" or "folded".')))
+def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
+    """Exercise 03, task 4: (θ2_max in rad, "extended" or "folded") — the largest crank angle the
+    non-Grashof ``linkage`` reaches, and how coupler and rocker lie there.
+
+    >>> bar = FourBar(crank=0.14, coupler=0.12, rocker=0.10, ground=0.20)
+    >>> check_toggle_angle((float(np.arccos(0.2)), "extended"), bar).ok
+    True
+    """
+    value, how = answer
+    limit = max(linkage.input_range().toggle_angles)
+    # below π the largest angle is where coupler and rocker stretch out (|AO4| = l3 + l4); above, they fold
+    state = "extended" if limit < np.pi else "folded"
+    return first([
+        (in_degrees(value, limit), "that is the limit in degrees; give it in radians."),
+        (near(value, -limit), "that is the mirror-image limit (θ2 < 0); the task asks for the largest θ2."),
+        (not near(value, limit), "at the limit |AO4| = l3 + l4 or |l3 − l4|; use the law of cosines "
+                                 "|AO4|² = l1² + l2² − 2 l1 l2 cos θ2."),
+        (how != state, "the angle is right, but look at the picture there: which of l3 + l4 and |l3 − l4| "
+                       "binds?"),
+    ], "Correct: coupler and rocker are collinear there (a toggle), det J = 0, and the crank must turn back.")

@@ -1,0 +1,109 @@
+"""Checkers of exercise set 04 (the power saw)."""
+
+import numpy as np
+
+from ..saw import Saw, analytic
+from .engine import (
+    Feedback,
+    angles_close,
+    choice,
+    diagnose,
+    in_degrees,
+    judge_expression,
+    near,
+    number,
+    reads,
+    vector,
+)
+
+__all__ = ["check_saw_omega3_expression", "check_saw_position", "check_saw_slider_acceleration",
+           "check_saw_linear_stage"]
+
+_SAW_NAMES = ("r1y", "r2", "r3", "theta1", "theta2", "theta3", "omega2")
+
+
+@reads()
+def check_saw_omega3_expression(answer) -> Feedback:
+    """Exercise 04, task 1: ω3 of the saw as a sympy expression in r2, r3, θ2, θ3, ω2.
+
+    >>> import sympy as sp
+    >>> r2, r3, t2, t3, w2 = sp.symbols("r2 r3 theta2 theta3 omega2")
+    >>> check_saw_omega3_expression(-w2 * r2 * sp.cos(t2) / (r3 * sp.cos(t3))).ok
+    True
+    """
+    import sympy as sp
+
+    _, r2, r3, _, t2, t3, w2 = sp.symbols(_SAW_NAMES, real=True)
+    reference = -w2 * r2 * sp.cos(t2) / (r3 * sp.cos(t3))
+    swapped = -w2 * r2 * sp.sin(t2) / (r3 * sp.sin(t3))
+    return judge_expression(answer, _SAW_NAMES, [
+        (reference, "Correct: ω3 = −ω2·r2·cos θ2 / (r3·cos θ3), from the derivative of Fy − Fc."),
+        (-reference, "a sign error: differentiate r2 sin θ2 + r3 sin θ3 = r1y (constant) and solve for ω3."),
+        ([swapped, -swapped], "sin and cos are swapped: d(sin θ)/dt = ω cos θ."),
+        (lambda expr: not expr.has(w2), "ω3 must be proportional to ω2 (the report's eq. 23 is labelled ω3 "
+                                        "but repeats θ1's formula — don't copy that slip)."),
+    ], "use the y-equation without r1: r2 sin θ2 + r3 sin θ3 = r1y, differentiate in time.")
+
+
+@reads(vector(3, "(r1, θ1, θ3)"))
+def check_saw_position(answer, saw: Saw, theta2: float) -> Feedback:
+    """Exercise 04, task 2: (r1 in m, θ1 in rad, θ3 in rad) of ``saw`` at crank angle ``theta2``.
+
+    The course keeps θ1 in (−π/2, π/2] so r1 < 0 here; (−r1, θ1 + π) describes the same
+    vector and is accepted with a remark.
+
+    >>> saw = Saw(r1y=0.03, r2=0.06, r3=0.15)
+    >>> check_saw_position(analytic(0.9, saw=saw)[:3], saw, 0.9).ok
+    True
+    """
+    r1, theta1, theta3 = analytic(theta2, saw=saw)[:3]
+    mirror = np.pi - theta3  # the other root of sin θ3 = (r1y − r2 sin θ2)/r3
+    degrees = ((1, theta1), (2, theta3), (1, theta1 + np.pi))
+    return diagnose(answer, lambda v, c: near(v[0], c[0]) and angles_close(v[1:], c[1:]), [
+        ((r1, theta1, theta3), "Correct: r1 < 0 with θ1 in (−π/2, π/2], as the course writes it."),
+        ((-r1, theta1 + np.pi, theta3),
+         Feedback(True, "Correct — the same vector r1, written with r1 > 0 and θ1 + π. The course keeps "
+                        "θ1 in (−π/2, π/2], which makes r1 negative here.")),
+        (lambda v: near(abs(v[0]) / 1000.0, abs(r1)), "r1 looks like millimetres; give lengths in metres."),
+        (lambda v: angles_close(v[2], mirror) or in_degrees(v[2], mirror),
+         "θ3 is on the other branch: asin gives the rod pointing right, but the saw's rod points left, "
+         "θ3 = π − asin((r1y − r2 sin θ2)/r3)."),
+        (lambda v: any(in_degrees(v[i], angle) for i, angle in degrees),
+         "an angle is in degrees; give θ1 and θ3 in radians."),
+        (lambda v: not angles_close(v[2], theta3), "θ3 is off: Fy − Fc gives r2 sin θ2 + r3 sin θ3 = r1y."),
+    ], "θ3 is right; recheck r1 and θ1 from r1 sin θ1 = r1y and r1 cos θ1 = r2 cos θ2 + r3 cos θ3.")
+
+
+@reads(number("a_r"))
+def check_saw_slider_acceleration(answer, saw: Saw, theta2: float, omega2: float, alpha2: float) -> Feedback:
+    """Exercise 04, task 3: a_r (m/s²), the acceleration along r1, at the given motor state.
+
+    >>> saw = Saw(r1y=0.03, r2=0.06, r3=0.15)
+    >>> check_saw_slider_acceleration(analytic(0.9, 6.0, 4.0, saw=saw)[6], saw, 0.9, 6.0, 4.0).ok
+    True
+    """
+    x = analytic(theta2, omega2, alpha2, saw=saw)
+    return diagnose(answer, near, [
+        (x[6], "Correct: a_r holds the α2 terms and every ω² term (r1 ω1², r2 ω2², r3 ω3²)."),
+        ([x[6] / 1000.0, x[6] * 1000.0], "a factor 1000: lengths in metres give a_r in m/s²."),
+        (-x[6], "a sign error: a_r is along r1, and r1 < 0 here (the course's convention)."),
+        (analytic(theta2, 0.0, alpha2, saw=saw)[6],  # every ω² and the 2·v_r·ω1 term dropped
+         "that keeps only the α2 terms: the ω² (centripetal) terms — r1 ω1², r2 ω2², r3 ω3² — are missing, "
+         "and at speed they dominate."),
+        (x[3], "that is the velocity v_r; the task asks for the acceleration a_r."),
+    ], "differentiate the position equations twice (or use the velocity solution) and solve for a_r.")
+
+
+def check_saw_linear_stage(answer) -> Feedback:
+    """Exercise 04, task 4: why the velocity stage always takes two Newton iterations.
+
+    >>> check_saw_linear_stage("a").ok
+    True
+    """
+    return choice(answer, "a", {
+        "b": "the seed can be anything — the task changed it and the count stayed two; the first step lands "
+             "exactly on the solution from any seed.",
+        "c": "the velocity Jacobian is the position Jacobian (it depends on r1, θ1, θ3), not I.",
+        "d": "the tolerance is the same 1e-6 for every stage.",
+    }, "Correct: the velocity equations are linear in (v_r, ω1, ω3), so the first Newton step is exact; the "
+       "second step is ~0 and only confirms the stopping rule.")

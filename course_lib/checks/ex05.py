@@ -1,0 +1,131 @@
+"""Checkers of exercise set 05 (the five-bar robot); lesson 08's Try it uses check_fivebar_forward."""
+
+import re
+
+import numpy as np
+
+from ..fivebar import WORKING_MODES, FiveBar
+from .engine import (
+    Feedback,
+    angles_close,
+    diagnose,
+    first,
+    in_degrees,
+    judge_expression,
+    near,
+    reads,
+    vector,
+    word,
+)
+
+__all__ = ["check_fivebar_forward", "check_fivebar_inverse", "check_fivebar_g", "check_fivebar_singularity"]
+
+
+@reads(vector(2, "(x3, y3)"))
+def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, mode: int) -> Feedback:
+    """Exercise 05, task 1: the end effector (x3, y3) in metres for crank angles θ1, θ4 in working
+    mode σ = ``mode`` (+1 arms up, −1 arms down).
+
+    >>> robot = FiveBar(0.11, 0.16, 0.17, 0.12, 0.09)
+    >>> check_fivebar_forward(tuple(robot.forward(1.2, 2.2, -1)), robot, 1.2, 2.2, -1).ok
+    True
+    """
+    reference, other = (np.array(tuple(robot.forward(theta1, theta4, mode=m))) for m in (mode, -mode))
+    in_degrees = robot.forward(*np.degrees([theta1, theta4]), mode=mode, on_unreachable="nan")
+    names = {1: "arms up (σ = +1)", -1: "arms down (σ = −1)"}
+    return diagnose(answer, near, [
+        (reference, "Correct."),
+        (other, f"that is the {names[-mode]} assembly; the task asks for {names[mode]}."),
+        (1000 * reference, "that looks like millimetres; give metres."),
+        (reference[::-1], "the coordinates are swapped: give (x3, y3)."),
+        (np.array(tuple(in_degrees)), "the crank angles went into cos/sin in degrees; use radians."),
+    ], "from X3 = g·Y3 + f and a·Y3² + b·Y3 + c = 0, take Y3 = (−b + σ√(b² − 4ac))/2a.")
+
+
+@reads(vector(2, "(θ1, θ4)"))
+def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: tuple[int, int]) -> Feedback:
+    """Exercise 05, task 2: crank angles (θ1, θ4) in rad that put the end effector at (x3, y3)
+    in working mode ``modes`` = (σ1, σ2).  Angles are compared modulo 2π.
+
+    >>> robot = FiveBar(0.11, 0.16, 0.17, 0.12, 0.09)
+    >>> check_fivebar_inverse(tuple(robot.inverse(0.01, 0.2, (1, -1))), robot, 0.01, 0.2, (1, -1)).ok
+    True
+    """
+    modes = tuple(modes)
+    solutions = {m: np.array(tuple(robot.inverse(x3, y3, modes=m))) for m in WORKING_MODES}
+    theta1, theta4 = reference = solutions[modes]
+
+    def other_mode(m):
+        signs = " and ".join(s for s, mine, want in zip(("σ1", "σ2"), m, modes, strict=True) if mine != want)
+        return (f"that is working mode ({m[0]:+d}, {m[1]:+d}): the sign {signs} of the square root is the "
+                "other one.")
+
+    return diagnose(answer, angles_close, [
+        (reference, "Correct: working mode (σ1, σ2) = " + f"({modes[0]:+d}, {modes[1]:+d})."),
+        (lambda v: in_degrees(v, reference), "those are the right angles in degrees; give radians."),
+        (reference[::-1], "the angles are swapped: give (θ1, θ4)."),
+        *((angles, other_mode(m)) for m, angles in solutions.items() if m != modes),
+        ((theta1, None), "θ1 is right; recheck θ4 with the coefficients a2, b2, c2 of leg 4."),
+        ((None, theta4), "θ4 is right; recheck θ1 with the coefficients a1, b1, c1 of leg 1."),
+    ], "use θ = 2·atan((−b + σ√(b² − 4ac))/2a) with the half-angle coefficients of each leg.")
+
+
+_FIVEBAR_NAMES = ("l1", "l2", "l3", "l4", "l5", "theta1", "theta4")
+
+
+@reads()
+def check_fivebar_g(answer) -> Feedback:
+    """Exercise 05, task 3: the slope g in X3 = g·Y3 + f (EcL2 − EcL3 solved for X3).
+
+    >>> import sympy as sp
+    >>> l1, l4, l5, t1, t4 = sp.symbols("l1 l4 l5 theta1 theta4")
+    >>> check_fivebar_g((l4 * sp.sin(t4) - l1 * sp.sin(t1)) / (l5 + l1 * sp.cos(t1) - l4 * sp.cos(t4))).ok
+    True
+    """
+    import sympy as sp
+
+    l1, l2, l3, l4, l5, t1, t4 = sp.symbols(_FIVEBAR_NAMES, real=True)
+    g = (-2 * l1 * sp.sin(t1) + 2 * l4 * sp.sin(t4)) / (2 * (l5 + l1 * sp.cos(t1) - l4 * sp.cos(t4)))
+    return judge_expression(answer, _FIVEBAR_NAMES, [
+        (g, "Correct: the seeds' g = (−2 l1 sin θ1 + 2 l4 sin θ4) / (2 (l5 + l1 cos θ1 − l4 cos θ4))."),
+        (-g, "a sign error: move the Y3 term to the right-hand side before dividing by the X3 coefficient."),
+        ([1 / g, -1 / g], "that is dY3/dX3; solve the linear equation for X3, not Y3."),
+        ([2 * g, g / 2], "off by a factor 2: both the X3 and the Y3 coefficients carry the factor 2."),
+        (lambda expr: expr.has(l2, l3), "l2 and l3 belong to f (the constant term), not to the slope g."),
+    ], "expand EcL2 − EcL3: the squares X3², Y3² cancel, leaving an equation linear in X3 and Y3.")
+
+
+_SINGULARITIES = {
+    "serial1": "leg 1 is stretched or folded: the point is on the boundary of leg 1's reach, two inverse "
+               "solutions (σ1 = ±1) merge, and the end effector cannot move along l1–l2.",
+    "serial4": "leg 4 is stretched or folded: two inverse solutions (σ2 = ±1) merge.",
+    "parallel": "the distal links are aligned: the two forward solutions (arms up/down) merge and the end "
+                "effector can move with the motors locked.",
+    "none": "all three measures are away from zero.",
+}
+
+
+@reads(word(tuple(_SINGULARITIES), 'answer one of "serial1", "serial4", "parallel" or "none" (a string).',
+            clean=lambda text: re.sub(r"[\s_\-,()]|leg", "", text.lower())))
+def check_fivebar_singularity(answer, robot: FiveBar, theta1: float, theta4: float, x3: float, y3: float
+                              ) -> Feedback:
+    """Exercise 05, task 4: which singularity the robot is in — "serial1" (leg 1 stretched or
+    folded), "serial4", "parallel" (distal links aligned) or "none".
+
+    >>> robot = FiveBar(0.11, 0.16, 0.17, 0.12, 0.09)
+    >>> x3, y3 = robot.forward(1.2, 2.2, 1)
+    >>> check_fivebar_singularity("none", robot, 1.2, 2.2, x3, y3).ok
+    True
+    """
+    measures = robot.singularity_measures(theta1, theta4, x3, y3)
+    values = {"serial1": measures.serial_leg1, "serial4": measures.serial_leg4, "parallel": measures.parallel}
+    found = [name for name, value in values.items() if abs(value) < 1e-6] or ["none"]
+    missed = answer not in found
+    return first([
+        (missed and answer == "none", "compute robot.singularity_measures(...): one of them is zero here."),
+        (missed and "serial" in answer and any("serial" in name for name in found),
+         "a serial singularity, yes — but of the other leg."),
+        (missed and answer == "parallel", "the distal links l2 and l3 are not aligned here; look at the "
+                                          "crank–distal angles."),
+        (missed, "that measure is not zero here; compute all three with robot.singularity_measures(...)."),
+    ], "Correct: " + _SINGULARITIES[answer])

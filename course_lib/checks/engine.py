@@ -270,7 +270,7 @@ def first(rules, correct: str) -> Feedback:
 def angle_verdict(value: float, reference: float, alternatives, otherwise: str) -> Feedback:
     """An angle judged modulo 2π: right, another known angle (each with its hint), or in degrees."""
     return diagnose(value, angles_close, [
-        (reference, right("Correct (angles are compared modulo 2π).")),
+        (reference, "Correct (angles are compared modulo 2π)."),
         *alternatives,
         (lambda v: in_degrees(v, reference), "that is the right angle in degrees; the course (and "
                                              "course_lib) works in radians."),

@@ -16,7 +16,6 @@ import sys
 
 import nbformat
 import numpy as np
-import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
@@ -71,9 +70,10 @@ def test_export_marks_solutions_checks_and_read_only_statements():
     assert len({role["grade_id"] for role in roles}) == len(roles)
 
 
-def test_unknown_task_kind_is_named():
-    with pytest.raises(export_nbgrader.ExerciseFormatError, match="guess"):
-        export_nbgrader.task_points("compute + guess")
+def test_task_points_come_from_the_kinds_in_the_heading():
+    assert export_nbgrader.task_points("compute + interpret") == 3
+    assert export_nbgrader.task_points("interpret") == 1
+    assert export_nbgrader.task_points("sketch") == export_nbgrader.task_points(None) == 2
 
 
 def test_generate_autograde_and_feedback_full_and_partial_marks(tmp_path):

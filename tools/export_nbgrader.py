@@ -19,7 +19,8 @@ nbgrader's cell metadata:
 * **read-only** (``locked: true``) for every other cell: statements, given data, set-up code.
 
 Points go by task, from the ``(…)`` at the end of its ``## Task N · …`` heading: ``POINTS`` below
-(``compute + interpret`` = 2 + 1); a task with several check cells shares its points between them.
+(``compute + interpret`` = 2 + 1; any other kind ``DEFAULT_POINTS``); a task with several check
+cells shares its points between them.
 Edit ``nbgrader/source/`` afterwards to weigh tasks differently, or change ``POINTS``.
 The course's ``nbgrader/nbgrader_config.py`` sets the stub and the execution time limit.
 """
@@ -48,8 +49,9 @@ from make_exercises import (  # noqa: E402
 
 COURSE = ROOT / "nbgrader"
 SOURCE = COURSE / "source"
-POINTS = {"compute": 2, "derive": 2, "interpret": 1}
-TASK_HEADING = re.compile(r"^##\s+Task\s+(\d+)\b.*\(([^()]*)\)\s*$")
+POINTS = {"compute": 2, "derive": 2, "declare": 2, "interpret": 1}
+DEFAULT_POINTS = 2
+TASK_HEADING = re.compile(r"^##\s+Task\s+(\d+)\b(?:.*\(([^()]*)\))?\s*$")
 SCHEMA_VERSION = 3
 
 
@@ -58,14 +60,13 @@ def assignment_name(solution_path: pathlib.Path) -> str:
     return solution_path.stem.split("_", 1)[0]
 
 
-def task_points(kinds: str, where: str = "heading") -> float:
-    """Points of a task from its heading's kinds, e.g. ``"compute + interpret"`` → 3."""
-    total = 0
-    for kind in (part.strip() for part in kinds.split("+")):
-        if kind not in POINTS:
-            raise ExerciseFormatError(f"{where}: unknown task kind {kind!r} (known: {', '.join(POINTS)})")
-        total += POINTS[kind]
-    return total
+def task_points(kinds: str | None) -> float:
+    """Points of a task from its heading's kinds, e.g. ``"compute + interpret"`` → 3.
+
+    A kind not in ``POINTS`` (or a heading without one) counts ``DEFAULT_POINTS``.
+    """
+    parts = [part.strip() for part in (kinds or "").split("+") if part.strip()] or [""]
+    return sum(POINTS.get(kind, DEFAULT_POINTS) for kind in parts)
 
 
 def check_call(source: str, where: str = "cell") -> str | None:
@@ -127,7 +128,6 @@ def nbgrader_source(solution: nbformat.NotebookNode, name: str = "") -> nbformat
             heading = TASK_HEADING.match(cell.source.split("\n", 1)[0])
             if heading:
                 task, kinds = int(heading.group(1)), heading.group(2)
-                task_points(kinds, where)  # fail early on an unknown kind
             elif cell.source.startswith("## "):
                 task, kinds = None, None
             roles.append((cell, "statement", task, kinds))

@@ -54,7 +54,8 @@ def _picture_cells(pattern):
 
 def _pngs(cell) -> list[bytes]:
     shown = [output for output in cell.outputs if output.output_type in ("display_data", "execute_result")]
-    return [base64.b64decode(output["data"]["image/png"]) for output in shown if "image/png" in output["data"]]
+    return [base64.b64decode(output["data"]["image/png"]) for output in shown
+            if "image/png" in output["data"]]
 
 
 @pytest.mark.parametrize("cell", _picture_cells(EXPLORER_CALL))

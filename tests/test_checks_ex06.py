@@ -1,4 +1,4 @@
-"""course_lib.checks_ex06: each checker accepts the right answer, computed here by an independent
+"""course_lib.checks (exercise set 06): each checker accepts the right answer, computed here by an independent
 route, in its equivalent forms, and rejects typical wrong answers with the right hint, never showing
 the reference value; silly inputs give feedback, never a traceback.
 
@@ -15,7 +15,7 @@ import pytest
 import sympy as sp
 from test_checks_bad_input import SILLY as SHARED_SILLY
 
-from course_lib import checks_ex06 as checks
+from course_lib import checks
 from course_lib.errors import InvalidGeometryError
 from course_lib.mechanism import Mechanism
 from course_lib.symbolic import time_symbols

@@ -8,7 +8,7 @@ prints the reference value.  Equivalent answers are accepted: angles modulo 2π,
 equal sympy expressions, an equation multiplied by a constant, either order where order does
 not matter.  SI units (m, s) and radians throughout; nothing is printed.
 
-One module per exercise set (``ex01`` … ``ex05``) and one for the lessons (``lessons``), all on
+One module per exercise set (``ex01`` … ``ex06``) and one for the lessons (``lessons``), all on
 the shared feedback engine (``engine``: read the answer, compare it, diagnose it).
 
 >>> check_mobility({"links": 6, "full_joints": 7, "half_joints": 0, "mobility": 1}).ok
@@ -18,14 +18,16 @@ True
 """
 # ruff: noqa: F403 — each module lists its checkers in its __all__
 
-from . import ex01, ex02, ex03, ex04, ex05, lessons
+from . import ex01, ex02, ex03, ex04, ex05, ex06, lessons
 from .engine import ANGLE_TOL, RELATIVE_TOL, Feedback
 from .ex01 import *
 from .ex02 import *
 from .ex03 import *
 from .ex04 import *
 from .ex05 import *
+from .ex06 import *
 from .lessons import *
 
 __all__ = ["ANGLE_TOL", "RELATIVE_TOL", "Feedback"]
-__all__ += ex01.__all__ + ex02.__all__ + ex03.__all__ + ex04.__all__ + ex05.__all__ + lessons.__all__
+for _module in (ex01, ex02, ex03, ex04, ex05, ex06, lessons):
+    __all__ += _module.__all__

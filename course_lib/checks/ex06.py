@@ -34,7 +34,8 @@ from typing import Any
 
 import numpy as np
 
-from .checks.engine import (
+from ..errors import InvalidGeometryError, require_positive
+from .engine import (
     Feedback,
     angles_close,
     diagnose,
@@ -47,7 +48,6 @@ from .checks.engine import (
     vector,
     wrong,
 )
-from .errors import InvalidGeometryError, require_positive
 
 __all__ = [
     "ShaperDrawing",

@@ -27,6 +27,7 @@ EXPECTED = [
     "ex03_fourbar",
     "ex04_power_saw",
     "ex05_fivebar",
+    "ex06_your_own_mechanism",
 ]
 
 

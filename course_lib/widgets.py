@@ -40,8 +40,10 @@ from __future__ import annotations
 
 import base64
 import html
+import io
 import math
 import numbers
+import textwrap
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
@@ -50,6 +52,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon
+from PIL import Image as PILImage
 
 from .errors import CourseLibError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
@@ -305,7 +308,7 @@ class Explorer:
 
     # ------------------------------------------------------------ notebook display
     def _repr_mimebundle_(self, include=None, exclude=None, **kwargs) -> dict:
-        """The widget view, a PNG of the current figure and the readout as text.
+        """The widget view, a still picture (the figure with the readout under it) and the readout as text.
 
         A frontend with a widget manager renders the live widget; every other one (GitHub,
         ``nbconvert``, JupyterLab before the notebook is run and trusted) shows the picture.
@@ -318,9 +321,41 @@ class Explorer:
         """
         widget_bundle = getattr(self.widget, "_repr_mimebundle_", None)  # None once the widget is closed
         bundle = dict(widget_bundle(**kwargs) or {}) if callable(widget_bundle) else {}
-        bundle["image/png"] = base64.b64encode(self.image.value).decode("ascii")
+        bundle["image/png"] = base64.b64encode(self.picture()).decode("ascii")
         bundle["text/plain"] = "\n".join((f"{self.name} explorer ({self.status})", *self.last.lines))
         return bundle
+
+    def picture(self) -> bytes:
+        """The current figure with the readout written under it, as PNG bytes (the still picture).
+
+        >>> explorer = fourbar_explorer()
+        >>> from PIL import Image; import io
+        >>> width, height = Image.open(io.BytesIO(explorer.picture())).size
+        >>> width == explorer.canvas.get_width_height()[0] and height > explorer.canvas.get_width_height()[1]
+        True
+        """
+        figure = np.asarray(PILImage.open(io.BytesIO(self.image.value)).convert("RGB"))
+        readout = _readout_picture(self.last, figure.shape[1])
+        picture = np.concatenate([figure, readout])
+        return _Quantizer(picture).png(picture, compress_level=9)
+
+
+def _readout_picture(readout: Readout, width: int) -> np.ndarray:
+    """The readout's lines as an RGB picture ``width`` pixels wide (wrapped to fit), as in the widget."""
+    size = 9.0  # points, at the figures' 80 dpi: about 6 px per character
+    lines = [part for line in readout.lines for part in textwrap.wrap(line, max(20, int(width / 6.4)))]
+    line_px = size * 1.45 / 72 * 80
+    height = int(np.ceil(len(lines) * line_px + 10))
+    figure = Figure(figsize=(width / 80, height / 80), dpi=80)
+    canvas = FigureCanvasAgg(figure)
+    color = "black" if readout.status == "ok" else _ERROR_COLOR
+    figure.text(8 / width, 1 - 5 / height, "\n".join(lines), fontsize=size, va="top", ha="left", color=color,
+                linespacing=1.45)
+    canvas.draw()
+    pixels = np.asarray(canvas.buffer_rgba())[..., :3][:, :width]
+    if pixels.shape[1] < width:  # (a pixel lost to rounding the size in inches)
+        pixels = np.pad(pixels, ((0, 0), (0, width - pixels.shape[1]), (0, 0)), constant_values=255)
+    return pixels
 
 
 # ---------------------------------------------------------------------------- input values

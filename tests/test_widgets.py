@@ -369,9 +369,14 @@ def test_display_bundle_carries_widget_view_picture_and_readout(build):
     explorer = build()
     bundle = explorer._repr_mimebundle_()
     assert bundle["application/vnd.jupyter.widget-view+json"]["model_id"] == explorer.widget.model_id
-    png = base64.b64decode(bundle["image/png"])
-    assert png == explorer.image.value
-    assert Image.open(io.BytesIO(png)).size == explorer.canvas.get_width_height()
+    picture = np.asarray(Image.open(io.BytesIO(base64.b64decode(bundle["image/png"]))).convert("RGB"))
+    figure = np.asarray(Image.open(io.BytesIO(explorer.image.value)).convert("RGB"))
+    width, height = explorer.canvas.get_width_height()
+    assert picture.shape[1] == width and picture.shape[0] > height + 20
+    difference = np.abs(picture[:height].astype(int) - figure)  # the figure (256 colours again) ...
+    assert difference.max() <= 8 and difference.mean() < 0.05
+    # ... and the readout under it
+    assert (picture[height:] < 128).any()
     lines = bundle["text/plain"].splitlines()
     assert lines[0] == f"{explorer.name} explorer (ok)" and lines[1:] == list(explorer.last.lines)
     explorer.update(**{next(iter(explorer.controls)): NAN})

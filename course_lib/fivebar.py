@@ -30,6 +30,7 @@ and θ4 likewise with σ2 — four working modes (σ1, σ2).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache, cached_property
 from typing import Any
 
 import numpy as np
@@ -42,6 +43,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
+from .newton import linear_solver
 from .planar import scalar_or_array, wrap_angle
 
 __all__ = [
@@ -128,6 +130,28 @@ class WorkspaceMap:
     modes: tuple[int, int]
 
 
+@cache
+def _declarations() -> dict:
+    """EcL2 and EcL3 on the core, once for forward (unknowns X3, Y3) and once for inverse kinematics
+    (unknowns θ1, θ4): the same two equations with unknowns and inputs swapped."""
+    import sympy as sp
+
+    from .mechanism import Mechanism
+
+    x3, y3, theta1, theta4 = sp.symbols("x3 y3 theta1 theta4")
+    l1, l2, l3, l4, l5 = lengths = sp.symbols("l1:6")
+    loops = [(x3 - l1 * sp.cos(theta1) - l5 / 2) ** 2 + (y3 - l1 * sp.sin(theta1)) ** 2 - l2**2,
+             (x3 - l4 * sp.cos(theta4) + l5 / 2) ** 2 + (y3 - l4 * sp.sin(theta4)) ** 2 - l3**2]
+    parameters = dict(zip(lengths, (0.10, 0.15, 0.15, 0.10, 0.08), strict=True))
+    return {"forward": Mechanism(loops, [x3, y3], [theta1, theta4], parameters),
+            "inverse": Mechanism(loops, [theta1, theta4], [x3, y3], parameters)}
+
+
+def _stacked(*values) -> np.ndarray:
+    """Values broadcast together and stacked on a new last axis."""
+    return np.stack(np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in values)), axis=-1)
+
+
 def _sign_choice(name: str, value: Any) -> int:
     require_choice(name, value, (1, -1))
     return int(value)
@@ -209,10 +233,8 @@ class FiveBar:
         >>> bool(np.abs(robot.constraints(0.5, 2.5, x3, y3)).max() < 1e-15)
         True
         """
-        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
-        ecl2 = (x3 - p2x) ** 2 + (y3 - p2y) ** 2 - self.l2**2
-        ecl3 = (x3 - p4x) ** 2 + (y3 - p4y) ** 2 - self.l3**2
-        return np.stack(np.broadcast_arrays(ecl2, ecl3), axis=-1)
+        p = _stacked(x3, y3, theta1, theta4)
+        return self._core().residual(p[..., :2], p[..., 2:])
 
     # ------------------------------------------------------- forward kinematics
     def forward_coefficients(self, theta1, theta4) -> dict[str, np.ndarray]:
@@ -366,6 +388,21 @@ class FiveBar:
         return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(~bad))
 
     # ------------------------------------------------------- Jacobians and rates
+    @cached_property
+    def _cores(self) -> dict:
+        """EcL2, EcL3 declared on the core with these lengths: "forward" (unknowns X3, Y3; inputs θ1, θ4)
+        and "inverse" (the same two equations, unknowns and inputs swapped)."""
+        lengths = {"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4, "l5": self.l5}
+        return {kind: core.with_parameters(lengths) for kind, core in _declarations().items()}
+
+    def _core(self, unknowns: str = "forward"):
+        return self._cores[unknowns]
+
+    def _terms(self, theta1, theta4, x3, y3):
+        """A = ∂(EcL2, EcL3)/∂(X3, Y3) and B = ∂(EcL2, EcL3)/∂(θ1, θ4), each (..., 2, 2), from the core."""
+        p = _stacked(x3, y3, theta1, theta4)
+        return self._core()._rate_terms(p[..., :2], p[..., 2:])
+
     def jacobian_end_effector(self, theta1, theta4, x3, y3) -> np.ndarray:
         """A = ∂(EcL2, EcL3)/∂(X3, Y3) = 2·[[X3 − P2x, Y3 − P2y], [X3 − P4x, Y3 − P4y]] (m),
         shape (..., 2, 2).  det A = 0 is the parallel (type-2) singularity.
@@ -374,24 +411,17 @@ class FiveBar:
         >>> np.round(robot.jacobian_end_effector(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[-0.28, 0.2], [0.28, 0.2]]
         """
-        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
-        rows = [[x3 - p2x, y3 - p2y], [x3 - p4x, y3 - p4y]]
-        return 2 * np.stack([np.stack(np.broadcast_arrays(*row), axis=-1) for row in rows], axis=-2)
+        return self._terms(theta1, theta4, x3, y3)[0]
 
     def jacobian_cranks(self, theta1, theta4, x3, y3) -> np.ndarray:
         """B = ∂(EcL2, EcL3)/∂(θ1, θ4) (m²/rad), shape (..., 2, 2); diagonal, because EcL2
         holds only θ1 and EcL3 only θ4.  A zero diagonal entry is a serial (type-1) singularity.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> np.round(robot.jacobian_cranks(0.0, np.pi, 0.0, 0.1), 3).tolist()
+        >>> (np.round(robot.jacobian_cranks(0.0, np.pi, 0.0, 0.1), 3) + 0.0).tolist()
         [[-0.02, 0.0], [0.0, 0.02]]
         """
-        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
-        b11 = 2 * self.l1 * ((x3 - p2x) * np.sin(theta1) - (y3 - p2y) * np.cos(theta1))
-        b22 = 2 * self.l4 * ((x3 - p4x) * np.sin(theta4) - (y3 - p4y) * np.cos(theta4))
-        b11, b22 = np.broadcast_arrays(b11, b22)
-        zeros = np.zeros_like(b11)
-        return np.stack([np.stack([b11, zeros], axis=-1), np.stack([zeros, b22], axis=-1)], axis=-2)
+        return self._terms(theta1, theta4, x3, y3)[1]
 
     def singularity_measures(self, theta1, theta4, x3, y3) -> SingularityMeasures:
         """The three normalized singularity measures (see ``SingularityMeasures``).
@@ -419,53 +449,63 @@ class FiveBar:
                 "(x3, y3 must be the end effector for theta1, theta4, e.g. from forward)"
             )
 
+    def _singular(self, kind, on_singular, theta1, theta4, x3, y3):
+        """The mask of a "parallel" or "serial" singularity; raises there unless on_singular="nan"."""
+        require_choice("on_singular", on_singular, ("raise", "nan"))
+        self._check_assembled(theta1, theta4, x3, y3)
+        measures = self.singularity_measures(theta1, theta4, x3, y3)
+        if kind == "parallel":
+            parallel = np.asarray(measures.parallel)
+            singular = np.abs(parallel) < SINGULAR_TOL
+            sine = parallel[singular].ravel()[0] if singular.any() else 0
+            message = ("parallel (type-2) singularity: the distal links l2, l3 are aligned (sin of their "
+                       f"angle {sine:.2g}); the end-effector velocity is undefined there")
+        else:
+            leg1, leg4 = (np.abs(np.asarray(m)) < SINGULAR_TOL for m in (measures.serial_leg1,
+                                                                            measures.serial_leg4))
+            singular = leg1 | leg4
+            which = "leg 1 (l1, l2)" if leg1.any() else "leg 4 (l4, l3)"
+            message = f"serial (type-1) singularity: {which} is stretched or folded; the crank rates are " \
+                      "undefined there"
+        if on_singular == "raise" and singular.any():
+            raise SingularJacobianError(message, condition_number=np.inf)
+        return singular
+
     def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = "raise") -> np.ndarray:
-        """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4).  Computed by a linear
-        solve, never an inverse.  Raises ``SingularJacobianError`` at a parallel singularity
-        (``on_singular="nan"`` gives NaN there instead) and ``InvalidGeometryError`` when (x3, y3)
-        is not the end effector of (θ1, θ4) (the same holds for the two rate functions below).
+        """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4), by linear solves (no inverse).
+        Raises ``SingularJacobianError`` at a parallel singularity (``on_singular="nan"`` gives NaN
+        there instead) and ``InvalidGeometryError`` when (x3, y3) is not the end effector of (θ1, θ4)
+        (the same holds for the two rate functions below).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
         >>> np.round(robot.velocity_jacobian(theta1, theta4, 0.0, 0.2), 4).tolist()
         [[-0.0754, -0.0754], [0.0614, -0.0614]]
         """
-        require_choice("on_singular", on_singular, ("raise", "nan"))
-        self._check_assembled(theta1, theta4, x3, y3)
-        parallel = np.asarray(self.singularity_measures(theta1, theta4, x3, y3).parallel)
-        singular = np.abs(parallel) < SINGULAR_TOL
-        if on_singular == "raise" and singular.any():
-            first = float(np.broadcast_to(parallel, singular.shape)[singular][0])
-            raise SingularJacobianError(
-                "parallel (type-2) singularity: the distal links l2, l3 are aligned "
-                f"(sin of their angle {first:.2g})"
-                "; the end-effector velocity is undefined there",
-                condition_number=np.inf,
-            )
-        A = self.jacobian_end_effector(theta1, theta4, x3, y3)
-        B = self.jacobian_cranks(theta1, theta4, x3, y3)
-        A = np.where(singular[..., None, None], np.eye(2), A)
-        J = -np.linalg.solve(A, B)
+        singular = self._singular("parallel", on_singular, theta1, theta4, x3, y3)
+        A, B = self._terms(theta1, theta4, x3, y3)
+        shape, B = A.shape[:-2], B.reshape(-1, 2, 2)
+        solve = linear_solver(np.where(singular.reshape(-1, 1, 1), np.eye(2), A.reshape(-1, 2, 2)))
+        J = np.stack([solve(-B[:, :, j]) for j in range(2)], axis=-1).reshape(shape + (2, 2))
         return np.where(singular[..., None, None], np.nan, J)
 
     def end_effector_velocity(self, theta1, theta4, x3, y3, omega1, omega4, on_singular: str = "raise"):
-        """(Ẋ3, Ẏ3) in m/s from the crank rates ω1, ω4 (rad/s): A·ṗ + B·ω = 0 solved for ṗ.
-        Shape (..., 2).  Raises ``SingularJacobianError`` at a parallel (type-2) singularity.
+        """(Ẋ3, Ẏ3) in m/s from the crank rates ω1, ω4 (rad/s): the velocity system A·ṗ = −B·ω of the
+        forward declaration.  Shape (..., 2).  Raises ``SingularJacobianError`` at a parallel singularity.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
         >>> (np.round(robot.end_effector_velocity(theta1, theta4, 0.0, 0.2, 1.0, -1.0), 4) + 0.0).tolist()
         [0.0, 0.1229]
         """
-        omega1 = require_finite("omega1", omega1, "rad/s")
-        omega4 = require_finite("omega4", omega4, "rad/s")
-        J = self.velocity_jacobian(theta1, theta4, x3, y3, on_singular=on_singular)
-        omega = np.stack(np.broadcast_arrays(omega1, omega4), axis=-1)
-        return np.einsum("...ij,...j->...i", J, omega)
+        omega = [require_finite("omega1", omega1, "rad/s"), require_finite("omega4", omega4, "rad/s")]
+        singular = self._singular("parallel", on_singular, theta1, theta4, x3, y3)
+        p = _stacked(x3, y3, theta1, theta4, *omega)
+        return self._core("forward").rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     def crank_rates(self, theta1, theta4, x3, y3, vx, vy, on_singular: str = "raise"):
-        """(ω1, ω4) in rad/s that give the end-effector velocity (vx, vy) in m/s:
-        ω = −B⁻¹·A·ṗ (B is diagonal).  Shape (..., 2).  Raises ``SingularJacobianError`` at a
+        """(ω1, ω4) in rad/s that give the end-effector velocity (vx, vy) in m/s: the velocity system
+        B·ω = −A·ṗ of the inverse declaration.  Shape (..., 2).  Raises ``SingularJacobianError`` at a
         serial (type-1) singularity, where a leg is stretched or folded.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
@@ -473,28 +513,10 @@ class FiveBar:
         >>> np.round(robot.crank_rates(theta1, theta4, 0.0, 0.2, 0.0, 0.1), 4).tolist()
         [0.8137, -0.8137]
         """
-        require_choice("on_singular", on_singular, ("raise", "nan"))
-        vx = require_finite("vx", vx, "m/s")
-        vy = require_finite("vy", vy, "m/s")
-        self._check_assembled(theta1, theta4, x3, y3)
-        measures = self.singularity_measures(theta1, theta4, x3, y3)
-        leg1, leg4 = np.broadcast_arrays(measures.serial_leg1, measures.serial_leg4)
-        singular = (np.abs(leg1) < SINGULAR_TOL) | (np.abs(leg4) < SINGULAR_TOL)
-        if on_singular == "raise" and singular.any():
-            which = "leg 1 (l1, l2)" if (np.abs(leg1) < SINGULAR_TOL).any() else "leg 4 (l4, l3)"
-            raise SingularJacobianError(
-                f"serial (type-1) singularity: {which} is stretched or folded; "
-                "the crank rates are undefined there",
-                condition_number=np.inf,
-            )
-        A = self.jacobian_end_effector(theta1, theta4, x3, y3)
-        B = self.jacobian_cranks(theta1, theta4, x3, y3)
-        velocity = np.stack(np.broadcast_arrays(vx, vy), axis=-1)
-        rhs = -np.einsum("...ij,...j->...i", A, velocity)
-        diagonal = np.stack([B[..., 0, 0], B[..., 1, 1]], axis=-1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            omega = rhs / np.where(singular[..., None], 1.0, diagonal)
-        return np.where(singular[..., None], np.nan, omega)
+        velocity = [require_finite(name, value, "m/s") for name, value in (("vx", vx), ("vy", vy))]
+        singular = self._singular("serial", on_singular, theta1, theta4, x3, y3)
+        p = _stacked(theta1, theta4, x3, y3, *velocity)
+        return self._core("inverse").rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     # ------------------------------------------------------------ maps and drawing
     def workspace(self, x, y, modes: tuple[int, int] = (1, 1)) -> WorkspaceMap:

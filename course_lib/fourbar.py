@@ -8,8 +8,9 @@ A = O2 + R2 and the coupler–rocker pin is B = O4 + R4.  The loop
 
 is solved in closed form by the tangent half-angle substitution (a quadratic in
 tan(θ4/2), exactly as Norton, *Design of Machinery*, §4.5), θ3 then follows from the
-loop.  Its time derivatives give J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b', with the same
-2×2 position Jacobian J, solved by Cramer's rule (no inverse is formed).
+loop.  The loop is also declared on :mod:`course_lib.mechanism` (:attr:`FourBar.mechanism`), which
+derives its time derivatives J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b' (the same 2×2 position
+Jacobian J) and solves them: the rates of :meth:`FourBar.solve` come from there.
 
 Branches (Norton's "open" and "crossed" circuits).  For a given θ2 the point B is one
 of the two intersections of the circle of radius l3 about A and the circle of radius l4
@@ -39,6 +40,7 @@ SI units: lengths in metres, angles in radians (from +x, counter-clockwise),
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache, cached_property
 
 import numpy as np
 
@@ -69,6 +71,23 @@ SINGULAR_TOL = 1e-7
 #: A discriminant more negative than this fraction of B² + (A − C)² means "cannot close";
 #: smaller negative values are rounding at a toggle and are taken as zero.
 DISCRIMINANT_TOL = 1e-12
+
+
+@cache
+def _declaration():
+    """The loop R2 + R3 − R4 − R1 = 0 on the core: unknowns θ3, θ4, input θ2, parameters l1 … l4."""
+    import sympy as sp
+
+    from .mechanism import Mechanism
+
+    theta2, theta3, theta4 = sp.symbols("theta2 theta3 theta4")
+    l1, l2, l3, l4 = sp.symbols("l1:5")
+    A, B = sp.Matrix([l2 * sp.cos(theta2), l2 * sp.sin(theta2)]), sp.Matrix([l1 + l4 * sp.cos(theta4),
+                                                                               l4 * sp.sin(theta4)])
+    loop = A + sp.Matrix([l3 * sp.cos(theta3), l3 * sp.sin(theta3)]) - B
+    points = {"O2": sp.Matrix([0, 0]), "A": A, "B": B, "O4": sp.Matrix([l1, 0])}
+    return Mechanism([loop], [theta3, theta4], [theta2], {l1: 0.20, l2: 0.06, l3: 0.18, l4: 0.12},
+                     points=points, links=[("O2", "A"), ("A", "B"), ("B", "O4"), ("O4", "O2")])
 
 
 @dataclass(frozen=True)
@@ -224,6 +243,17 @@ class FourBar:
         """
         return self.rocker
 
+    @cached_property
+    def mechanism(self):
+        """The loop declared on :class:`~course_lib.mechanism.Mechanism` with these lengths (its rates and
+        :meth:`solve` come from there; points O2, A, B, O4 for drawing).
+
+        >>> loop = FourBar(0.06, 0.18, 0.12, 0.20).mechanism
+        >>> round(loop.solve({"theta2": 0.7}, guess={"theta3": 0.4, "theta4": 1.6}).position["theta4"], 6)
+        1.516178
+        """
+        return _declaration().with_parameters({"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4})
+
     # ------------------------------------------------------------------ loop
     def loop_residual(self, theta2, theta3, theta4) -> np.ndarray:
         """R2 + R3 − R4 − R1 as (x, y) components, shape (..., 2); zero when the loop closes.
@@ -232,12 +262,8 @@ class FourBar:
         >>> np.round(r, 12).tolist()
         [0.04, -0.12]
         """
-        theta2, theta3, theta4 = np.broadcast_arrays(
-            *(np.asarray(a, dtype=float) for a in (theta2, theta3, theta4))
-        )
-        x = self.l2 * np.cos(theta2) + self.l3 * np.cos(theta3) - self.l4 * np.cos(theta4) - self.l1
-        y = self.l2 * np.sin(theta2) + self.l3 * np.sin(theta3) - self.l4 * np.sin(theta4)
-        return np.stack([x, y], axis=-1)
+        q = np.stack(np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (theta3, theta4, theta2))), -1)
+        return self.mechanism.residual(q[..., :2], q[..., 2:])
 
     def loop_jacobian(self, theta3, theta4) -> np.ndarray:
         """J = ∂(loop)/∂(θ3, θ4) = [[−l3 sin θ3, l4 sin θ4], [l3 cos θ3, −l4 cos θ4]], shape (..., 2, 2).
@@ -248,10 +274,14 @@ class FourBar:
         >>> np.round(J, 12).tolist()
         [[-2.0, 0.0], [0.0, -3.0]]
         """
-        theta3, theta4 = np.broadcast_arrays(np.asarray(theta3, float), np.asarray(theta4, float))
-        row_x = np.stack([-self.l3 * np.sin(theta3), self.l4 * np.sin(theta4)], axis=-1)
-        row_y = np.stack([self.l3 * np.cos(theta3), -self.l4 * np.cos(theta4)], axis=-1)
-        return np.stack([row_x, row_y], axis=-2)
+        q = np.stack(np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (theta3, theta4))), -1)
+        return self.mechanism.jacobian(q, np.zeros(q.shape[:-1] + (1,)))
+
+    @cached_property
+    def _unit_mechanism(self):
+        """:attr:`mechanism` with the lengths of :meth:`_unit_lengths`: the same angles and rates."""
+        return _declaration().with_parameters(dict(zip(("l1", "l2", "l3", "l4"), self._unit_lengths(),
+                                                       strict=True)))
 
     # ------------------------------------------------------------- position
     def _unit_lengths(self) -> tuple[float, float, float, float]:
@@ -317,7 +347,7 @@ class FourBar:
         """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²).
 
         Inputs broadcast together.  Position: closed form (half-angle quadratic);
-        rates: J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b' by Cramer's rule.
+        rates: J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b' from the declared loop (:attr:`mechanism`).
 
         Raises
         ------
@@ -360,7 +390,7 @@ class FourBar:
             )
         with np.errstate(invalid="ignore"):
             omega3, omega4, alpha3, alpha4, singular = self._rates(
-                theta2, trig, omega2, alpha2, unreachable | undetermined, on_unreachable
+                theta2, theta3, theta4, trig, omega2, alpha2, unreachable | undetermined, on_unreachable
             )
         singular = singular | undetermined
         return FourBarSolution(
@@ -375,14 +405,11 @@ class FourBar:
             branch=branch,
         )
 
-    def _rates(self, theta2, trig, omega2, alpha2, unreachable, on_unreachable):
-        """Velocity and acceleration from J·x = b (Cramer's rule on the 2×2 systems)."""
-        _, l2, l3, l4 = self._unit_lengths()
+    def _rates(self, theta2, theta3, theta4, trig, omega2, alpha2, unreachable, on_unreachable):
+        """ω3, ω4, α3, α4 from the loop declared on the core (:attr:`mechanism`): J·[ω3, ω4] = b and
+        J·[α3, α4] = b' with the closed form's sines and cosines; NaN at a toggle while moving."""
         cos2, sin2, cos3, sin3, cos4, sin4 = trig
-        # J = [[j00, j01], [j10, j11]], det J = l3 l4 sin(θ3 − θ4)
-        j00, j01, j10, j11 = -l3 * sin3, l4 * sin4, l3 * cos3, -l4 * cos4
-        determinant = j00 * j11 - j01 * j10
-        toggle = np.abs(determinant) < SINGULAR_TOL * l3 * l4
+        toggle = np.abs(sin3 * cos4 - cos3 * sin4) < SINGULAR_TOL  # det J = l3·l4·sin(θ3 − θ4)
         moving = (omega2 != 0) | (alpha2 != 0)
         singular = toggle & moving & ~unreachable
         if singular.any() and on_unreachable == "raise":
@@ -396,18 +423,16 @@ class FourBar:
                 f"omega2={omega2[index]:.6g}, alpha2={alpha2[index]:.6g}{count}",
                 x=float(theta2[index]),
             )
-        # where J is singular and the input is at rest, b = 0 and the rates are 0
-        safe = np.where(toggle, 1.0, determinant)
-
-        def cramer(b0, b1):
-            return (b0 * j11 - j01 * b1) / safe, (j00 * b1 - b0 * j10) / safe
-
-        omega3, omega4 = cramer(omega2 * l2 * sin2, -omega2 * l2 * cos2)
-        alpha3, alpha4 = cramer(
-            alpha2 * l2 * sin2 + omega2**2 * l2 * cos2 + omega3**2 * l3 * cos3 - omega4**2 * l4 * cos4,
-            -alpha2 * l2 * cos2 + omega2**2 * l2 * sin2 + omega3**2 * l3 * sin3 - omega4**2 * l4 * sin4,
-        )
-        rates = [np.where(singular, np.nan, rate) for rate in (omega3, omega4, alpha3, alpha4)]
+        if not moving.any():  # at rest: no rates to solve for
+            rates = np.where(np.isnan(cos3), np.nan, np.zeros((4,) + theta2.shape))
+        else:
+            q_rate, q_acc, _ = self._unit_mechanism.rates(
+                np.stack([theta3, theta4], axis=-1), theta2[..., None], omega2[..., None], alpha2[..., None],
+                trig={"theta2": (cos2, sin2), "theta3": (cos3, sin3), "theta4": (cos4, sin4)},
+                singular=toggle)
+            rates = np.moveaxis(np.concatenate([q_rate, q_acc], axis=-1), -1, 0)
+            rates[:, toggle & ~moving] = 0.0  # a toggle at rest: b = 0, so the rates are 0
+        rates[:, singular] = np.nan
         return (*rates, singular)
 
     # --------------------------------------------------------------- derived

@@ -6,7 +6,8 @@ symbol.  From that the core derives, once and when first needed, lambdified with
 subexpressions: F, J = ∂F/∂q and F_u = ∂F/∂u; the velocity system J·q̇ = −F_u·u̇ and the
 acceleration system J·q̈ = −(the rest of d²F/dt²), by differentiating the loops in time; and the
 stacked 3n system in (q, q̇, q̈).  :meth:`Mechanism.solve` finds the position by Newton–Raphson
-(:mod:`course_lib.newton`), then the rates by linear solves with the same J.  SI units, radians.
+(:mod:`course_lib.newton`), then the rates by linear solves with the same J; :meth:`~Mechanism.consecutive`
+and :meth:`~Mechanism.simultaneous` are the course's two Newton routes.  SI units, radians.
 
 >>> import numpy as np, sympy as sp
 >>> th2, th3, th4 = sp.symbols("theta2 theta3 theta4")
@@ -26,9 +27,10 @@ stacked 3n system in (q, q̇, q̈).  :meth:`Mechanism.solve` finds the position 
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from functools import cached_property
+from functools import wraps
 from types import MappingProxyType
 
 import numpy as np
@@ -42,13 +44,22 @@ from .errors import (
     require_choice,
     require_finite,
 )
-from .newton import NewtonResult, is_singular, linear_solver, newton, newton_batch
+from .newton import (
+    BatchNewtonResult,
+    NewtonResult,
+    is_singular,
+    linear_solver,
+    newton,
+    newton_batch,
+    singular_jacobian_text,
+)
 from .planar import scalar_or_array
 from .symbolic import TIME, rate_name
 
 __all__ = ["Mechanism", "Motion"]
 
 ON_FAILURE = ("raise", "nan")
+LINEAR_STAGES = ("newton", "direct")
 
 #: Two Newton solutions of one instant closer than this (plus 100·tol) are the same assembly.
 SAME_ROOT = 1e-6
@@ -58,8 +69,6 @@ SAME_ROOT = 1e-6
 class Motion:
     """What :meth:`Mechanism.solve` found, shaped like the (broadcast) inputs.
 
-    Attributes
-    ----------
     position, velocity, acceleration : unknown's name → q, q̇, q̈ (m or rad, per s, per s²);
         ``velocity`` and ``acceleration`` are None unless ``rates`` or ``accelerations`` was given.
     converged : True where Newton converged (position and rates are NaN elsewhere).
@@ -106,6 +115,15 @@ def _equations(loops) -> sp.Matrix:
     return sp.Matrix(rows)
 
 
+def _numbers(parameters) -> dict[sp.Symbol, float]:
+    if not isinstance(parameters, Mapping) or not all(isinstance(k, sp.Symbol) for k in parameters):
+        raise InvalidGeometryError(f"parameters must map sympy Symbols to numbers; got {parameters!r}")
+    values = {k: require_finite(f"parameters[{k}]", v) for k, v in parameters.items()}
+    if any(v.ndim for v in values.values()):
+        raise InvalidGeometryError(f"parameters must map each symbol to one number; got {parameters!r}")
+    return {k: float(v) for k, v in values.items()}
+
+
 def _keyed(argument: str, mapping, symbols, required: bool = True) -> dict[str, object]:
     """A dict keyed by symbols or their names → {name: value}; unknown keys and missing names raise."""
     names = [symbol.name for symbol in symbols]
@@ -124,13 +142,44 @@ def _keyed(argument: str, mapping, symbols, required: bool = True) -> dict[str, 
     return out
 
 
+def _derived(build):
+    """A property computed once per declaration, shared by its :meth:`~Mechanism.with_parameters` copies."""
+
+    @wraps(build)
+    def getter(self):
+        if build.__name__ not in self._derived:
+            self._derived[build.__name__] = build(self)
+        return self._derived[build.__name__]
+
+    return property(getter)
+
+
+def _vector(terms, start: int, size: int) -> np.ndarray:
+    """Rows start … start + size of compiled terms (k, ...) as a vector (..., size) (a view)."""
+    return np.moveaxis(terms[start:start + size], 0, -1)
+
+
+def _matrix(terms, start: int, rows: int, columns: int) -> np.ndarray:
+    """Rows of compiled terms (k, ...) as matrices (..., rows, columns), row by row (a view)."""
+    block = terms[start:start + rows * columns].reshape((rows, columns) + terms.shape[1:])
+    return np.moveaxis(block, (0, 1), (-2, -1))
+
+
+def _rows(*arrays) -> tuple[tuple, list[np.ndarray]]:
+    """Arrays (..., k) broadcast over their leading axes and flattened to (N, k); and that leading shape."""
+    arrays = [np.asarray(a, dtype=float) for a in arrays]
+    shape = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+    return shape, [np.broadcast_to(a, shape + a.shape[-1:]).reshape(-1, a.shape[-1]) for a in arrays]
+
+
 class Mechanism:
     """A planar mechanism declared by its loop equations (each expression = 0).
 
     ``loops``: 2×1 sympy matrices (x and y components of a vector loop) or scalar expressions,
     as many equations in all as ``unknowns``; loops may share unknowns.  ``inputs``: the driven
-    variables.  ``parameters``: a number for every other symbol.  Optional ``points`` (name →
-    2×1 matrix of x, y) and ``links`` (pairs of point names) describe the drawing.
+    variables.  ``parameters``: a number for every other symbol (:meth:`with_parameters` gives
+    the same declaration with other numbers, sharing everything derived).  Optional ``points``
+    (name → 2×1 matrix of x, y) and ``links`` (pairs of point names) describe the drawing.
 
     >>> x, th = sp.symbols("x theta")
     >>> follower = Mechanism([x - sp.cos(th)], unknowns=[x], inputs=[th])
@@ -150,13 +199,7 @@ class Mechanism:
         if self.equations.rows != n:
             raise InvalidGeometryError(f"loops give {self.equations.rows} equations for the {n} unknowns "
                                        f"{list(self.unknowns)}: there must be one equation per unknown")
-        parameters = {} if parameters is None else parameters
-        if not isinstance(parameters, Mapping) or not all(isinstance(k, sp.Symbol) for k in parameters):
-            raise InvalidGeometryError(f"parameters must map sympy Symbols to numbers; got {parameters!r}")
-        values = {k: require_finite(f"parameters[{k}]", v) for k, v in parameters.items()}
-        if any(v.ndim for v in values.values()):
-            raise InvalidGeometryError(f"parameters must map each symbol to one number; got {parameters!r}")
-        self.parameters = MappingProxyType({k: float(v) for k, v in values.items()})
+        self.parameters = MappingProxyType(_numbers({} if parameters is None else parameters))
         self.points = {str(name): sp.Matrix(xy) for name, xy in (points or {}).items()}
         self.links = tuple((str(a), str(b)) for a, b in links)
         used = self.equations.free_symbols
@@ -182,10 +225,33 @@ class Mechanism:
                 names = ", ".join(sorted(map(str, bad)))
                 raise InvalidGeometryError(f"parameters: {names} {what}; got parameters="
                                            f"{ {str(k): v for k, v in self.parameters.items()} }")
+        self._values = tuple(self.parameters.values())
+        self._derived = {}
+
+    def with_parameters(self, parameters: Mapping) -> Mechanism:
+        """The same loops with other numbers for all the parameters (keyed by symbol or name): nothing
+        is derived again.
+
+        >>> x, th, a = sp.symbols("x theta a")
+        >>> crank = Mechanism([x - a * sp.cos(th)], [x], [th], {a: 1.0})
+        >>> crank.with_parameters({a: 3.0}).residual([0.0], [0.0]).tolist()
+        [-3.0]
+        """
+        if isinstance(parameters, Mapping):
+            by_name = {s.name: s for s in self.parameters}
+            parameters = {by_name.get(k, k): v for k, v in parameters.items()}
+        values = _numbers(parameters)
+        if set(values) != set(self.parameters):
+            raise InvalidGeometryError(f"parameters must give a number for each of {list(self.parameters)} "
+                                       f"and nothing else; got {list(values)}")
+        other = copy.copy(self)
+        other.parameters = MappingProxyType({k: values[k] for k in self.parameters})
+        other._values = tuple(other.parameters.values())
+        return other
 
     # ------------------------------------------------------------ derived once, symbolically
 
-    @cached_property
+    @_derived
     def rate_symbols(self) -> dict[sp.Symbol, tuple[sp.Symbol, sp.Symbol]]:
         """First and second time derivative of each unknown and input as symbols (θ → ω, α; x → v_x, a_x).
 
@@ -203,10 +269,10 @@ class Mechanism:
             rates[symbol] = pair
         return rates
 
-    @cached_property
+    @_derived
     def _time_derivatives(self) -> tuple[sp.Matrix, sp.Matrix]:
-        """dF/dt and d²F/dt²: every unknown and input made a function of time, the loops
-        differentiated, then the derivatives named by :attr:`rate_symbols`."""
+        """dF/dt and d²F/dt²: unknowns and inputs made functions of time, the loops differentiated,
+        the derivatives named by :attr:`rate_symbols`."""
         functions = {s: sp.Function(s.name, real=True)(TIME) for s in self.rate_symbols}
         back = {}
         for symbol, function in functions.items():
@@ -228,48 +294,69 @@ class Mechanism:
 
     @property
     def acceleration_equations(self) -> sp.Matrix:
-        """d²F/dt² (= 0): J·q̈ + F_u·ü plus the terms in products of rates (see :attr:`velocity_equations`)."""
+        """d²F/dt² (= 0): J·q̈ + F_u·ü plus the terms in products of rates."""
         return self._time_derivatives[1]
 
     def _rates_of(self, symbols, order: int) -> list[sp.Symbol]:
         return [self.rate_symbols[s][order - 1] for s in symbols]
 
     def _compile(self, expressions, *groups) -> Callable[..., np.ndarray]:
-        """Numeric f(*arrays), array k of shape (..., len(groups[k])) → (..., len(expressions))."""
-        values = {symbol: sp.Float(value) for symbol, value in self.parameters.items()}
-        expressions = [sp.sympify(e).xreplace(values) for e in expressions]
-        function = sp.lambdify([s for group in groups for s in group], expressions, "numpy", cse=True)
+        """f(values, *arrays, known=None): array k (..., len(groups[k])) → (len(expressions), ...).
 
-        def evaluate(*arrays):
+        Lambdified once with cse; the parameters' ``values`` are arguments.  cos and sin of an unknown
+        or input are arguments too, computed once per call, or taken from ``known`` ({(name, "cos"):
+        array}), where those of inputs are kept for the next call with the same inputs."""
+        symbols = [s for group in groups for s in group]
+        expressions = [sp.sympify(e) for e in expressions]
+        trig = sorted({(f.func.__name__, f.args[0]) for e in expressions for f in e.atoms(sp.cos, sp.sin)
+                       if f.args[0] in symbols}, key=str)
+        dummies = {getattr(sp, func)(s): sp.Dummy() for func, s in trig}
+        function = sp.lambdify([*symbols, *dummies.values(), *self.parameters],
+                               [e.xreplace(dummies) for e in expressions], "numpy", cse=True)
+        inputs = {s.name for s in self.inputs}
+        where = {s: (k, j) for k, group in enumerate(groups) for j, s in enumerate(group)}
+
+        def evaluate(values, *arrays, known=None):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
-            out = np.empty(np.broadcast_shapes(*(a.shape[:-1] for a in arrays)) + (len(expressions),))
-            columns = [a[..., k] for a in arrays for k in range(a.shape[-1])]
-            for k, value in enumerate(function(*columns)):
-                out[..., k] = value
+            columns = [arrays[k][..., j] for k, j in where.values()]
+            angles = []
+            for func, s in trig:
+                key = (s.name, func)
+                value = None if known is None else known.get(key)
+                if value is None:
+                    value = (np.cos if func == "cos" else np.sin)(columns[symbols.index(s)])
+                    if known is not None and s.name in inputs:
+                        known[key] = value
+                angles.append(value)
+            out = np.empty((len(expressions),) + np.broadcast_shapes(*(a.shape[:-1] for a in arrays)))
+            for k, value in enumerate(function(*columns, *angles, *values)):
+                out[k] = value
             return out
 
         return evaluate
 
-    @cached_property
-    def _residual_and_jacobian(self) -> Callable[..., np.ndarray]:
-        """(q, u) → F and J entries side by side, sharing their subexpressions."""
+    @_derived
+    def _newton_fn(self):
+        """(q, u) → F and J side by side, sharing their subexpressions."""
         F = self.equations
         return self._compile([*F, *F.jacobian(self.unknowns)], self.unknowns, self.inputs)
 
-    @cached_property
-    def _input_jacobian(self) -> Callable[..., np.ndarray]:
-        return self._compile(self.equations.jacobian(self.inputs), self.unknowns, self.inputs)
+    @_derived
+    def _rate_fn(self):
+        """(q, u) → J and F_u side by side."""
+        F = self.equations
+        terms = [*F.jacobian(self.unknowns), *F.jacobian(self.inputs)]
+        return self._compile(terms, self.unknowns, self.inputs)
 
-    @cached_property
-    def _acceleration_rhs(self) -> Callable[..., np.ndarray]:
+    @_derived
+    def _acceleration_fn(self):
         """(q, q̇, u, u̇, ü) → −(d²F/dt² with q̈ = 0), the right-hand side of J·q̈ = …"""
         q, u = self.unknowns, self.inputs
-        zero = {s: 0 for s in self._rates_of(q, 2)}
-        rest = -self.acceleration_equations.xreplace(zero)
+        rest = -self.acceleration_equations.xreplace({s: 0 for s in self._rates_of(q, 2)})
         return self._compile(rest, q, self._rates_of(q, 1), u, self._rates_of(u, 1), self._rates_of(u, 2))
 
-    @cached_property
-    def _system_terms(self) -> Callable[..., np.ndarray]:
+    @_derived
+    def _system_fn(self):
         q, u = self.unknowns, self.inputs
         x = [*q, *self._rates_of(q, 1), *self._rates_of(q, 2)]
         G = sp.Matrix([*self.equations, *self.velocity_equations, *self.acceleration_equations])
@@ -277,11 +364,23 @@ class Mechanism:
 
     # ------------------------------------------------------------ numbers (arrays ordered as declared)
 
-    def _newton_terms(self, q, u) -> tuple[np.ndarray, np.ndarray]:
+
+    def _newton_terms(self, q, u, known=None) -> tuple[np.ndarray, np.ndarray]:
         """F (..., n) and J (..., n, n) from one evaluation."""
         n = len(self.unknowns)
-        terms = self._residual_and_jacobian(q, u)
-        return terms[..., :n], terms[..., n:].reshape(terms.shape[:-1] + (n, n))
+        terms = self._newton_fn(self._values, q, u, known=known)
+        return _vector(terms, 0, n), _matrix(terms, n, n, n)
+
+    def _rate_terms(self, q, u, known=None) -> tuple[np.ndarray, np.ndarray]:
+        """J (..., n, n) and F_u (..., n, m) from one evaluation."""
+        n, m = len(self.unknowns), len(self.inputs)
+        terms = self._rate_fn(self._values, q, u, known=known)
+        return _matrix(terms, 0, n, n), _matrix(terms, n * n, n, m)
+
+    def _rhs(self, q, q_rate, u, u_rate, u_acceleration, known=None) -> np.ndarray:
+        """−(d²F/dt² with q̈ = 0), shape (..., n): the right-hand side of J·q̈ = …"""
+        terms = self._acceleration_fn(self._values, q, q_rate, u, u_rate, u_acceleration, known=known)
+        return _vector(terms, 0, len(self.unknowns))
 
     def residual(self, q, u) -> np.ndarray:
         """F(q, u), shape (..., n): ``q`` (..., n) ordered as ``unknowns``, ``u`` (..., m) as ``inputs``.
@@ -295,27 +394,179 @@ class Mechanism:
 
     def jacobian(self, q, u) -> np.ndarray:
         """J = ∂F/∂q, shape (..., n, n) (see :meth:`residual`)."""
-        return self._newton_terms(q, u)[1]
+        return self._rate_terms(q, u)[0]
 
     def input_jacobian(self, q, u) -> np.ndarray:
         """F_u = ∂F/∂u, shape (..., n, m) (see :meth:`residual`)."""
-        terms = self._input_jacobian(q, u)
-        return terms.reshape(terms.shape[:-1] + (len(self.unknowns), len(self.inputs)))
+        return self._rate_terms(q, u)[1]
 
-    def system(self, x, u, u_rate, u_acceleration) -> tuple[np.ndarray, np.ndarray]:
+    def velocity_residual(self, q_rate, q, u, u_rate) -> np.ndarray:
+        """dF/dt = J·q̇ + F_u·u̇ at the rates ``q_rate`` (..., n), ``u_rate`` (..., m).
+
+        >>> th, x = sp.symbols("theta x")
+        >>> follower = Mechanism([x - sp.cos(th)], [x], [th])
+        >>> follower.velocity_residual([0.0], [0.0], [np.pi / 2], [2.0]).tolist()
+        [2.0]
+        """
+        J, F_u = self._rate_terms(q, u)
+        return np.einsum("...ij,...j->...i", J, q_rate) + np.einsum("...ij,...j->...i", F_u, u_rate)
+
+    def acceleration_residual(self, q_acceleration, q_rate, q, u, u_rate, u_acceleration) -> np.ndarray:
+        """d²F/dt² = J·q̈ − (right-hand side of the acceleration system), shape (..., n).
+
+        >>> th, x = sp.symbols("theta x")
+        >>> follower = Mechanism([x - sp.cos(th)], [x], [th])
+        >>> follower.acceleration_residual([0.0], [0.0], [0.0], [0.0], [2.0], [0.0]).tolist()
+        [4.0]
+        """
+        J = self.jacobian(q, u)
+        rest = self._rhs(q, q_rate, u, u_rate, u_acceleration)
+        return np.einsum("...ij,...j->...i", J, q_acceleration) - rest
+
+    def system(self, x, u, u_rate, u_acceleration, position: Mechanism | None = None):
         """The 3n simultaneous system: residuals of position, velocity and acceleration equations
-        at x = (q, q̇, q̈), shape (..., 3n), and their Jacobian in x, shape (..., 3n, 3n).
+        at x = (q, q̇, q̈), shape (..., 3n), and their Jacobian in x, shape (..., 3n, 3n).  With
+        ``position`` (an equivalent declaration, see :meth:`consecutive`) its loops give the first n rows.
 
         >>> th, x = sp.symbols("theta x")
         >>> G, JG = Mechanism([x - sp.cos(th)], [x], [th]).system([1.0, 0.0, 0.0], [0.0], [2.0], [0.0])
         >>> G.tolist(), JG.tolist()
         ([0.0, 0.0, 4.0], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
         """
-        size = 3 * len(self.unknowns)
-        terms = self._system_terms(x, u, u_rate, u_acceleration)
-        return terms[..., :size], terms[..., size:].reshape(terms.shape[:-1] + (size, size))
+        n = len(self.unknowns)
+        terms = self._system_fn(self._values, x, u, u_rate, u_acceleration)
+        G, JG = _vector(terms, 0, 3 * n), _matrix(terms, 3 * n, 3 * n, 3 * n)
+        if position is not None:
+            G[..., :n], JG[..., :n, :n] = position._newton_terms(np.asarray(x, float)[..., :n], u)
+        return G, JG
 
-    # ------------------------------------------------------------ solving
+    def rates(self, q, u, u_rate, u_acceleration=None, *, trig: Mapping | None = None, singular=None):
+        """q̇ and q̈ at known positions by linear solves with J: J·q̇ = −F_u·u̇, J·q̈ = −(the rest of d²F/dt²).
+
+        ``q`` (..., n), ``u``, ``u_rate``, ``u_acceleration`` (..., m), broadcast together; ``trig``
+        may give {name: (cos, sin)} of unknowns or inputs already computed, ``singular`` a mask of the
+        caller's own singularity test (else :func:`~course_lib.newton.is_singular`).  Returns q̇, q̈
+        (None without ``u_acceleration``), each (..., n) and NaN where singular, and that mask.
+
+        >>> th, x = sp.symbols("theta x")
+        >>> [a.tolist() for a in Mechanism([x**2 - th], [x], [th]).rates([2.0], [4.0], [1.0], [0.0])]
+        [[0.25], [-0.03125], False]
+        """
+        arrays = [q, u, u_rate] + ([] if u_acceleration is None else [u_acceleration])
+        shape, arrays = _rows(*arrays)
+        q, u, u_rate = arrays[:3]
+        known = {(name, func): np.broadcast_to(value, shape).ravel() for name, pair in (trig or {}).items()
+                 for func, value in zip(("cos", "sin"), pair, strict=True)}
+        J, F_u = self._rate_terms(q, u, known)
+        singular = is_singular(J) if singular is None else np.broadcast_to(singular, shape).ravel()
+        if singular.any():
+            J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
+        solve = linear_solver(J)
+        q_rate = solve(-sum(F_u[:, :, j] * u_rate[:, j, None] for j in range(u_rate.shape[1])))
+        q_acc = None
+        if u_acceleration is not None:
+            q_acc = solve(self._rhs(q, q_rate, u, u_rate, arrays[3], known))
+            q_acc[singular] = np.nan
+            q_acc = q_acc.reshape(shape + q_acc.shape[-1:])
+        q_rate[singular] = np.nan
+        return q_rate.reshape(shape + q_rate.shape[-1:]), q_acc, singular.reshape(shape)
+
+    # ------------------------------------------------------------ the course's two Newton routes
+
+    def _run(self, stage, u, terms, start, tol, max_iter, direct=False):
+        """One Newton stage from ``start``: (k,) with history by :func:`newton`, (N, k) by
+        :func:`newton_batch`; ``terms(x)`` gives (F, J); ``direct``: one linear solve (a linear stage).
+        Failures raise naming the stage and the inputs."""
+        batch = start.ndim == 2
+        if direct:
+            F0, J = terms(start)
+            stuck = is_singular(J if batch else J[None])
+            x = start + linear_solver(np.where(stuck[:, None, None], np.eye(start.shape[-1]), J) if batch
+                                      else J[None])(-(F0 if batch else F0[None])).reshape(start.shape)
+            residual = np.linalg.norm(terms(x)[0], axis=-1)
+            if batch:
+                result = BatchNewtonResult(x, residual <= tol, np.ones(len(x), int), stuck,
+                                           np.linalg.norm(x - start, axis=-1), residual, "one linear solve")
+            else:
+                step = x - start
+                result = NewtonResult(x, bool(residual <= tol), 1, np.array([start, x]),
+                                      np.array([np.linalg.norm(step)]), np.abs(step)[None, :],
+                                      np.array([np.linalg.norm(F0), residual]), "one linear solve",
+                                      bool(stuck[0]))
+        elif batch:
+            result = newton_batch(terms, start, jac=True, tol=tol, max_iter=max_iter)
+        else:
+            result = newton(lambda v: terms(v)[0], start, jac=lambda v: terms(v)[1], tol=tol,
+                            max_iter=max_iter, on_failure="report")
+        failed = np.flatnonzero(~np.atleast_1d(result.converged) | np.atleast_1d(result.singular))
+        if failed.size == 0:
+            return result
+        first = failed[0]
+        where = self._where(u, first)
+        if batch:
+            what = "the Jacobian became singular" if result.singular[first] else "Newton did not converge"
+            message = (f"{stage} stage at {where}: {what} ({failed.size} of {len(start)} points, first at "
+                       f"index {first})")
+        else:
+            message = f"{stage} stage at {where}: " + (
+                f"the Jacobian is {singular_jacobian_text(start.size)}" if direct else result.message)
+        if np.atleast_1d(result.singular)[first]:
+            raise SingularJacobianError(message, x=result.x[first].tolist() if batch else result.x.tolist())
+        raise ConvergenceError(message, result=result)
+
+    def consecutive(self, u, u_rate, u_acceleration, seed, *, tol: float = 1e-6, max_iter: int = 50,
+                    linear_stages: str = "newton", position: Mechanism | None = None) -> dict:
+        """The course's consecutive Newton: position, then velocity with it, then acceleration with
+        both, each stage a Newton run from its third of ``seed`` (guesses of q, q̇, q̈: 3n values).
+
+        ``u``, ``u_rate``, ``u_acceleration`` (m,) for one instant, giving ``NewtonResult`` s with their
+        history; or (N, m), every instant from the same seed by :func:`newton_batch`.  The rate stages
+        are linear, F(v) = J·v + c with the position's J; ``linear_stages="direct"`` solves each in
+        one linear solve.  ``position``: a declaration of the same unknowns and inputs with equivalent
+        loops (e.g. a constraint substituted) used for the position stage.  Returns {stage: result}.
+
+        >>> th, x = sp.symbols("theta x")
+        >>> stages = Mechanism([x**2 - th], [x], [th]).consecutive([4.0], [1.0], [0.0], [1.0, 0.0, 0.0])
+        >>> [(stage, round(float(r.x[0]), 6), r.iterations) for stage, r in stages.items()]
+        [('position', 2.0, 5), ('velocity', 0.25, 2), ('acceleration', -0.03125, 2)]
+        """
+        require_choice("linear_stages", linear_stages, LINEAR_STAGES)
+        u, u_rate, u_acc, seed = (np.asarray(a, dtype=float) for a in (u, u_rate, u_acceleration, seed))
+        n, batch = len(self.unknowns), u.ndim == 2
+        start = np.tile(seed, (len(u), 1)) if batch else seed
+        form, known = position or self, {}
+        position = self._run("position", u, lambda v: form._newton_terms(v, u, known), start[..., :n], tol,
+                             max_iter)
+        q = position.x
+        J, F_u = self._rate_terms(q, u, known)
+
+        def linear(stage, constant, guess):
+            def terms(v):
+                return np.einsum("...ij,...j->...i", J, v) + constant, J
+
+            return self._run(stage, u, terms, guess, tol, max_iter, direct=linear_stages == "direct")
+
+        velocity = linear("velocity", np.einsum("...ij,...j->...i", F_u, u_rate), start[..., n:2 * n])
+        rest = self._rhs(q, velocity.x, u, u_rate, u_acc, known)
+        acceleration = linear("acceleration", -rest, start[..., 2 * n:])
+        return {"position": position, "velocity": velocity, "acceleration": acceleration}
+
+    def simultaneous(self, u, u_rate, u_acceleration, seed, *, tol: float = 1e-6, max_iter: int = 50,
+                     position: Mechanism | None = None):
+        """The course's simultaneous Newton on the stacked 3n system (:meth:`system`) from ``seed``;
+        arguments as :meth:`consecutive`.
+
+        >>> th, x = sp.symbols("theta x")
+        >>> result = Mechanism([x**2 - th], [x], [th]).simultaneous([4.0], [1.0], [0.0], [1.0, 0.0, 0.0])
+        >>> np.round(result.x, 6).tolist(), result.iterations
+        ([2.0, 0.25, -0.03125], 5)
+        """
+        u, u_rate, u_acc, seed = (np.asarray(a, dtype=float) for a in (u, u_rate, u_acceleration, seed))
+        start = np.tile(seed, (len(u), 1)) if u.ndim == 2 else seed
+        return self._run("simultaneous", u, lambda x: self.system(x, u, u_rate, u_acc, position), start, tol,
+                         max_iter)
+
+    # ------------------------------------------------------------ solving a motion
 
     def _continuation(self, u: np.ndarray, seed: np.ndarray, tol: float, max_iter: int):
         """Positions at the rows of ``u`` in order, each on the assembly that Newton from the previous
@@ -331,8 +582,8 @@ class Mechanism:
         converged, stuck, iterations = np.zeros(N, bool), np.zeros(N, bool), np.zeros(N, int)
 
         def batch(rows, seeds):
-            u_rows = u[rows]
-            return newton_batch(lambda x: self._newton_terms(x, u_rows), seeds, jac=True, tol=tol,
+            u_rows, known = u[rows], {}
+            return newton_batch(lambda x: self._newton_terms(x, u_rows, known), seeds, jac=True, tol=tol,
                                 max_iter=max_iter)
 
         def keep(rows, result, take):
@@ -384,8 +635,7 @@ class Mechanism:
         assembly.  One instant (every input a number) is solved by :func:`~course_lib.newton.newton`
         and keeps its history in ``Motion.newton``; arrays by batched runs of
         :func:`~course_lib.newton.newton_batch` that give what continuation gives.  ``tol`` and
-        ``max_iter`` are Newton's.  Velocity and acceleration come from J·q̇ = −F_u·u̇ and
-        J·q̈ = −(the rest of d²F/dt²), solved with the J of the position.
+        ``max_iter`` are Newton's.  Rates by :meth:`rates`, with the J of the position.
 
         Raises (unless ``on_failure="nan"``, which gives NaN and the masks instead):
         ``SingularJacobianError`` where J is singular during Newton, or at a solution where rates are
@@ -416,7 +666,7 @@ class Mechanism:
             shapes = {k: np.shape(v) for k, v in named.items()}
             raise InvalidGeometryError(f"inputs, rates and accelerations must broadcast to one shape; "
                                        f"got shapes {shapes}") from None
-        shape, m, n = arrays[0].shape, len(self.inputs), len(self.unknowns)
+        shape, m = arrays[0].shape, len(self.inputs)
         u, u_rate, u_acc = (np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in range(3))
         with np.errstate(all="ignore"):
             if shape == ():
@@ -425,22 +675,18 @@ class Mechanism:
             else:
                 result = None
                 q, converged, stuck, iterations = self._continuation(u, seed, tol, max_iter)
-            J = self._newton_terms(q, u)[1]
-            singular = stuck | (converged & is_singular(J))
-        want_rates = rates is not None or accelerations is not None
+            want_rates = rates is not None or accelerations is not None
+            if want_rates:
+                q_rate, q_acc, singular = self.rates(q, u, u_rate, u_acc)
+            else:
+                singular = is_singular(self.jacobian(q, u))
+            singular = stuck | (converged & singular)
         if on_failure == "raise":
             self._report(~converged | (singular & want_rates), singular, u)
         q[~converged] = np.nan
         velocity = acceleration = None
         if want_rates:
-            good = converged & ~singular
-            solve = linear_solver(np.where(good[:, None, None], J, np.eye(n)))
-            q_rate = solve(-np.einsum("nij,nj->ni", self.input_jacobian(q, u), u_rate))
-            q_rate[~good] = np.nan
-            with np.errstate(invalid="ignore"):
-                rest = self._acceleration_rhs(q, q_rate, u, u_rate, u_acc)
-            q_acc = solve(np.where(good[:, None], rest, 0.0))
-            q_acc[~good] = np.nan
+            q_rate[singular | ~converged], q_acc[singular | ~converged] = np.nan, np.nan
             velocity, acceleration = self._by_name(q_rate, shape), self._by_name(q_acc, shape)
 
         def shaped(values):
@@ -454,17 +700,14 @@ class Mechanism:
     def _one_instant(self, u, seed, tol, max_iter, on_failure):
         """Newton with its history at one instant; failures re-raised naming the inputs."""
         where = self._where(u, 0)
-        try:
-            result = newton(lambda q: self.residual(q, u), seed, jac=lambda q: self.jacobian(q, u),
-                            tol=tol, max_iter=max_iter)
-        except SingularJacobianError as err:
-            if on_failure == "raise":
-                raise SingularJacobianError(f"at {where}: {err}", err.x, err.condition_number) from err
+        result = newton(lambda q: self.residual(q, u), seed, jac=lambda q: self.jacobian(q, u),
+                        tol=tol, max_iter=max_iter, on_failure="report")
+        if on_failure == "raise" and result.singular:
+            raise SingularJacobianError(f"at {where}: {result.message}", result.x.tolist())
+        if on_failure == "raise" and not result.converged:
+            raise ConvergenceError(f"at {where}, from the guess: {result.message}", result=result)
+        if result.singular:
             return np.full((1, seed.size), np.nan), np.array([False]), np.array([True]), np.array([0]), None
-        except ConvergenceError as err:
-            if on_failure == "raise":
-                raise ConvergenceError(f"at {where}, from the guess: {err}", result=err.result) from err
-            result = err.result
         return (result.x[None, :].copy(), np.array([result.converged]), np.array([False]),
                 np.array([result.iterations]), result)
 
@@ -494,8 +737,8 @@ class Mechanism:
 
     # ------------------------------------------------------------ drawing
 
-    @cached_property
-    def _point_terms(self) -> Callable[..., np.ndarray]:
+    @_derived
+    def _point_fn(self):
         return self._compile([c for xy in self.points.values() for c in xy], self.unknowns, self.inputs)
 
     def joints(self, motion: Motion) -> dict[str, np.ndarray]:
@@ -512,5 +755,5 @@ class Mechanism:
                                        "got points={}")
         q = np.stack(np.broadcast_arrays(*(motion.position[s.name] for s in self.unknowns)), axis=-1)
         u = np.stack(np.broadcast_arrays(*(motion.inputs[s.name] for s in self.inputs)), axis=-1)
-        xy = self._point_terms(q, u)
-        return {name: xy[..., 2 * k:2 * k + 2] for k, name in enumerate(self.points)}
+        xy = self._point_fn(self._values, q, u)
+        return {name: _vector(xy, 2 * k, 2) for k, name in enumerate(self.points)}

@@ -106,17 +106,26 @@ def finite_difference_jacobian(F: Callable, x: np.ndarray, fx: np.ndarray | None
     return np.stack(columns, axis=-1)
 
 
-def _columns(J: np.ndarray) -> list[np.ndarray]:
-    """The entries J[:, i, j] of a stack (N, n, n) as n·n contiguous arrays, row by row."""
-    return list(np.ascontiguousarray(J.reshape(J.shape[0], -1).T))
+def _cramer(J: np.ndarray) -> tuple[list, list, np.ndarray]:
+    """For a stack (N, n, n), n ≤ 3: the entries J[:, i, j] and the adjugate's, row by row, as
+    contiguous (N,) arrays, and det J."""
+    n = J.shape[-1]
+    if J.strides[0] == J.itemsize:  # entries already contiguous (the core's layout)
+        a = [J[:, i, j] for i in range(n) for j in range(n)]
+    else:
+        a = list(np.ascontiguousarray(J.reshape(J.shape[0], -1).T))
+    if n == 1:
+        return a, [], a[0]
+    if n == 2:  # adjugate rows (d, −b), (−c, a)
+        return a, [a[3], -a[1], -a[2], a[0]], a[0] * a[3] - a[1] * a[2]
+    # adjugate rows: cross products of the columns
+    adjugate = [a[4] * a[8] - a[5] * a[7], a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
+                a[5] * a[6] - a[3] * a[8], a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
+                a[3] * a[7] - a[4] * a[6], a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]]
+    return a, adjugate, a[0] * adjugate[0] + a[1] * adjugate[3] + a[2] * adjugate[6]
 
 
-def _det3(a) -> np.ndarray:
-    return a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) + a[2] * (
-        a[3] * a[7] - a[4] * a[6])
-
-
-def hadamard_ratio(J: np.ndarray) -> np.ndarray:
+def hadamard_ratio(J: np.ndarray, _parts=None) -> np.ndarray:
     """|det J| / Π‖row of J‖ per matrix of a stack (N, n, n): 1 for orthogonal rows, 0 when singular.
 
     The library's one singularity test (:func:`is_singular`): it does not change when a row
@@ -128,25 +137,25 @@ def hadamard_ratio(J: np.ndarray) -> np.ndarray:
     n = J.shape[-1]
     if n > 3:
         return np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-    a = _columns(J)
-    squares = [entry * entry for entry in a]
-    rows = [sum(squares[n * i:n * i + n]) for i in range(n)]
-    det = a[0] if n == 1 else a[0] * a[3] - a[1] * a[2] if n == 2 else _det3(a)
-    return np.abs(det) / np.sqrt(np.prod(rows, axis=0))
+    a, _, det = _parts or _cramer(J)
+    rows = np.ones_like(det)
+    for i in range(n):
+        rows *= sum(entry * entry for entry in a[n * i:n * i + n])
+    return np.abs(det) / np.sqrt(rows)
 
 
-def is_singular(J: np.ndarray) -> np.ndarray:
+def is_singular(J: np.ndarray, _parts=None) -> np.ndarray:
     """True per matrix of a stack (N, n, n) that is singular or not finite (ratio ≤ 1/MAX_CONDITION).
 
     >>> is_singular(np.array([[[1.0, 1.0], [2.0, 2.0]], [[1.0, 0.0], [0.0, 1.0]]])).tolist()
     [True, False]
     """
     with np.errstate(all="ignore"):
-        return ~(hadamard_ratio(J) > 1.0 / MAX_CONDITION)
+        return ~(hadamard_ratio(J, _parts) > 1.0 / MAX_CONDITION)
 
 
-def linear_solver(J: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
-    """b ↦ x with J·x = b for a stack J (N, n, n) and b (N, n): Cramer's rule with the cofactors
+def linear_solver(J: np.ndarray, _parts=None) -> Callable[[np.ndarray], np.ndarray]:
+    """b ↦ x with J·x = b for a stack J (N, n, n) and b (N, n): Cramer's rule with the adjugate
     formed once (so several right-hand sides cost little) for n ≤ 3, LU for larger n.
 
     >>> solve = linear_solver(np.array([[[2.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 4.0]]]))
@@ -155,24 +164,19 @@ def linear_solver(J: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
     """
     n = J.shape[-1]
     if n > 3:
-        return lambda b: np.linalg.solve(J, b[..., None])[..., 0]
-    a = _columns(J)
+        return lambda b: np.linalg.solve(J, np.asarray(b, dtype=float)[..., None])[..., 0]
+    _, adjugate, det = _parts or _cramer(J)
     if n == 1:
-        return lambda b: b / a[0][:, None]
-    if n == 2:  # adjugate rows (d, −b), (−c, a)
-        det = a[0] * a[3] - a[1] * a[2]
-        cofactors = [a[3], -a[1], -a[2], a[0]]
-    else:  # adjugate rows: cross products of the columns
-        cofactors = [a[4] * a[8] - a[5] * a[7], a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
-                     a[5] * a[6] - a[3] * a[8], a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
-                     a[3] * a[7] - a[4] * a[6], a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]]
-        det = a[0] * cofactors[0] + a[1] * cofactors[3] + a[2] * cofactors[6]
+        return lambda b: np.asarray(b, dtype=float) / det[:, None]
 
     def solve(b):
         b = np.asarray(b, dtype=float)
-        out = np.empty(np.broadcast_shapes(b.shape, (det.size, n)))
+        columns, out = [b[:, j] for j in range(n)], np.empty((det.size, n))
         for i in range(n):
-            out[:, i] = sum(cofactors[n * i + j] * b[:, j] for j in range(n)) / det
+            row = adjugate[n * i] * columns[0]
+            for j in range(1, n):
+                row += adjugate[n * i + j] * columns[j]
+            np.divide(row, det, out=out[:, i])
         return out
 
     return solve
@@ -201,6 +205,8 @@ def _settings(tol, max_iter, residual_tol, on_failure) -> tuple[float, int, floa
 
 def _real(name: str, value, shape: tuple, x) -> np.ndarray:
     """``value`` returned by the callable ``name`` at ``x`` as a float array of ``shape``, else raise."""
+    if type(value) is np.ndarray and value.dtype == float and value.shape == shape:
+        return value  # the common case, at once
     where = f"at x={np.round(x, 12).tolist()}" if np.size(x) <= 9 else f"at x of shape {np.shape(x)}"
     if value is None or np.iscomplexobj(value):
         what = "None" if value is None else "complex numbers"
@@ -341,7 +347,8 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | None = None, tol: float
         def evaluate(xs):
             pair = F(xs)
             if not (isinstance(pair, tuple) and len(pair) == 2):
-                raise InvalidGeometryError(f"with jac=True, F must return (residuals, Jacobians); got {pair!r}")
+                raise InvalidGeometryError(f"with jac=True, F must return (residuals, Jacobians); "
+                                           f"got {pair!r}")
             return _real("F", pair[0], (N, n), xs), lambda: _real("jac", pair[1], (N, n, n), xs)
     else:
         if jac is None or jac is False:
@@ -364,14 +371,16 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | None = None, tol: float
                 break
             whole = rows.size == N  # while every row iterates, slices avoid fancy-indexed copies
             J = J() if whole else J()[rows]
-            bad = is_singular(J)
+            parts = _cramer(J) if n <= 3 else None
+            bad = is_singular(J, parts)
             if bad.any():
                 singular[rows[bad & np.isfinite(J).all(axis=(1, 2))]] = True
                 rows, J, whole = rows[~bad], J[~bad], False
                 if rows.size == 0:
                     break
+                parts = _cramer(J) if n <= 3 else None
             sel = slice(None) if whole else rows
-            step = linear_solver(J)(-fx[sel])
+            step = linear_solver(J, parts)(-fx[sel])
             x[sel] += step
             iterations[sel] += 1
             steps = _row_norms(step)

@@ -30,14 +30,14 @@ of the report's eq. 20 (the rod points to the left).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cache, lru_cache
 from types import MappingProxyType
 
 import numpy as np
 
 from .errors import (
-    ConvergenceError,
     InvalidGeometryError,
     SingularJacobianError,
     report_unreachable,
@@ -45,31 +45,14 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .newton import NewtonResult, is_singular, newton, newton_batch, singular_jacobian_text
+from .newton import NewtonResult
+from .planar import polar
 from .profile import first_turn_time, motor_profile
 
-__all__ = [
-    "Saw",
-    "COURSE_SAW",
-    "UNKNOWNS",
-    "SEED_PRINTED",
-    "SEED_CODE",
-    "position_residual",
-    "position_jacobian",
-    "velocity_residual",
-    "velocity_jacobian",
-    "acceleration_residual",
-    "acceleration_jacobian",
-    "system_residual",
-    "system_jacobian",
-    "SawSolution",
-    "solve_consecutive",
-    "solve_simultaneous",
-    "analytic",
-    "joint_positions",
-    "SawSweep",
-    "sweep",
-]
+__all__ = ["Saw", "COURSE_SAW", "UNKNOWNS", "SEED_PRINTED", "SEED_CODE", "position_residual",
+           "position_jacobian", "velocity_residual", "velocity_jacobian", "acceleration_residual",
+           "acceleration_jacobian", "system_residual", "system_jacobian", "SawSolution", "solve_consecutive",
+           "solve_simultaneous", "analytic", "joint_positions", "SawSweep", "sweep"]
 
 #: Names of the nine unknowns, in the course's order.
 UNKNOWNS = ("r1", "theta1", "theta3", "v_r", "omega1", "omega3", "a_r", "alpha1", "alpha3")
@@ -115,28 +98,45 @@ class Saw:
 COURSE_SAW = Saw()
 
 
-def _split3(values, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+@cache
+def _declaration(variant: str):
+    """The saw's loop r1 = r2 + r3 and slider line on the core (symbols r1, theta1, theta3; theta2).
+
+    "loop": (Fx, Fy, Fc) of eqs. (7)–(9).  "substituted": (Fc, Fx, Fy) with r1 = r1y / sin θ1 put
+    into Fx and Fy by sympy, the system whose Jacobian the course prints as eq. (17)."""
+    import sympy as sp
+
+    from .mechanism import Mechanism
+
+    r1, theta1, theta2, theta3, r1y, r2, r3 = sp.symbols("r1 theta1 theta2 theta3 r1y r2 r3")
+    fx = -r1 * sp.cos(theta1) + r2 * sp.cos(theta2) + r3 * sp.cos(theta3)
+    fy = r1 * sp.sin(theta1) - r2 * sp.sin(theta2) - r3 * sp.sin(theta3)
+    fc = r1 * sp.sin(theta1) - r1y
+    loops = [sp.Matrix([fx, fy]), fc]
+    if variant == "substituted":
+        on_the_line = {r1: r1y / sp.sin(theta1)}
+        loops = [fc, fx.subs(on_the_line), fy.subs(on_the_line)]
+    return Mechanism(loops, [r1, theta1, theta3], [theta2], {r1y: 0.045, r2: 0.075, r3: 0.170})
+
+
+@lru_cache(maxsize=64)
+def _core(saw: Saw, variant: str = "loop"):
+    declaration = _declaration(require_choice("variant", variant, VARIANTS))
+    lengths = (saw.r1y, saw.r2, saw.r3)
+    return declaration.with_parameters(dict(zip(declaration.parameters, lengths, strict=True)))
+
+
+def _last(values, size: int, name: str) -> np.ndarray:
     array = np.asarray(values, dtype=float)
-    if array.shape[-1:] != (3,):
-        raise InvalidGeometryError(f"{name} must have 3 entries on its last axis; got shape {array.shape}")
-    return array[..., 0], array[..., 1], array[..., 2]
+    if array.shape[-1:] != (size,):
+        raise InvalidGeometryError(f"{name} must have {size} entries on its last axis; got shape "
+                                   f"{array.shape}")
+    return array
 
 
-def _stack(rows) -> np.ndarray:
-    """Entries (broadcast to one shape) side by side on a new last axis, shape (..., len(rows))."""
-    out = np.empty(np.broadcast(*rows).shape + (len(rows),))
-    for k, row in enumerate(rows):
-        out[..., k] = row
-    return out
-
-
-def _matrix(rows) -> np.ndarray:
-    """A list of rows of broadcastable entries as one array, shape (..., len(rows), len(rows[0]))."""
-    out = np.empty(np.broadcast(*(entry for row in rows for entry in row)).shape + (len(rows), len(rows[0])))
-    for i, row in enumerate(rows):
-        for j, entry in enumerate(row):
-            out[..., i, j] = entry
-    return out
+def _motion(*values) -> list[np.ndarray]:
+    """θ2, ω2, α2 (any of them) as arrays (..., 1), the core's inputs."""
+    return [np.asarray(value, dtype=float)[..., None] for value in values]
 
 
 def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
@@ -149,29 +149,8 @@ def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str =
     >>> bool(np.allclose(position_residual([-0.0996724914, -0.4684217805, 2.8736937412], 0.0), 0, atol=1e-10))
     True
     """
-    require_choice("variant", variant, VARIANTS)
-    r1, theta1, theta3 = _split3(position, "position")
-    theta2 = np.asarray(theta2, dtype=float)
-    r1y, r2, r3 = saw.r1y, saw.r2, saw.r3
-    height = r1 * np.sin(theta1)
-    constraint = height - r1y
-    if variant == "loop":
-        fx = -r1 * np.cos(theta1) + r2 * np.cos(theta2) + r3 * np.cos(theta3)
-        fy = height - r2 * np.sin(theta2) - r3 * np.sin(theta3)
-        return _stack([fx, fy, constraint])
-    fx = -r1y * np.cos(theta1) / np.sin(theta1) + r2 * np.cos(theta2) + r3 * np.cos(theta3)
-    fy = r1y - r2 * np.sin(theta2) - r3 * np.sin(theta3)
-    return _stack([constraint, fx, fy])
-
-
-def _loop_matrix(s1, c1, r1s1, r1c1, r3s3, r3c3) -> np.ndarray:
-    """The loop position Jacobian from sin θ1, cos θ1, r1 sin θ1, r1 cos θ1, r3 sin θ3, r3 cos θ3."""
-    return _matrix([[-c1, r1s1, -r3s3], [s1, r1c1, -r3c3], [s1, r1c1, 0.0]])
-
-
-def _loop_jacobian(r1, theta1, theta3, r3) -> np.ndarray:
-    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
-    return _loop_matrix(s1, c1, r1 * s1, r1 * c1, r3 * s3, r3 * c3)
+    position = _last(position, 3, "position")
+    return _core(saw, variant).residual(position, *_motion(theta2))
 
 
 def position_jacobian(position, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
@@ -186,45 +165,30 @@ def position_jacobian(position, *, saw: Saw = COURSE_SAW, variant: str = "loop")
     >>> bool(abs(np.linalg.det(J) - 0.1 * 0.17 * np.cos(3.0)) < 1e-15)
     True
     """
-    require_choice("variant", variant, VARIANTS)
-    r1, theta1, theta3 = _split3(position, "position")
-    if variant == "loop":
-        return _loop_jacobian(r1, theta1, theta3, saw.r3)
-    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
-    cot1 = c1 / s1
-    return _matrix(
-        [[s1, r1 * c1, 0.0], [0.0, saw.r1y * (cot1**2 + 1), -saw.r3 * s3], [0.0, 0.0, -saw.r3 * c3]]
-    )
+    position = _last(position, 3, "position")
+    return _core(saw, variant).jacobian(position, np.zeros(position.shape[:-1] + (1,)))
 
 
 def velocity_residual(velocity, position, theta2, omega2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
-    """Residuals of the velocity equations (10)–(12) at ``velocity`` = (v_r, ω1, ω3), shape (..., 3).
+    """Residuals of the velocity equations (10)–(12) at ``velocity`` = (v_r, ω1, ω3), shape (..., 3):
+    d/dt of (7)–(9), J·(v_r, ω1, ω3) + ∂F/∂θ2·ω2.
 
     >>> velocity_residual([0.0, 0.0, 0.0], [-0.1, -0.5, 3.0], 0.0, 0.0).tolist()
     [0.0, 0.0, 0.0]
     """
-    v_r, omega1, omega3 = _split3(velocity, "velocity")
-    r1, theta1, theta3 = _split3(position, "position")
-    theta2, omega2 = np.asarray(theta2, float), np.asarray(omega2, float)
-    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
-    r2, r3 = saw.r2, saw.r3
-    fc = v_r * s1 + omega1 * r1 * c1
-    fx = omega1 * r1 * s1 - v_r * c1 - omega2 * r2 * np.sin(theta2) - omega3 * r3 * s3
-    fy = fc - omega2 * r2 * np.cos(theta2) - omega3 * r3 * c3
-    return _stack([fx, fy, fc])
+    velocity, position = _last(velocity, 3, "velocity"), _last(position, 3, "position")
+    theta2, omega2 = _motion(theta2, omega2)
+    return _core(saw).velocity_residual(velocity, position, theta2, omega2)
 
 
 def velocity_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
-    """∂(velocity residuals)/∂(v_r, ω1, ω3), the course's eq. (18), shape (..., 3, 3).
-
-    It equals the loop position Jacobian: differentiating F(q(t), θ2(t)) = 0 in time gives
-    J(q)·q̇ + ∂F/∂θ2·ω2 = 0, linear in q̇.
+    """∂(velocity residuals)/∂(v_r, ω1, ω3), the course's eq. (18), shape (..., 3, 3): the loop
+    position Jacobian, as differentiating F(q(t), θ2(t)) = 0 gives J(q)·q̇ + ∂F/∂θ2·ω2 = 0.
 
     >>> bool(np.allclose(velocity_jacobian([-0.1, -0.5, 3.0]), position_jacobian([-0.1, -0.5, 3.0])))
     True
     """
-    r1, theta1, theta3 = _split3(position, "position")
-    return _loop_jacobian(r1, theta1, theta3, saw.r3)
+    return position_jacobian(position, saw=saw)
 
 
 def acceleration_residual(
@@ -235,113 +199,45 @@ def acceleration_residual(
     >>> acceleration_residual([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [-0.1, -0.5, 3.0], 0.0, 0.0, 0.0).tolist()
     [0.0, 0.0, 0.0]
     """
-    a_r, alpha1, alpha3 = _split3(acceleration, "acceleration")
-    v_r, omega1, omega3 = _split3(velocity, "velocity")
-    r1, theta1, theta3 = _split3(position, "position")
-    theta2, omega2, alpha2 = (np.asarray(v, float) for v in (theta2, omega2, alpha2))
-    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
-    s2, c2 = np.sin(theta2), np.cos(theta2)
-    r2, r3 = saw.r2, saw.r3
-    fx = (
-        r1 * c1 * omega1**2 + 2 * v_r * s1 * omega1 - r2 * c2 * omega2**2 - r3 * c3 * omega3**2
-        - a_r * c1 + alpha1 * r1 * s1 - alpha2 * r2 * s2 - alpha3 * r3 * s3
-    )
-    fc = -r1 * s1 * omega1**2 + 2 * v_r * c1 * omega1 + a_r * s1 + alpha1 * r1 * c1
-    fy = fc + r2 * s2 * omega2**2 + r3 * s3 * omega3**2 - alpha2 * r2 * c2 - alpha3 * r3 * c3
-    return _stack([fx, fy, fc])
+    arrays = [_last(a, 3, name) for a, name in ((acceleration, "acceleration"), (velocity, "velocity"),
+                                                (position, "position"))]
+    return _core(saw).acceleration_residual(*arrays, *_motion(theta2, omega2, alpha2))
 
 
 def acceleration_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
     """∂(acceleration residuals)/∂(a_r, α1, α3), shape (..., 3, 3): again the loop position Jacobian.
-
     The course's eq. (19) is the same matrix with its rows listed in the order (Fc, Fx, Fy).
 
     >>> bool(np.allclose(acceleration_jacobian([-0.1, -0.5, 3.0]), velocity_jacobian([-0.1, -0.5, 3.0])))
     True
     """
-    return velocity_jacobian(position, saw=saw)
+    return position_jacobian(position, saw=saw)
 
 
-def _split9(x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    array = np.asarray(x, dtype=float)
-    if array.shape[-1:] != (9,):
-        raise InvalidGeometryError(f"x must have 9 entries on its last axis; got shape {array.shape}")
-    return array[..., 0:3], array[..., 3:6], array[..., 6:9]
+def _system(x, theta2, omega2, alpha2, saw, variant):
+    position = None if require_choice("variant", variant, VARIANTS) == "loop" else _core(saw, variant)
+    return _core(saw).system(_last(x, 9, "x"), *_motion(theta2, omega2, alpha2), position=position)
 
 
-def system_residual(
-    x, theta2, omega2, alpha2, *, saw: Saw = COURSE_SAW, variant: str = "loop"
-) -> np.ndarray:
+def system_residual(x, theta2, omega2, alpha2, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
     """The nine residuals (position, velocity, acceleration) at the nine unknowns ``x``, shape (..., 9).
 
     >>> bool(np.allclose(system_residual(np.zeros(9) + [0.1, 0.5, 0.3, 0, 0, 0, 0, 0, 0], 0, 0, 0)[3:], 0))
     True
     """
-    position, velocity, acceleration = _split9(x)
-    return np.concatenate(
-        [
-            position_residual(position, theta2, saw=saw, variant=variant),
-            velocity_residual(velocity, position, theta2, omega2, saw=saw),
-            acceleration_residual(acceleration, velocity, position, theta2, omega2, alpha2, saw=saw),
-        ],
-        axis=-1,
-    )
+    return _system(x, theta2, omega2, alpha2, saw, variant)[0]
 
 
 def system_jacobian(x, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
-    """The 9×9 Jacobian of :func:`system_residual` (the course's appendix D), shape (..., 9, 9).
-
-    Block lower-triangular: the velocity rows depend on position and velocity, the
-    acceleration rows on all nine unknowns; each diagonal block of the rates is the
-    loop position Jacobian.
+    """The 9×9 Jacobian of :func:`system_residual` (the course's appendix D), shape (..., 9, 9); θ2 and
+    its rates do not appear in it.  Block lower-triangular, each diagonal block of the rates the loop
+    position Jacobian.
 
     >>> J = system_jacobian(SEED_PRINTED)
     >>> J.shape, bool(np.all(J[:3, 3:] == 0))
     ((9, 9), True)
     """
-    position, velocity, acceleration = _split9(x)
-    r1, theta1, theta3 = _split3(position, "position")
-    v_r, omega1, omega3 = _split3(velocity, "velocity")
-    a_r, alpha1, alpha3 = _split3(acceleration, "acceleration")
-    r3 = saw.r3
-    s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
-    zero = np.zeros_like(r1 * theta1 * theta3 * v_r * omega1 * omega3 * a_r * alpha1 * alpha3)
-    loop = _loop_jacobian(r1 + zero, theta1, theta3, r3)
-    # velocity rows (Fx', Fy', Fc') with respect to (r1, θ1, θ3)
-    dvel_dpos = [
-        [omega1 * s1, omega1 * r1 * c1 + v_r * s1, -omega3 * r3 * c3],
-        [omega1 * c1, v_r * c1 - omega1 * r1 * s1, omega3 * r3 * s3],
-        [omega1 * c1, v_r * c1 - omega1 * r1 * s1, zero],
-    ]
-    # acceleration rows (Fx'', Fy'', Fc'') with respect to (r1, θ1, θ3) and to (v_r, ω1, ω3)
-    dtheta1_c = -r1 * c1 * omega1**2 - 2 * v_r * s1 * omega1 + a_r * c1 - alpha1 * r1 * s1
-    dacc_dpos = [
-        [
-            c1 * omega1**2 + alpha1 * s1,
-            -r1 * s1 * omega1**2 + 2 * v_r * c1 * omega1 + a_r * s1 + alpha1 * r1 * c1,
-            r3 * s3 * omega3**2 - alpha3 * r3 * c3,
-        ],
-        [alpha1 * c1 - s1 * omega1**2, dtheta1_c, r3 * c3 * omega3**2 + alpha3 * r3 * s3],
-        [alpha1 * c1 - s1 * omega1**2, dtheta1_c, zero],
-    ]
-    dacc_dvel = [
-        [2 * s1 * omega1, 2 * r1 * c1 * omega1 + 2 * v_r * s1, -2 * r3 * c3 * omega3],
-        [2 * c1 * omega1, 2 * v_r * c1 - 2 * r1 * s1 * omega1, 2 * r3 * s3 * omega3],
-        [2 * c1 * omega1, 2 * v_r * c1 - 2 * r1 * s1 * omega1, zero],
-    ]
-
-    def block(rows):
-        return _matrix([[entry + zero for entry in row] for row in rows])
-
-    shape = loop.shape[:-2]
-    jac = np.zeros(shape + (9, 9))
-    jac[..., 0:3, 0:3] = position_jacobian(position, saw=saw, variant=variant) + zero[..., None, None]
-    jac[..., 3:6, 0:3] = block(dvel_dpos)
-    jac[..., 3:6, 3:6] = loop
-    jac[..., 6:9, 0:3] = block(dacc_dpos)
-    jac[..., 6:9, 3:6] = block(dacc_dvel)
-    jac[..., 6:9, 6:9] = loop
-    return jac
+    return _system(x, 0.0, 0.0, 0.0, saw, variant)[1]
 
 
 # ---------------------------------------------------------------- assembly checks
@@ -432,46 +328,6 @@ class SawSolution:
         return {name: float(value) for name, value in zip(UNKNOWNS, self.x, strict=True)}
 
 
-def _newton_stage(
-    stage: str, F: Callable, J: Callable, seed: np.ndarray, tol: float, theta2: float, max_iter: int = 50
-):
-    """course_lib.newton on one stage, re-raising failures with the stage and θ2 named."""
-    try:
-        return newton(F, seed, jac=J, tol=tol, max_iter=max_iter)
-    except SingularJacobianError as err:
-        raise SingularJacobianError(
-            f"{stage} stage at theta2={theta2:.6g}: {err}", x=err.x, condition_number=err.condition_number
-        ) from err
-    except ConvergenceError as err:
-        raise ConvergenceError(f"{stage} stage at theta2={theta2:.6g}: {err}", result=err.result) from err
-
-
-def _direct_stage(
-    stage: str, F: Callable, J: Callable, seed: np.ndarray, tol: float, theta2: float, max_iter: int = 1
-):
-    """A linear stage solved directly: one Newton step, exact for a linear system."""
-    jac = J(seed)
-    if is_singular(jac[None])[0]:
-        raise SingularJacobianError(
-            f"{stage} stage at theta2={theta2:.6g}: the Jacobian is {singular_jacobian_text(3)}",
-            x=seed.tolist(),
-            condition_number=float(np.linalg.cond(jac)),
-        )
-    residual0 = F(seed)
-    step = np.linalg.solve(jac, -residual0)
-    x = seed + step
-    residual1 = F(x)
-    return NewtonResult(
-        x=x,
-        converged=bool(np.linalg.norm(residual1) <= tol),
-        iterations=1,
-        history=np.array([seed, x]),
-        step_norms=np.array([np.linalg.norm(step)]),
-        step_components=np.abs(step)[None, :],
-        residual_norms=np.array([np.linalg.norm(residual0), np.linalg.norm(residual1)]),
-    )
-
-
 def solve_consecutive(
     theta2: float,
     omega2: float = 0.0,
@@ -502,45 +358,12 @@ def solve_consecutive(
     """
     theta2, omega2, alpha2, seed = _one_instant(theta2, omega2, alpha2, x0, variant, saw)
     require_choice("linear_stages", linear_stages, LINEAR_STAGES)
-    linear = _newton_stage if linear_stages == "newton" else _direct_stage
-
-    position = _newton_stage(
-        "position",
-        lambda q: position_residual(q, theta2, saw=saw, variant=variant),
-        lambda q: position_jacobian(q, saw=saw, variant=variant),
-        seed[0:3],
-        tol,
-        theta2,
-        max_iter,
-    )
-    q = position.x
-    velocity_jac = velocity_jacobian(q, saw=saw)
-    velocity = linear(
-        "velocity",
-        lambda qd: velocity_residual(qd, q, theta2, omega2, saw=saw),
-        lambda qd: velocity_jac,
-        seed[3:6],
-        tol,
-        theta2,
-        max_iter,
-    )
-    qd = velocity.x
-    acceleration = linear(
-        "acceleration",
-        lambda qdd: acceleration_residual(qdd, qd, q, theta2, omega2, alpha2, saw=saw),
-        lambda qdd: velocity_jac,
-        seed[6:9],
-        tol,
-        theta2,
-        max_iter,
-    )
-    stages = {"position": position, "velocity": velocity, "acceleration": acceleration}
-    return SawSolution(
-        x=np.concatenate([position.x, velocity.x, acceleration.x]),
-        iterations=sum(stage.iterations for stage in stages.values()),
-        stages=MappingProxyType(stages),
-        method="consecutive",
-    )
+    position = None if variant == "loop" else _core(saw, variant)
+    stages = _core(saw).consecutive([theta2], [omega2], [alpha2], seed, tol=tol, max_iter=max_iter,
+                                    linear_stages=linear_stages, position=position)
+    return SawSolution(x=np.concatenate([stage.x for stage in stages.values()]),
+                       iterations=sum(stage.iterations for stage in stages.values()),
+                       stages=MappingProxyType(stages), method="consecutive")
 
 
 def solve_simultaneous(
@@ -562,21 +385,11 @@ def solve_simultaneous(
     (5, True)
     """
     theta2, omega2, alpha2, seed = _one_instant(theta2, omega2, alpha2, x0, variant, saw)
-    result = _newton_stage(
-        "simultaneous",
-        lambda x: system_residual(x, theta2, omega2, alpha2, saw=saw, variant=variant),
-        lambda x: system_jacobian(x, saw=saw, variant=variant),
-        seed,
-        tol,
-        theta2,
-        max_iter,
-    )
-    return SawSolution(
-        x=result.x,
-        iterations=result.iterations,
-        stages=MappingProxyType({"simultaneous": result}),
-        method="simultaneous",
-    )
+    position = None if variant == "loop" else _core(saw, variant)
+    result = _core(saw).simultaneous([theta2], [omega2], [alpha2], seed, tol=tol, max_iter=max_iter,
+                                     position=position)
+    return SawSolution(x=result.x, iterations=result.iterations,
+                       stages=MappingProxyType({"simultaneous": result}), method="simultaneous")
 
 
 # ---------------------------------------------------------------- closed form
@@ -643,8 +456,8 @@ def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
     theta2 = require_finite("theta2", theta2, unit="rad")
     theta3 = analytic(theta2, saw=saw)[..., 2]
     pivot = np.zeros(theta2.shape + (2,))
-    pin = _stack([saw.r2 * np.cos(theta2), saw.r2 * np.sin(theta2)])
-    slider = pin + _stack([saw.r3 * np.cos(theta3), saw.r3 * np.sin(theta3)])
+    pin = polar(saw.r2, theta2)
+    slider = pin + polar(saw.r3, theta3)
     return np.stack([pivot, pin, slider], axis=-2)
 
 
@@ -689,70 +502,6 @@ class SawSweep:
         return np.stack([getattr(self, name) for name in UNKNOWNS], axis=-1)
 
 
-def _loop_residual_and_jacobian(theta2, saw: Saw) -> Callable:
-    """(position_residual, position_jacobian) of the loop variant for a batch (n, 3) of positions,
-    evaluated together so that they share their sines and cosines; θ2's terms are computed once."""
-    r2c2, r2s2, r3 = saw.r2 * np.cos(theta2), saw.r2 * np.sin(theta2), saw.r3
-
-    def evaluate(q):
-        r1, theta1, theta3 = q[:, 0], q[:, 1], q[:, 2]
-        s1, c1, s3, c3 = np.sin(theta1), np.cos(theta1), np.sin(theta3), np.cos(theta3)
-        r1s1, r1c1, r3s3, r3c3 = r1 * s1, r1 * c1, r3 * s3, r3 * c3
-        residual = np.empty_like(q)
-        residual[:, 0] = r2c2 + r3c3 - r1c1
-        residual[:, 1] = r1s1 - r2s2 - r3s3
-        residual[:, 2] = r1s1 - saw.r1y
-        return residual, _loop_matrix(s1, c1, r1s1, r1c1, r3s3, r3c3)
-
-    return evaluate
-
-
-def _batched(theta2, omega2, alpha2, seed, tol, saw, variant, linear_stages):
-    """All points at once: course_lib.newton.newton_batch per stage, every point from ``seed``."""
-    n = theta2.size
-
-    def run(stage, F, J, start):
-        if linear_stages == "direct" and stage != "position":
-            step = np.linalg.solve(J(start), -F(start)[..., None])[..., 0]
-            return start + step, np.ones(n, dtype=int)
-        result = newton_batch(F, start, jac=J, tol=tol)
-        for mask, error, what in (
-            (result.singular, SingularJacobianError, "the Jacobian became singular"),
-            (~result.converged, ConvergenceError, "Newton did not converge"),
-        ):
-            if mask.any():
-                first = int(np.flatnonzero(mask)[0])
-                raise error(
-                    f"{stage} stage at theta2={theta2[first]:.6g}: {what} "
-                    f"({int(mask.sum())} of {n} points, first at index {first})"
-                )
-        return result.x, result.iterations
-
-    if variant == "loop":
-        position_stage, position_jac = _loop_residual_and_jacobian(theta2, saw), True
-    else:
-        position_stage = lambda q: position_residual(q, theta2, saw=saw, variant=variant)  # noqa: E731
-        position_jac = lambda q: position_jacobian(q, saw=saw, variant=variant)  # noqa: E731
-    q, it_pos = run("position", position_stage, position_jac, np.tile(seed[0:3], (n, 1)))
-    # The rate stages are linear with the position Jacobian as matrix: F(u) = J·u + F(0).
-    # Their residuals are evaluated in that form, one matrix product per Newton iteration.
-    jac = velocity_jacobian(q, saw=saw)
-    zeros = np.zeros_like(q)
-
-    def linear_stage(stage, constant, start):
-        return run(stage, lambda u: np.einsum("nij,nj->ni", jac, u) + constant, lambda u: jac, start)
-
-    qd, it_vel = linear_stage(
-        "velocity", velocity_residual(zeros, q, theta2, omega2, saw=saw), np.tile(seed[3:6], (n, 1))
-    )
-    qdd, it_acc = linear_stage(
-        "acceleration",
-        acceleration_residual(zeros, qd, q, theta2, omega2, alpha2, saw=saw),
-        np.tile(seed[6:9], (n, 1)),
-    )
-    return np.concatenate([q, qd, qdd], axis=1), np.stack([it_pos, it_vel, it_acc], axis=1)
-
-
 def sweep(
     n: int = 1000,
     method: str = "simultaneous",
@@ -794,7 +543,11 @@ def sweep(
         values = analytic(theta2, omega2, alpha2, saw=saw)
         stage_iterations = np.zeros((n, 0), dtype=int)
     elif method == "batched":
-        values, stage_iterations = _batched(theta2, omega2, alpha2, seed, tol, saw, variant, linear_stages)
+        position = None if variant == "loop" else _core(saw, variant)
+        stages = _core(saw).consecutive(*_motion(theta2, omega2, alpha2), seed, tol=tol,
+                                        linear_stages=linear_stages, position=position)
+        values = np.concatenate([stage.x for stage in stages.values()], axis=1)
+        stage_iterations = np.stack([stage.iterations for stage in stages.values()], axis=1)
     else:
         values = np.empty((n, 9))
         stage_iterations = np.empty((n, 3 if method == "consecutive" else 1), dtype=int)

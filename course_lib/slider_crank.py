@@ -9,7 +9,7 @@ B = A + rod·(cos θ3, sin θ3) and keeping y = offset gives
 
 the sign choosing the assembly: ``branch="right"`` (slider to the right of the crank
 pin, θ3 in (−π/2, π/2)) or ``branch="left"`` (θ3 in (π/2, 3π/2), the course's power saw).
-Differentiating the y-component gives ω3 and α3, the x-component v and a.
+The rates ω3, v, α3, a come from that loop declared on :mod:`course_lib.mechanism`.
 
 It is the same machine as :mod:`course_lib.saw`, written with the slider coordinate x
 instead of the saw's polar r1, θ1: x = r1 cos θ1, offset = r1 sin θ1 = r1y.
@@ -24,6 +24,7 @@ SI units and radians.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 
 import numpy as np
 
@@ -39,6 +40,19 @@ __all__ = ["OffsetSliderCrank", "SliderCrankMotion", "BRANCHES"]
 
 #: Assemblies of the slider-crank: slider pin to the right or to the left of the crank pin.
 BRANCHES = ("right", "left")
+
+
+@cache
+def _declaration():
+    """The loop B = A + rod·(cos θ3, sin θ3) on the core: unknowns θ3 and x, input θ2."""
+    import sympy as sp
+
+    from .mechanism import Mechanism
+
+    theta2, theta3, x, crank, rod, offset = sp.symbols("theta2 theta3 x crank rod offset")
+    loop = sp.Matrix([crank * sp.cos(theta2) + rod * sp.cos(theta3) - x,
+                      crank * sp.sin(theta2) + rod * sp.sin(theta3) - offset])
+    return Mechanism([loop], [theta3, x], [theta2], {crank: 0.075, rod: 0.170, offset: 0.045})
 
 
 @dataclass(frozen=True)
@@ -109,9 +123,9 @@ class OffsetSliderCrank:
         theta3 = np.arctan2(height, run)
         if branch == "left":
             theta3 = np.mod(theta3, 2 * np.pi)  # keep θ3 in (π/2, 3π/2)
-        s3, c3 = height / b3, run / b3
-        omega3 = -a2 * omega2 * c2 / (b3 * c3)
-        v = -a2 * omega2 * s2 - b3 * omega3 * s3
-        alpha3 = (a2 * omega2**2 * s2 + b3 * omega3**2 * s3 - a2 * alpha2 * c2) / (b3 * c3)
-        a = -a2 * (alpha2 * s2 + omega2**2 * c2) - b3 * (alpha3 * s3 + omega3**2 * c3)
+        core = _declaration().with_parameters({"crank": a2, "rod": b3, "offset": self.offset})
+        velocity, acceleration, _ = core.rates(
+            np.stack([theta3, x], axis=-1), theta2[..., None], omega2[..., None], alpha2[..., None],
+            trig={"theta2": (c2, s2), "theta3": (run / b3, height / b3)}, singular=False)
+        (omega3, v), (alpha3, a) = np.moveaxis(velocity, -1, 0), np.moveaxis(acceleration, -1, 0)
         return SliderCrankMotion(theta3=theta3, x=x, omega3=omega3, v=v, alpha3=alpha3, a=a)

@@ -36,7 +36,7 @@ def time_symbols(*names: str) -> tuple[sp.Function, ...]:
 
 
 def rate_name(name: str, order: int) -> str:
-    """The name of the first or second time derivative: theta2 → omega2, alpha2; anything else, r1 → v_r1, a_r1.
+    """The name of a first or second time derivative: theta2 → omega2, alpha2; anything else: r1 → v_r1, a_r1.
 
     >>> rate_name("theta3", 1), rate_name("r1", 2)
     ('omega3', 'a_r1')

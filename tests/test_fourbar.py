@@ -129,6 +129,7 @@ def test_random_sweeps_stay_on_their_circuit(crank, coupler, rocker, ground):
     intervals = linkage.input_range().intervals
     assume(intervals)
     start, end = intervals[0]
+    assume(end > start)  # closing at one toggle angle only: no circuit to stay on (see the test below)
     margin = 1e-3 * (end - start)
     theta2 = np.linspace(start + margin, end - margin, 200)
     for branch, side in (("open", 1), ("crossed", -1)):
@@ -136,6 +137,17 @@ def test_random_sweeps_stay_on_their_circuit(crank, coupler, rocker, ground):
         assert np.all(cross_sign(linkage, theta2, branch) == side)
         residual = linkage.loop_residual(theta2, solution.theta3, solution.theta4)
         assert np.abs(residual).max() <= 1e-12
+
+
+def test_a_linkage_that_closes_at_one_toggle_angle_only():
+    # |AO4| = l1 + l2 … never below l2 − l1 = 0.20 = l3 + l4: the loop closes at θ2 = 0 alone, stretched
+    linkage = FourBar(crank=0.25, coupler=0.15, rocker=0.05, ground=0.05)
+    assert linkage.input_range().intervals == ((0.0, 0.0),)
+    solution = linkage.solve(0.0)
+    assert np.abs(linkage.loop_residual(0.0, solution.theta3, solution.theta4)).max() < 1e-15
+    assert angle_difference(solution.theta3 - solution.theta4, np.pi) < 1e-12  # coupler and rocker collinear
+    with pytest.raises(SingularJacobianError, match="toggle"):
+        linkage.solve(0.0, omega2=1.0)
 
 
 # ------------------------------------------------------------------- rates

@@ -404,3 +404,77 @@ def test_bad_inputs_name_the_argument_and_value(arguments, message):
 def test_joints_need_declared_points():
     with pytest.raises(InvalidGeometryError, match="joints needs points"):
         fourbar((0.2, 0.06, 0.18, 0.12)).joints(WIPER.solve({th2: 0.3}, guess=GUESS))
+
+
+# ------------------------------------------------------------------ shared derivations, the course's routes
+
+
+def test_with_parameters_shares_the_derivation_and_changes_the_numbers():
+    other = WIPER.with_parameters({"l1": 0.20, "l2": 0.06, l3: 0.20, l4: 0.12})
+    theta2 = np.linspace(0.0, 6.0, 7)
+    motion = other.solve({th2: theta2}, {th2: 2.0}, guess=GUESS)
+    closed = FourBar(0.06, 0.20, 0.12, 0.20).solve(theta2, 2.0)
+    assert angle_gap(motion.position["theta4"], closed.theta4) < 1e-12
+    np.testing.assert_allclose(motion.velocity["theta3"], closed.omega3, atol=1e-12)
+    assert other._derived is WIPER._derived and WIPER.parameters[l3] == 0.18
+    with pytest.raises(InvalidGeometryError, match=r"must give a number for each of \[l1, l2, l3, l4\]"):
+        WIPER.with_parameters({l1: 0.2})
+    with pytest.raises(InvalidGeometryError, match=r"parameters\[l2\] must be finite"):
+        WIPER.with_parameters({l1: 0.2, l2: np.nan, l3: 0.18, l4: 0.12})
+
+
+def test_rates_with_known_trig_or_own_singular_mask_are_the_same_rates():
+    theta2 = np.linspace(0, 2 * np.pi, 50)
+    closed = DESK.solve(theta2, 10.0, 3.0)
+    q, u = np.stack([closed.theta3, closed.theta4], -1), theta2[:, None]
+    plain = WIPER.rates(q, u, [10.0], [3.0])
+    trig = {name: (np.cos(a), np.sin(a)) for name, a in (("theta2", theta2), ("theta3", q[:, 0]))}
+    known = WIPER.rates(q, u, [10.0], [3.0], trig=trig, singular=np.arange(50) == 7)
+    np.testing.assert_allclose(plain[0][:, 1], closed.omega4, atol=1e-12)
+    np.testing.assert_allclose(plain[1][:, 0], closed.alpha3, atol=1e-10)
+    np.testing.assert_allclose(known[0][known[2] == 0], plain[0][known[2] == 0], rtol=1e-13)
+    assert np.isnan(known[0][7]).all() and np.isnan(known[1][7]).all() and not plain[2].any()
+
+
+def test_consecutive_and_simultaneous_routes_one_instant_and_batched():
+    u, u_rate, u_acc, seed = [0.7], [10.0], [3.0], [0.4, 1.6, 0.0, 0.0, 0.0, 0.0]
+    stages = WIPER.consecutive(u, u_rate, u_acc, seed, tol=1e-12)
+    staged = WIPER.solve({th2: 0.7}, {th2: 10.0}, {th2: 3.0}, guess=GUESS)
+    expected = [staged.position["theta3"], staged.position["theta4"], staged.velocity["theta3"],
+                staged.velocity["theta4"], staged.acceleration["theta3"], staged.acceleration["theta4"]]
+    np.testing.assert_allclose(np.concatenate([r.x for r in stages.values()]), expected, atol=1e-10)
+    assert [r.iterations for r in stages.values()][1:] == [2, 2]  # linear stages: one step and a check
+    assert len(stages["position"].history) == stages["position"].iterations + 1
+    direct = WIPER.consecutive(u, u_rate, u_acc, seed, tol=1e-12, linear_stages="direct")
+    assert direct["velocity"].iterations == direct["acceleration"].iterations == 1
+    np.testing.assert_allclose(WIPER.simultaneous(u, u_rate, u_acc, seed, tol=1e-12).x, expected, atol=1e-10)
+    # batched: every instant from the same seed, the same Newton steps as one at a time
+    theta2 = np.linspace(0.2, 1.2, 5)[:, None]
+    batch = WIPER.consecutive(theta2, np.full_like(theta2, 10.0), np.zeros_like(theta2), seed)
+    for k in (0, 4):
+        one = WIPER.consecutive(theta2[k], [10.0], [0.0], seed)
+        for stage in one:
+            assert batch[stage].iterations[k] == one[stage].iterations
+            np.testing.assert_allclose(batch[stage].x[k], one[stage].x, rtol=1e-12, atol=1e-13)
+    with pytest.raises(ConvergenceError, match=r"position stage at theta2=0\.7: Newton did not converge"):
+        WIPER.consecutive(u, u_rate, u_acc, seed, max_iter=2)
+    with pytest.raises(SingularJacobianError, match="position stage at theta2=0.7: the Jacobian is singular"):
+        WIPER.consecutive(u, u_rate, u_acc, [1.0, 1.0, 0, 0, 0, 0])
+    with pytest.raises(InvalidGeometryError, match="linear_stages must be one of"):
+        WIPER.consecutive(u, u_rate, u_acc, seed, linear_stages="exact")
+
+
+def test_an_equivalent_position_form_replaces_the_position_rows():
+    # the loop with its rows swapped: the same roots, another position stage and the same rates
+    swapped = Mechanism([sp.Matrix([LOOP[1], LOOP[0]])], [th3, th4], [th2], WIPER_LENGTHS)
+    seed, motion = [0.4, 1.6, 0, 0, 0, 0], ([0.7], [10.0], [3.0])
+    x = np.array([0.5, 1.5, 1.0, 2.0, 3.0, 4.0])
+    G, JG = WIPER.system(x, *motion, position=swapped)
+    G_loop, JG_loop = WIPER.system(x, *motion)
+    np.testing.assert_array_equal(G[:2], G_loop[[1, 0]])
+    np.testing.assert_array_equal(JG[:2], JG_loop[[1, 0]])
+    np.testing.assert_array_equal(JG[2:], JG_loop[2:])
+    a, b = WIPER.simultaneous(*motion, seed, position=swapped), WIPER.simultaneous(*motion, seed)
+    np.testing.assert_allclose(a.x, b.x, atol=1e-9)
+    stages = WIPER.consecutive(*motion, seed, position=swapped)
+    np.testing.assert_allclose(stages["velocity"].x, b.x[2:4], atol=1e-9)

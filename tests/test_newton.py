@@ -245,8 +245,8 @@ def test_residual_tol_inf_is_the_matlab_rule():
 
 
 @pytest.mark.parametrize(("F", "jac", "message"), [
-    (lambda v: v - 1, lambda v: np.eye(3), r"jac must return a Jacobian of shape \(2, 2\).*got shape \(3, 3\)"),
-    (lambda v: v - 1, lambda v: np.ones(2), r"jac must return a Jacobian of shape \(2, 2\).*got shape \(2,\)"),
+    (lambda v: v - 1, lambda v: np.eye(3), r"jac must return a Jacobian of shape \(2, 2\).*shape \(3, 3\)"),
+    (lambda v: v - 1, lambda v: np.ones(2), r"jac must return a Jacobian of shape \(2, 2\).*shape \(2,\)"),
     (lambda v: None, None, r"F returned None at x=\[0\.5, 0\.5\]"),
     (lambda v: v - 1, lambda v: None, r"jac returned None at x=\[0\.5, 0\.5\]"),
     (lambda v: v + 1j, None, r"F returned complex numbers at x=\[0\.5, 0\.5\]"),
@@ -265,7 +265,8 @@ def test_nan_from_F_or_jac_is_said_so_not_called_singular():
     # F defined at the seed, NaN after the first step (x < 0)
     with pytest.raises(ConvergenceError, match="non-finite value appeared after 1 iterations"):
         newton(lambda x: np.sqrt(x) + 1.0, 0.25, jac=lambda x: 0.5 / np.sqrt(x))
-    batch = newton_batch(lambda x: np.sqrt(x) - 2, np.array([[-1.0], [1.0]]), jac=lambda x: 0.5 / np.sqrt(x)[:, :, None])
+    batch = newton_batch(lambda x: np.sqrt(x) - 2, np.array([[-1.0], [1.0]]),
+                         jac=lambda x: 0.5 / np.sqrt(x)[:, :, None])
     assert batch.converged.tolist() == [False, True] and batch.singular.tolist() == [False, False]
     assert "row 0: a non-finite value appeared" in batch.message
 
@@ -285,13 +286,14 @@ def test_one_result_shape_and_one_rule_for_failures():
     stuck = newton(lambda x: x**2 - 2.0, 0.0, jac=lambda x: 2.0 * x, on_failure="report")
     assert stuck.singular and not stuck.converged and "condition number > 1e+12" in stuck.message
     with pytest.raises(SingularJacobianError, match="row 0: its Jacobian is singular"):
-        newton_batch(lambda x: x**2 - 2.0, np.zeros((1, 1)), jac=lambda x: 2 * x[:, :, None], on_failure="raise")
+        newton_batch(lambda x: x**2 - 2.0, np.zeros((1, 1)), jac=lambda x: 2 * x[:, :, None],
+                     on_failure="raise")
 
 
 def test_batch_callables_of_the_wrong_shape_are_named():
     with pytest.raises(InvalidGeometryError, match=r"jac must return Jacobians of shape \(3, 2, 2\)"):
         newton_batch(lambda x: x - 1, np.zeros((3, 2)), jac=lambda x: np.zeros((3, 2)))
-    with pytest.raises(InvalidGeometryError, match=r"F must return residuals of shape \(3, 2\).*got shape \(3,\)"):
+    with pytest.raises(InvalidGeometryError, match=r"F must return residuals of shape \(3, 2\).*\(3,\)"):
         newton_batch(lambda x: x[:, 0], np.zeros((3, 2)))
     with pytest.raises(InvalidGeometryError, match=r"with jac=True, F must return \(residuals, Jacobians\)"):
         newton_batch(lambda x: x - 1, np.zeros((3, 2)), jac=True)

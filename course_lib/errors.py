@@ -42,7 +42,8 @@ class InvalidGeometryError(CourseLibError, ValueError):
 
 
 class UnreachableError(CourseLibError, ValueError):
-    """The mechanism cannot be assembled for this input (no real solution)."""
+    """The mechanism cannot be assembled for this input (no real solution); ``mask``, for arrays, is True
+    at the entries that cannot (the library's masks are True where their name holds)."""
 
     def __init__(self, message: str, mask: np.ndarray | None = None):
         super().__init__(message)

@@ -44,7 +44,7 @@ from .errors import (
     require_positive,
 )
 from .newton import linear_solver
-from .planar import scalar_or_array, wrap_angle
+from .planar import Unpacks, scalar_or_array, wrap_angle
 
 __all__ = [
     "FiveBar",
@@ -67,33 +67,29 @@ _DISCRIMINANT_SLACK = 1e-12
 
 
 @dataclass(frozen=True)
-class ForwardResult:
+class ForwardResult(Unpacks):
     """End-effector position P3 = (x3, y3) in metres; ``reachable`` is False where
-    the robot cannot be assembled (then x3, y3 are NaN).  Unpacks as ``x3, y3``."""
+    the robot cannot be assembled (then x3, y3 are NaN).  Unpacks as ``x3, y3``; ``np.array`` → (2, ...)."""
 
     x3: Any
     y3: Any
     reachable: Any
-
-    def __iter__(self):
-        return iter((self.x3, self.y3))
+    _values = ("x3", "y3")
 
 
 @dataclass(frozen=True)
-class InverseResult:
+class InverseResult(Unpacks):
     """Crank angles (θ1, θ4) in radians, wrapped to (−π, π]; ``reachable`` is False
     where the point is out of reach (then NaN).  Unpacks as ``theta1, theta4``."""
 
     theta1: Any
     theta4: Any
     reachable: Any
-
-    def __iter__(self):
-        return iter((self.theta1, self.theta4))
+    _values = ("theta1", "theta4")
 
 
 @dataclass(frozen=True)
-class SingularityMeasures:
+class SingularityMeasures(Unpacks):
     """Normalized measures (sines of angles, in [−1, 1]); each is zero at a singularity.
 
     serial_leg1 : sin of the angle from crank l1 to distal l2, cross(P2 − P1, P3 − P2)/(l1·l2);
@@ -106,6 +102,7 @@ class SingularityMeasures:
     serial_leg1: Any
     serial_leg4: Any
     parallel: Any
+    _values = ("serial_leg1", "serial_leg4", "parallel")
 
 
 @dataclass(frozen=True)

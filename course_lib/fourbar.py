@@ -51,7 +51,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .planar import cross_k, scalar_or_array, wrap_angle
+from .planar import Unpacks, cross_k, scalar_or_array, wrap_angle
 
 __all__ = [
     "BRANCHES",
@@ -91,7 +91,7 @@ def _declaration():
 
 
 @dataclass(frozen=True)
-class FourBarSolution:
+class FourBarSolution(Unpacks):
     """The motion of the coupler (3) and rocker (4) for given crank angle(s) and rates.
 
     Attributes
@@ -100,15 +100,20 @@ class FourBarSolution:
     omega3, omega4 : angular velocities, rad/s.
     alpha3, alpha4 : angular accelerations, rad/s².
     mask : True where the loop cannot close (entries are NaN there; only with
-        ``on_unreachable="nan"``, otherwise all False).
+        ``on_unreachable="nan"``, otherwise all False): the entries a ``numpy.ma`` mask hides.
+        ``reachable`` is its complement, named as every other mask of the library.
     singular : True where the linkage sits at a toggle (J singular) while ω2 or α2 ≠ 0 (rates
         are NaN there), or where the position is not determined — the crank pin on O4 with
         coupler = rocker, B free on a circle (everything NaN there); only with
         ``on_unreachable="nan"``, otherwise such inputs raise ``SingularJacobianError``.
     branch : ``"open"`` or ``"crossed"``.
 
+    Unpacks as ``theta3, theta4, omega3, omega4, alpha3, alpha4``; ``np.array`` gives (6, ...).
+
     >>> FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0]).theta4.shape
     (2,)
+    >>> np.array(FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0])).shape
+    (6, 2)
     """
 
     theta3: float | np.ndarray
@@ -120,6 +125,16 @@ class FourBarSolution:
     mask: bool | np.ndarray
     singular: bool | np.ndarray
     branch: str
+    _values = ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4")
+
+    @property
+    def reachable(self) -> bool | np.ndarray:
+        """True where the loop closes (``~mask``).
+
+        >>> FourBar(0.15, 0.10, 0.12, 0.20).solve([0.0, 2.0], on_unreachable="nan").reachable.tolist()
+        [True, False]
+        """
+        return scalar_or_array(~np.asarray(self.mask))
 
 
 @dataclass(frozen=True)
@@ -171,10 +186,10 @@ class InputRange:
 
 
 @dataclass(frozen=True)
-class CouplerPointMotion:
+class CouplerPointMotion(Unpacks):
     """Position, velocity and acceleration of a coupler point, each of shape (..., 2).
 
-    Units m, m/s, m/s².
+    Units m, m/s, m/s².  Unpacks as ``position, velocity, acceleration``.
 
     >>> motion = FourBar(0.06, 0.18, 0.12, 0.20).coupler_point(0.0, p=0.09, delta=0.0)
     >>> motion.position.shape, motion.velocity.tolist()
@@ -184,6 +199,7 @@ class CouplerPointMotion:
     position: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
+    _values = ("position", "velocity", "acceleration")
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["polar", "cross_k", "loop_residual", "wrap_angle", "to_complex", "from_complex", "scalar_or_array"]
+__all__ = ["polar", "cross_k", "loop_residual", "wrap_angle", "to_complex", "from_complex", "scalar_or_array",
+           "Unpacks"]
 
 
 def polar(length, angle) -> np.ndarray:
@@ -90,3 +91,35 @@ def from_complex(z) -> np.ndarray:
     """
     z = np.asarray(z, dtype=complex)
     return np.stack([z.real, z.imag], axis=-1)
+
+
+class Unpacks:
+    """What the library's result objects share: they unpack as their ``_values`` (x3, y3 = result),
+    index like a tuple and convert with ``np.array(result)``, shape (len(_values), ...).
+
+    The convention for masks goes with it: a boolean attribute is named for what it marks and is
+    True where that holds (``reachable``, ``converged``, ``singular``).
+
+    >>> from dataclasses import dataclass
+    >>> @dataclass(frozen=True)
+    ... class Point(Unpacks):
+    ...     x: float
+    ...     y: float
+    ...     _values = ("x", "y")
+    >>> x, y = Point(1.0, 2.0); np.array(Point(1.0, 2.0)).tolist(), len(Point(1.0, 2.0))
+    ([1.0, 2.0], 2)
+    """
+
+    _values: tuple[str, ...] = ()
+
+    def __iter__(self):
+        return (getattr(self, name) for name in self._values)
+
+    def __len__(self) -> int:
+        return len(self._values)
+
+    def __getitem__(self, index):
+        return tuple(self)[index]
+
+    def __array__(self, dtype=None, copy=None) -> np.ndarray:
+        return np.array(np.broadcast_arrays(*(np.asarray(value) for value in self)), dtype=dtype)

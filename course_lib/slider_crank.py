@@ -35,6 +35,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
+from .planar import Unpacks
 
 __all__ = ["OffsetSliderCrank", "SliderCrankMotion", "BRANCHES"]
 
@@ -56,9 +57,9 @@ def _declaration():
 
 
 @dataclass(frozen=True)
-class SliderCrankMotion:
+class SliderCrankMotion(Unpacks):
     """Rod angle θ3 (rad), slider position x (m), ω3 (rad/s), slider velocity v (m/s),
-    α3 (rad/s²) and slider acceleration a (m/s²); arrays broadcast from the inputs."""
+    α3 (rad/s²) and slider acceleration a (m/s²); arrays broadcast from the inputs.  Unpacks in that order."""
 
     theta3: np.ndarray
     x: np.ndarray
@@ -66,6 +67,7 @@ class SliderCrankMotion:
     v: np.ndarray
     alpha3: np.ndarray
     a: np.ndarray
+    _values = ("theta3", "x", "omega3", "v", "alpha3", "a")
 
 
 @dataclass(frozen=True)

@@ -461,3 +461,14 @@ def test_parallel_singularities_lie_where_the_elbows_meet():
             assert min(measures) < 1e-9 and sorted(measures)[1] > 1e-3
             checked += 1
     assert checked >= 8
+
+
+def test_results_unpack_index_and_convert_with_numpy():
+    x3, y3 = ROBOT.forward(1.2, 1.9)
+    assert np.array(ROBOT.forward(1.2, 1.9)).tolist() == [x3, y3]
+    many = ROBOT.forward([1.2, 1.0], [1.9, 2.0])
+    assert np.array(many).shape == (2, 2) and np.array_equal(np.array(many)[1], many.y3)
+    inverse = ROBOT.inverse(x3, y3, modes=(-1, 1))
+    assert np.allclose(np.array(inverse), [1.2, 1.9]) and inverse[0] == inverse.theta1 and len(inverse) == 2
+    measures = ROBOT.singularity_measures(1.2, 1.9, x3, y3)
+    assert np.array(measures).tolist() == [measures.serial_leg1, measures.serial_leg4, measures.parallel]

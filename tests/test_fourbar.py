@@ -437,3 +437,15 @@ def test_input_range_edges_and_inside_assemble(lengths, where):
         ):
             with pytest.raises(UnreachableError):
                 linkage.solve(outside)
+
+
+def test_one_mask_convention_and_results_that_convert():
+    linkage = FourBar(0.15, 0.10, 0.12, 0.20)  # closes only for |θ2| ≤ 1.3336
+    solution = linkage.solve([0.0, 2.0], 1.0, on_unreachable="nan")
+    assert solution.reachable.tolist() == [True, False] and solution.mask.tolist() == [False, True]
+    assert linkage.solve(0.3).reachable is True
+    theta3, theta4, omega3, omega4, alpha3, alpha4 = DESK.solve(0.7, 10.0, 2.0)
+    assert np.array(DESK.solve(0.7, 10.0, 2.0)).tolist() == [theta3, theta4, omega3, omega4, alpha3, alpha4]
+    assert np.array(DESK.solve(SWEEP, 10.0)).shape == (6, SWEEP.size)
+    position, velocity, acceleration = DESK.coupler_point(SWEEP, 0.05, 0.3, 10.0)
+    assert np.array(DESK.coupler_point(SWEEP, 0.05, 0.3, 10.0)).shape == (3, SWEEP.size, 2)

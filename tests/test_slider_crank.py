@@ -109,3 +109,9 @@ def test_unreachable_and_singular():
 def test_bad_input_is_named(call, name):
     with pytest.raises(InvalidGeometryError, match=name):
         call()
+
+
+def test_motion_unpacks_and_converts():
+    motion = OffsetSliderCrank(0.075, 0.170, 0.045).solve([0.0, 1.0], 6.0, branch="left")
+    theta3, x, omega3, v, alpha3, a = motion
+    assert np.array(motion).shape == (6, 2) and np.array_equal(np.array(motion)[3], v)

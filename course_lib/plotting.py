@@ -413,37 +413,58 @@ class _Quantizer:
 
     _UNSEEN = 255  # lookup-table value of a cell not met yet; the palette uses entries 0…254
 
-    def __init__(self, picture: np.ndarray):
+    def __init__(self, picture: np.ndarray, extra=()):
+        """The palette of ``picture``, plus the ``extra`` RGB colours (0…255) exactly: colours that
+        later pictures may show (e.g. an artist hidden in this one); at most 64 of them."""
         values, counts = np.unique(_pack(picture), return_counts=True)
-        if len(values) > self._UNSEEN:
-            common = values[np.argsort(counts, kind="stable")[::-1][:127]]
+        extra = np.asarray(list(extra), np.uint32).reshape(-1, 3)[:64]
+        extra = np.setdiff1d((extra[:, 0] << 16) | (extra[:, 1] << 8) | extra[:, 2], values)
+        if len(values) + len(extra) > self._UNSEEN:
+            common = values[np.argsort(counts, kind="stable")[::-1][:127 - len(extra)]]
             octree = Image.fromarray(_rgb_of(picture)).quantize(128, method=Image.Quantize.FASTOCTREE)
             blends = np.asarray(octree.getpalette()[:384], np.uint32).reshape(-1, 3)
-            values = np.concatenate([common, (blends[:, 0] << 16) | (blends[:, 1] << 8) | blends[:, 2]])
+            blends = (blends[:, 0] << 16) | (blends[:, 1] << 8) | blends[:, 2]
+            values = np.concatenate([common, extra, blends])
+        else:
+            values = np.concatenate([values, extra])
         self.colours = np.stack([(values >> 16) & 255, (values >> 8) & 255, values & 255], axis=1)
         self.colours = self.colours.astype(np.int32)
         self.table = np.full(1 << 21, self._UNSEEN, np.uint8)
 
-    def png(self, picture: np.ndarray, compress_level: int = 1) -> bytes:
-        """An RGB or RGBA array (height, width, 3 or 4) as a PNG in this palette."""
-        packed = _pack(picture)
-        cells = ((packed >> 3) & 0x1FC000) | ((packed >> 2) & 0x3F80) | ((packed >> 1) & 0x7F)
-        indices = self.table[cells]
+    def png(self, picture: np.ndarray, compress_level: int = 1, trim: bool = True) -> bytes:
+        """An RGB or RGBA array (height, width, 3 or 4) as a PNG in this palette; ``trim`` lists
+        only the colours used in the PNG (worth it for small pictures)."""
+        word = _little_endian_word(picture)  # R + 256 G + 65536 B (+ alpha above)
+        cells = ((word >> 1) & 0x7F) | ((word >> 2) & 0x3F80) | ((word >> 3) & 0x1FC000)
+        indices = np.take(self.table, cells)
         unseen = indices == self._UNSEEN
         if unseen.any():  # new colours: each new cell takes the palette colour nearest its first pixel
             first_cells, first = np.unique(cells[unseen], return_index=True)
             colours = picture[unseen][first, :3].astype(np.int32)
             distances = ((colours[:, None, :] - self.colours[None, :, :]) ** 2).sum(axis=2)
             self.table[first_cells] = distances.argmin(axis=1)
-            indices = self.table[cells]
-        used = np.flatnonzero(np.bincount(indices.ravel(), minlength=256))  # the PNG lists only these
-        remap = np.zeros(256, np.uint8)
-        remap[used] = np.arange(len(used))
-        image = Image.fromarray(remap[indices])
-        image.putpalette(self.colours[used].astype(np.uint8).ravel().tolist())  # ("L" + palette: "P")
+            indices = np.take(self.table, cells)
+        colours = self.colours
+        if trim:
+            used = np.flatnonzero(np.bincount(indices.ravel(), minlength=256))
+            remap = np.zeros(256, np.uint8)
+            remap[used] = np.arange(len(used))
+            indices, colours = remap[indices], colours[used]
+        image = Image.fromarray(indices)
+        image.putpalette(colours.astype(np.uint8).ravel().tolist())  # ("L" + a palette: "P")
         buffer = io.BytesIO()
         image.save(buffer, format="PNG", compress_level=compress_level)
         return buffer.getvalue()
+
+
+def _little_endian_word(picture: np.ndarray) -> np.ndarray:
+    """Each pixel as one integer R + 256 G + 65536 B (+ 2**24 alpha for RGBA), without copying
+    an RGBA buffer (matplotlib's) on a little-endian machine."""
+    if (picture.ndim == 3 and picture.shape[2] == 4 and picture.dtype == np.uint8
+            and picture.flags.c_contiguous and sys.byteorder == "little"):
+        return picture.view(np.uint32)[..., 0]
+    red, green, blue = (picture[..., k].astype(np.uint32) for k in range(3))
+    return red | (green << 8) | (blue << 16)
 
 
 def _pack(picture: np.ndarray) -> np.ndarray:

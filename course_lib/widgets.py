@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 import ipywidgets as widgets
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.colors import to_rgba_array
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon
 from PIL import Image as PILImage
@@ -150,7 +151,7 @@ class Explorer:
         self._base = self._background = None
         self._base_limits: list | None = None
         self._background_visible: tuple[bool, ...] | None = None
-        self._palette, self._palette_shown = None, None
+        self._palette = None
         self._drawn_geometry: dict[str, object] | None = None
         self._holding = False
         self.image = widgets.Image(format="png", layout={"width": f"{self.figure.bbox.width:.0f}px"})
@@ -281,9 +282,8 @@ class Explorer:
         else:
             self.canvas.restore_region(self._background)
         self._draw_artists(self._moving)  # ... and the moving artists on top, alone
-        shown = tuple(_shows(artist) for artist in (*self._geometry_layer, *self._moving))
-        if new_limits or shown != self._palette_shown:
-            self._palette, self._palette_shown = None, shown
+        if new_limits:
+            self._palette = None
         return self._png()
 
     def _draw_artists(self, artists) -> None:
@@ -294,13 +294,13 @@ class Explorer:
     def _png(self) -> bytes:
         """The canvas as an opaque 256-colour PNG: line art looks the same and encodes fast and small.
 
-        The palette is made for the first picture of new axis limits or of a new set of artists
-        shown, and reused while only positions change.
+        The palette is made for the first picture of new axis limits (with every colour the changing
+        artists can take, shown or not), and reused while only positions change.
         """
         pixels = np.asarray(self.canvas.buffer_rgba())
         if self._palette is None:
-            self._palette = _Quantizer(pixels)
-        return self._palette.png(pixels, compress_level=1)
+            self._palette = _Quantizer(pixels, _solid_colours(self.artists.values()))
+        return self._palette.png(pixels, compress_level=1, trim=False)
 
     def _on_change(self, change) -> None:
         if not self._holding:
@@ -517,15 +517,22 @@ def _num(value: float, digits: int) -> str:
     return f"{round(number, digits) + 0.0:.{digits}f}"
 
 
-def _shows(artist) -> bool:
-    """Whether an artist puts anything on the picture (visible, and a text or line not empty)."""
-    if not artist.get_visible():
-        return False
-    if hasattr(artist, "get_text"):
-        return artist.get_text() != ""
-    if hasattr(artist, "get_xdata"):
-        return len(artist.get_xdata()) > 0
-    return True
+def _solid_colours(artists) -> list[tuple[int, int, int]]:
+    """The RGB colours (0…255, over white) of the artists' lines, faces, edges, markers and texts."""
+    colours = []
+    for artist in artists:
+        for getter in ("get_color", "get_markerfacecolor", "get_markeredgecolor", "get_edgecolor",
+                       "get_facecolor"):
+            if not hasattr(artist, getter):
+                continue
+            try:
+                rgba = to_rgba_array(getattr(artist, getter)())
+            except (TypeError, ValueError):
+                continue
+            alpha = rgba[:, 3:] * (artist.get_alpha() if artist.get_alpha() is not None else 1.0)
+            blended = rgba[:, :3] * alpha + (1.0 - alpha)  # over the white figure
+            colours += [tuple(int(round(255 * c)) for c in rgb) for rgb in blended]
+    return colours
 
 
 def _finite(*values) -> bool:

@@ -591,3 +591,14 @@ def test_builder_accepts_equivalent_arguments(build, arguments, key, value):
     explorer = build(**arguments)
     assert explorer.state[key] == value
     assert explorer.status in {"ok", "unreachable"}
+
+
+def test_png_keeps_the_figures_colours_also_those_that_appear_later():
+    explorer = fourbar_explorer(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20, theta2=0.0)
+    explorer.update(theta2_deg=120.0)  # unreachable: red text, dashed circles (not in the first picture)
+    shown = np.asarray(Image.open(io.BytesIO(explorer.image.value)).convert("RGB")).astype(int)
+    drawn = np.asarray(explorer.canvas.buffer_rgba())[..., :3].astype(int)
+    for colour in ((255, 255, 255), (176, 0, 32), (31, 119, 180)):  # white, the error red, the crank's blue
+        where = np.all(drawn == colour, axis=2)
+        assert where.any() and np.all(shown[where] == colour)
+    assert np.mean(np.abs(shown - drawn)) < 0.5  # anti-aliased blends: the nearest of 255 colours

@@ -274,10 +274,10 @@ _PLAYER_JS = """(function () {
   }
   function stop() { if (timer) { clearInterval(timer); timer = null; } play.textContent = "\u25B6"; }
   function tick() { if (!document.body.contains(canvas)) { stop(); return; } show(k + 1); }
-  button("\u23EE", "first frame", function () { stop(); show(0); });
+  button("|\u25C0", "first frame", function () { stop(); show(0); });
   button("\u25C0", "previous frame", function () { stop(); show(k - 1); });
   var play = button("\u25B6", "play / pause (loops)", function () {
-    if (timer) { stop(); } else { timer = setInterval(tick, delay); play.textContent = "\u275A\u275A"; }
+    if (timer) { stop(); } else { timer = setInterval(tick, delay); play.textContent = "||"; }
   });
   button("\u25B6|", "next frame", function () { stop(); show(k + 1); });
   slider.type = "range"; slider.min = 0; slider.max = frames.length - 1; slider.value = 0;

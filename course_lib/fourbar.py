@@ -446,9 +446,11 @@ class FourBar:
                 np.stack([theta3, theta4], axis=-1), theta2[..., None], omega2[..., None], alpha2[..., None],
                 trig={"theta2": (cos2, sin2), "theta3": (cos3, sin3), "theta4": (cos4, sin4)},
                 singular=toggle)
-            rates = np.moveaxis(np.concatenate([q_rate, q_acc], axis=-1), -1, 0)
-            rates[:, toggle & ~moving] = 0.0  # a toggle at rest: b = 0, so the rates are 0
-        rates[:, singular] = np.nan
+            rates = [q_rate[..., 0], q_rate[..., 1], q_acc[..., 0], q_acc[..., 1]]
+            if toggle.any():  # a toggle at rest: b = 0, so the rates are 0
+                rates = np.where(toggle & ~moving, 0.0, rates)
+        if singular.any():
+            rates = np.where(singular, np.nan, rates)
         return (*rates, singular)
 
     # --------------------------------------------------------------- derived

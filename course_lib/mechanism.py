@@ -461,14 +461,16 @@ class Mechanism:
         singular = is_singular(J) if singular is None else np.broadcast_to(singular, shape).ravel()
         if singular.any():
             J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
-        solve = linear_solver(J)
-        q_rate = solve(-sum(F_u[:, :, j] * u_rate[:, j, None] for j in range(u_rate.shape[1])))
+        solve, any_singular = linear_solver(J), singular.any()
+        q_rate = solve(sum(F_u[:, :, j] * -u_rate[:, j, None] for j in range(u_rate.shape[1])))
         q_acc = None
         if u_acceleration is not None:
             q_acc = solve(self._rhs(q, q_rate, u, u_rate, arrays[3], known))
-            q_acc[singular] = np.nan
+            if any_singular:
+                q_acc[singular] = np.nan
             q_acc = q_acc.reshape(shape + q_acc.shape[-1:])
-        q_rate[singular] = np.nan
+        if any_singular:
+            q_rate[singular] = np.nan
         return q_rate.reshape(shape + q_rate.shape[-1:]), q_acc, singular.reshape(shape)
 
     # ------------------------------------------------------------ the course's two Newton routes

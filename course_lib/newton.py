@@ -116,8 +116,8 @@ def _cramer(J: np.ndarray) -> tuple[list, list, np.ndarray]:
         a = list(np.ascontiguousarray(J.reshape(J.shape[0], -1).T))
     if n == 1:
         return a, [], a[0]
-    if n == 2:  # adjugate rows (d, −b), (−c, a)
-        return a, [a[3], -a[1], -a[2], a[0]], a[0] * a[3] - a[1] * a[2]
+    if n == 2:  # the adjugate is (d, −b), (−c, a): the solver writes its signs out
+        return a, [], a[0] * a[3] - a[1] * a[2]
     # adjugate rows: cross products of the columns
     adjugate = [a[4] * a[8] - a[5] * a[7], a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
                 a[5] * a[6] - a[3] * a[8], a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
@@ -165,13 +165,17 @@ def linear_solver(J: np.ndarray, _parts=None) -> Callable[[np.ndarray], np.ndarr
     n = J.shape[-1]
     if n > 3:
         return lambda b: np.linalg.solve(J, np.asarray(b, dtype=float)[..., None])[..., 0]
-    _, adjugate, det = _parts or _cramer(J)
+    a, adjugate, det = _parts or _cramer(J)
     if n == 1:
         return lambda b: np.asarray(b, dtype=float) / det[:, None]
 
     def solve(b):
         b = np.asarray(b, dtype=float)
-        columns, out = [b[:, j] for j in range(n)], np.empty((det.size, n))
+        columns, out = [b[:, j] for j in range(n)], np.empty((n, det.size)).T  # contiguous columns
+        if n == 2:
+            np.divide(a[3] * columns[0] - a[1] * columns[1], det, out=out[:, 0])
+            np.divide(a[0] * columns[1] - a[2] * columns[0], det, out=out[:, 1])
+            return out
         for i in range(n):
             row = adjugate[n * i] * columns[0]
             for j in range(1, n):

@@ -10,7 +10,8 @@ Printed: a table of medians, then the last line a JSON object:
   ``median_update_cpu_ms`` the same in process CPU time, which a busy machine inflates less;
 - ``median_change_ms``: the worst explorer's median over its length, branch and mode changes
   (goal < 30 ms; ``median_change_cpu_ms`` the same in CPU time), and ``change_vs_update``, the worst
-  explorer's ratio of that median to its own main-input median (goal ≤ 2).
+  explorer's ratio of its median change to its median main-input event, both in CPU time (goal ≤ 2);
+  ``worst_control_vs_update`` the same ratio for the single costliest control.
 """
 
 from __future__ import annotations
@@ -99,20 +100,23 @@ def main() -> None:
                                        for change, (times, cpu_times) in changed.items()))
     medians = {name: round(statistics.median(wall), 2) for name, _, wall, _, _ in rows}
     cpu = {name: round(statistics.median(cpu), 2) for name, _, _, cpu, _ in rows}
-    # the five-bar's two rows are one explorer: its changes are pooled, its main input is its faster slider
+    # per explorer (the five-bar's two rows are one explorer): its main events and its changes, pooled
+    main_cpu: dict[str, list[float]] = {}
     pooled: dict[str, list[float]] = {}
     pooled_cpu: dict[str, list[float]] = {}
-    main_of: dict[str, float] = {}
-    for name, _, wall, _, changed in rows:
-        if changed:
-            explorer = name.split()[0]
-            for times, cpu_times in changed.values():
-                pooled.setdefault(explorer, []).extend(times)
-                pooled_cpu.setdefault(explorer, []).extend(cpu_times)
-            main_of[explorer] = min(main_of.get(explorer, float("inf")), statistics.median(wall))
+    for name, _, _, cpu_times, changed in rows:
+        explorer = name.split()[0]
+        main_cpu.setdefault(explorer, []).extend(cpu_times)
+        for times, change_cpu_times in changed.values():
+            pooled.setdefault(explorer, []).extend(times)
+            pooled_cpu.setdefault(explorer, []).extend(change_cpu_times)
     change = {name: round(statistics.median(times), 2) for name, times in pooled.items()}
     change_cpu = {name: round(statistics.median(times), 2) for name, times in pooled_cpu.items()}
-    ratio = {name: round(change[name] / main_of[name], 2) for name in change}
+    ratio = {name: round(statistics.median(pooled_cpu[name]) / statistics.median(main_cpu[name]), 2)
+             for name in pooled_cpu}
+    per_control = {f"{name.split()[0]}: {control}":
+                   round(statistics.median(cpu_times) / statistics.median(main_cpu[name.split()[0]]), 2)
+                   for name, _, _, _, changed in rows for control, (_, cpu_times) in changed.items()}
     print(json.dumps({
         "median_update_ms": max(medians.values()),
         "median_update_cpu_ms": max(cpu.values()),
@@ -122,6 +126,8 @@ def main() -> None:
         "median_update_ms_by_explorer": medians,
         "median_change_ms_by_explorer": change,
         "change_vs_update_by_explorer": ratio,
+        "worst_control_vs_update": max(per_control.values()),
+        "control_vs_update": per_control,
         "events_per_explorer": EVENTS,
         "changes_per_control": CHANGE_EVENTS,
     }, ensure_ascii=False))

@@ -222,42 +222,11 @@ class FourBar:
         for name in ("crank", "coupler", "rocker", "ground"):
             object.__setattr__(self, name, require_positive(name, getattr(self, name)))
 
-    # the course's names for the lengths
-    @property
-    def l1(self) -> float:
-        """Ground length l1 (m) = |O2O4|.
-
-        >>> FourBar(1, 2, 3, 4).l1
-        4.0
-        """
-        return self.ground
-
-    @property
-    def l2(self) -> float:
-        """Crank length l2 (m) = |O2A|.
-
-        >>> FourBar(1, 2, 3, 4).l2
-        1.0
-        """
-        return self.crank
-
-    @property
-    def l3(self) -> float:
-        """Coupler length l3 (m) = |AB|.
-
-        >>> FourBar(1, 2, 3, 4).l3
-        2.0
-        """
-        return self.coupler
-
-    @property
-    def l4(self) -> float:
-        """Rocker length l4 (m) = |O4B|.
-
-        >>> FourBar(1, 2, 3, 4).l4
-        3.0
-        """
-        return self.rocker
+    # the course's names for the lengths (m): l1 = |O2O4|, l2 = |O2A|, l3 = |AB|, l4 = |O4B|
+    l1 = property(lambda self: self.ground, doc="Ground length l1 (m) = |O2O4|.")
+    l2 = property(lambda self: self.crank, doc="Crank length l2 (m) = |O2A|.")
+    l3 = property(lambda self: self.coupler, doc="Coupler length l3 (m) = |AB|.")
+    l4 = property(lambda self: self.rocker, doc="Rocker length l4 (m) = |O4B|.")
 
     @cached_property
     def mechanism(self):

@@ -243,15 +243,10 @@ def system_jacobian(x, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.nd
 # ---------------------------------------------------------------- assembly checks
 
 
-def _assembly_sine(theta2, saw: Saw) -> np.ndarray:
-    """sin θ3 on the closed loop: (r1y − r2 sin θ2) / r3 (from Fy − Fc = 0)."""
-    return (saw.r1y - saw.r2 * np.sin(theta2)) / saw.r3
-
-
 def _check_assembly(theta2, saw: Saw, on_unreachable: str = "raise") -> np.ndarray:
     """Raise UnreachableError where the rod cannot reach the slider line, SingularJacobianError
-    where it just reaches it (rod perpendicular to the line: cos θ3 = 0).  Returns sin θ3."""
-    sine = _assembly_sine(theta2, saw)
+    where it just reaches it (rod perpendicular to the line: cos θ3 = 0).  Returns sin θ3 (Fy − Fc = 0)."""
+    sine = (saw.r1y - saw.r2 * np.sin(theta2)) / saw.r3
     report_unreachable(
         np.abs(sine) > 1.0,
         {"theta2": theta2},

@@ -15,6 +15,7 @@ crank must be a positive, finite length in metres; got -1.0
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Iterable, Mapping
 from typing import Any
 
@@ -67,16 +68,41 @@ class ConvergenceError(CourseLibError, RuntimeError):
         self.result = result
 
 
+def _numbers(name: str, value: Any, what: str) -> np.ndarray:
+    """``value`` as a float array, or a named error: text, True/False, complex values and None are
+    not numbers here, even where numpy would convert them ('90' is not 90 rad)."""
+    problem = None
+    if isinstance(value, str | bytes | bool | np.bool_) or value is None:
+        problem = type(value).__name__
+    else:
+        try:
+            array = np.asarray(value)
+        except (TypeError, ValueError):  # ragged nesting
+            array = None
+            problem = "a ragged sequence"
+        if array is not None and array.dtype.kind not in "iuf":
+            entries = array.ravel().tolist() if array.dtype.kind == "O" else [None]
+            if array.dtype.kind != "O" or not all(
+                isinstance(e, numbers.Real) and not isinstance(e, bool | np.bool_) for e in entries
+            ):
+                problem = {"b": "True/False", "c": "complex", "U": "text", "S": "text"}.get(
+                    array.dtype.kind, "something that is not a number"
+                )
+    if problem is not None:
+        raise InvalidGeometryError(f"{name} must be {what}; got {value!r} ({problem})")
+    return np.asarray(value, dtype=float)
+
+
 def require_positive(name: str, value: float, allow_zero: bool = False) -> float:
     """Return ``value`` as a float if it is a finite length > 0 (or >= 0), else raise.
 
     >>> require_positive("l5", 0.0, allow_zero=True)
     0.0
     """
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise InvalidGeometryError(f"{name} must be a number (a length in metres); got {value!r}") from None
+    array = _numbers(name, value, "a number (a length in metres)")
+    if array.ndim:
+        raise InvalidGeometryError(f"{name} must be one number (a length in metres); got {value!r}")
+    number = float(array)
     ok = np.isfinite(number) and (number >= 0 if allow_zero else number > 0)
     if not ok:
         kind = "non-negative" if allow_zero else "positive"
@@ -87,15 +113,12 @@ def require_positive(name: str, value: float, allow_zero: bool = False) -> float
 
 
 def require_finite(name: str, value: Any, unit: str = "") -> np.ndarray:
-    """Return ``value`` as a float array if every entry is finite, else raise.
+    """Return ``value`` as a float array if every entry is a finite number, else raise.
 
     >>> require_finite("theta2", [0.0, 1.0]).tolist()
     [0.0, 1.0]
     """
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidGeometryError(f"{name} must be a number or array of numbers; got {value!r}") from None
+    array = _numbers(name, value, "a number or array of numbers" + (f" in {unit}" if unit else ""))
     if not np.all(np.isfinite(array)):
         bad = np.flatnonzero(~np.isfinite(array))
         where = f" (entry {bad[0]} of {array.size})" if array.ndim else ""

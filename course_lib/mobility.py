@@ -12,13 +12,16 @@ rolling with slip: two freedoms each).
 
 from __future__ import annotations
 
+import numbers
+
 from .errors import InvalidGeometryError
 
 __all__ = ["gruebler"]
 
 
 def _count(name: str, value: int, minimum: int) -> int:
-    if isinstance(value, bool) or not float(value).is_integer() or value < minimum:
+    whole = isinstance(value, numbers.Real) and not isinstance(value, bool) and float(value).is_integer()
+    if not whole or value < minimum:
         raise InvalidGeometryError(f"{name} must be an integer >= {minimum}; got {value!r}")
     return int(value)
 

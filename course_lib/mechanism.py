@@ -156,20 +156,25 @@ def _derived(build):
 
 def _vector(terms, start: int, size: int) -> np.ndarray:
     """Rows start … start + size of compiled terms (k, ...) as a vector (..., size) (a view)."""
-    return np.moveaxis(terms[start:start + size], 0, -1)
+    return terms[start:start + size].transpose(*range(1, terms.ndim), 0)
 
 
 def _matrix(terms, start: int, rows: int, columns: int) -> np.ndarray:
     """Rows of compiled terms (k, ...) as matrices (..., rows, columns), row by row (a view)."""
     block = terms[start:start + rows * columns].reshape((rows, columns) + terms.shape[1:])
-    return np.moveaxis(block, (0, 1), (-2, -1))
+    return block.transpose(*range(2, block.ndim), 0, 1)
 
 
 def _rows(*arrays) -> tuple[tuple, list[np.ndarray]]:
     """Arrays (..., k) broadcast over their leading axes and flattened to (N, k); and that leading shape."""
     arrays = [np.asarray(a, dtype=float) for a in arrays]
     shape = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
-    return shape, [np.broadcast_to(a, shape + a.shape[-1:]).reshape(-1, a.shape[-1]) for a in arrays]
+    return shape, [_broadcast(a, shape + a.shape[-1:]).reshape(-1, a.shape[-1]) for a in arrays]
+
+
+def _broadcast(array, shape) -> np.ndarray:
+    array = np.asarray(array)
+    return array if array.shape == shape else np.broadcast_to(array, shape)
 
 
 class Mechanism:
@@ -314,18 +319,19 @@ class Mechanism:
         function = sp.lambdify([*symbols, *dummies.values(), *self.parameters],
                                [e.xreplace(dummies) for e in expressions], "numpy", cse=True)
         inputs = {s.name for s in self.inputs}
-        where = {s: (k, j) for k, group in enumerate(groups) for j, s in enumerate(group)}
+        where = [(k, j) for k, group in enumerate(groups) for j in range(len(group))]
+        angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
+                     for func, s in trig]
 
         def evaluate(values, *arrays, known=None):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
-            columns = [arrays[k][..., j] for k, j in where.values()]
+            columns = [arrays[k][..., j] for k, j in where]
             angles = []
-            for func, s in trig:
-                key = (s.name, func)
+            for key, func, index, is_input in angles_of:
                 value = None if known is None else known.get(key)
                 if value is None:
-                    value = (np.cos if func == "cos" else np.sin)(columns[symbols.index(s)])
-                    if known is not None and s.name in inputs:
+                    value = func(columns[index])
+                    if known is not None and is_input:
                         known[key] = value
                 angles.append(value)
             out = np.empty((len(expressions),) + np.broadcast_shapes(*(a.shape[:-1] for a in arrays)))
@@ -455,10 +461,10 @@ class Mechanism:
         arrays = [q, u, u_rate] + ([] if u_acceleration is None else [u_acceleration])
         shape, arrays = _rows(*arrays)
         q, u, u_rate = arrays[:3]
-        known = {(name, func): np.broadcast_to(value, shape).ravel() for name, pair in (trig or {}).items()
+        known = {(name, func): _broadcast(value, shape).ravel() for name, pair in (trig or {}).items()
                  for func, value in zip(("cos", "sin"), pair, strict=True)}
         J, F_u = self._rate_terms(q, u, known)
-        singular = is_singular(J) if singular is None else np.broadcast_to(singular, shape).ravel()
+        singular = is_singular(J) if singular is None else _broadcast(singular, shape).ravel()
         if singular.any():
             J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
         solve, any_singular = linear_solver(J), singular.any()

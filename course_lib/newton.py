@@ -106,23 +106,44 @@ def finite_difference_jacobian(F: Callable, x: np.ndarray, fx: np.ndarray | None
     return np.stack(columns, axis=-1)
 
 
-def _cramer(J: np.ndarray) -> tuple[list, list, np.ndarray]:
-    """For a stack (N, n, n), n ≤ 3: the entries J[:, i, j] and the adjugate's, row by row, as
-    contiguous (N,) arrays, and det J."""
+def _adjugate(a: list, n: int) -> tuple:
+    """det J and its adjugate's entries, row by row, from J's entries ``a`` (row by row), n ≤ 3: the
+    same arithmetic for numbers (one matrix) and for arrays (a stack), so both give the same bits."""
+    if n == 3:  # rows of the adjugate: cross products of the columns
+        adjugate = [a[4] * a[8] - a[5] * a[7], a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
+                    a[5] * a[6] - a[3] * a[8], a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
+                    a[3] * a[7] - a[4] * a[6], a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]]
+        return a[0] * adjugate[0] + a[1] * adjugate[3] + a[2] * adjugate[6], adjugate
+    return (a[0] if n == 1 else a[0] * a[3] - a[1] * a[2]), None  # n = 2: written out in _cramer_solve
+
+
+def _cramer_solve(a: list, adjugate, det, b: list, n: int) -> list:
+    """x = adj(J)·b / det J, entry by entry (numbers or arrays), b given by its entries."""
+    if n == 1:
+        return [b[0] / det]
+    if n == 2:
+        return [(a[3] * b[0] - a[1] * b[1]) / det, (a[0] * b[1] - a[2] * b[0]) / det]
+    return [(adjugate[3 * i] * b[0] + adjugate[3 * i + 1] * b[1] + adjugate[3 * i + 2] * b[2]) / det
+            for i in range(3)]
+
+
+def _rows_product(a: list, n: int):
+    """Π‖row of J‖², from J's entries."""
+    product = 1.0
+    for i in range(n):
+        product = product * sum(entry * entry for entry in a[n * i:n * i + n])
+    return product
+
+
+def _cramer(J: np.ndarray) -> tuple:
+    """For a stack (N, n, n), n ≤ 3: J's entries as (N,) arrays (views if already contiguous, as the
+    core lays them out), det J and the adjugate (see :func:`_adjugate`)."""
     n = J.shape[-1]
-    if J.strides[0] == J.itemsize:  # entries already contiguous (the core's layout)
+    if J.strides[0] == J.itemsize:
         a = [J[:, i, j] for i in range(n) for j in range(n)]
     else:
         a = list(np.ascontiguousarray(J.reshape(J.shape[0], -1).T))
-    if n == 1:
-        return a, [], a[0]
-    if n == 2:  # the adjugate is (d, −b), (−c, a): the solver writes its signs out
-        return a, [], a[0] * a[3] - a[1] * a[2]
-    # adjugate rows: cross products of the columns
-    adjugate = [a[4] * a[8] - a[5] * a[7], a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
-                a[5] * a[6] - a[3] * a[8], a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
-                a[3] * a[7] - a[4] * a[6], a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]]
-    return a, adjugate, a[0] * adjugate[0] + a[1] * adjugate[3] + a[2] * adjugate[6]
+    return (a, *_adjugate(a, n))
 
 
 def hadamard_ratio(J: np.ndarray, _parts=None) -> np.ndarray:
@@ -137,11 +158,8 @@ def hadamard_ratio(J: np.ndarray, _parts=None) -> np.ndarray:
     n = J.shape[-1]
     if n > 3:
         return np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-    a, _, det = _parts or _cramer(J)
-    rows = np.ones_like(det)
-    for i in range(n):
-        rows *= sum(entry * entry for entry in a[n * i:n * i + n])
-    return np.abs(det) / np.sqrt(rows)
+    a, det, _ = _parts or _cramer(J)
+    return np.abs(det) / np.sqrt(_rows_product(a, n))
 
 
 def is_singular(J: np.ndarray, _parts=None) -> np.ndarray:
@@ -165,25 +183,31 @@ def linear_solver(J: np.ndarray, _parts=None) -> Callable[[np.ndarray], np.ndarr
     n = J.shape[-1]
     if n > 3:
         return lambda b: np.linalg.solve(J, np.asarray(b, dtype=float)[..., None])[..., 0]
-    a, adjugate, det = _parts or _cramer(J)
-    if n == 1:
-        return lambda b: np.asarray(b, dtype=float) / det[:, None]
+    a, det, adjugate = _parts or _cramer(J)
 
     def solve(b):
         b = np.asarray(b, dtype=float)
-        columns, out = [b[:, j] for j in range(n)], np.empty((n, det.size)).T  # contiguous columns
-        if n == 2:
-            np.divide(a[3] * columns[0] - a[1] * columns[1], det, out=out[:, 0])
-            np.divide(a[0] * columns[1] - a[2] * columns[0], det, out=out[:, 1])
-            return out
-        for i in range(n):
-            row = adjugate[n * i] * columns[0]
-            for j in range(1, n):
-                row += adjugate[n * i + j] * columns[j]
-            np.divide(row, det, out=out[:, i])
+        out = np.empty((n, det.size)).T  # contiguous columns
+        for i, column in enumerate(_cramer_solve(a, adjugate, det, [b[:, j] for j in range(n)], n)):
+            out[:, i] = column
         return out
 
     return solve
+
+
+def _solve_one(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """x with J·x = b for one matrix (n, n), None where J is singular: the stack's arithmetic in Python
+    numbers for n ≤ 3 (a single small solve is dominated by call overhead)."""
+    n = J.shape[0]
+    if n > 3:
+        return None if is_singular(J[None])[0] else np.linalg.solve(J, b)
+    a = J.ravel().tolist()
+    det, adjugate = _adjugate(a, n)
+    root = _rows_product(a, n) ** 0.5
+    ratio = abs(det) / root if root > 0 else (np.inf if det != 0 else np.nan)  # as numpy divides
+    if not ratio > 1.0 / MAX_CONDITION:
+        return None
+    return np.array(_cramer_solve(a, adjugate, det, b.tolist(), n))
 
 
 def _settings(tol, max_iter, residual_tol, on_failure) -> tuple[float, int, float]:
@@ -272,7 +296,7 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
     history, steps = [x.copy()], []
     with np.errstate(all="ignore"):  # a failure is reported below, not as a numpy warning
         fx = F_vec(x)
-    residuals = [float(np.linalg.norm(fx))]
+    residuals = [float(np.sqrt(fx @ fx))]
 
     def result(converged: bool, message: str, singular: bool = False) -> NewtonResult:
         path, step_array = np.array(history), np.array(steps).reshape(-1, n)
@@ -288,25 +312,26 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
     failure = None if np.all(np.isfinite(fx)) else f"F returned {fx.tolist()} at x={here()}"
     while failure is None:
         J = J_mat(x)
-        if not np.all(np.isfinite(J)):
+        if not np.isfinite(J).all():
             failure = f"jac returned {J.tolist()} at x={here()}, after {len(steps)} iterations"
             break
-        if is_singular(J[None])[0]:
+        with np.errstate(all="ignore"):
+            step = _solve_one(J, -fx)
+        if step is None:
             message = f"the Jacobian is {singular_jacobian_text(n)} at x={here()}; Newton cannot take a " \
                       "step from here: try another seed"
             if on_failure == "raise":
                 raise SingularJacobianError(message, x=here(), condition_number=float(np.linalg.cond(J)))
             return result(False, message, singular=True)
         with np.errstate(all="ignore"):
-            step = linear_solver(J[None])(-fx[None])[0]
             x = x + step
             fx = F_vec(x)
         history.append(x.copy())
         steps.append(step)
-        residuals.append(float(np.linalg.norm(fx)))
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(fx))):
+        residuals.append(float(np.sqrt(fx @ fx)))
+        if not (np.isfinite(x).all() and np.isfinite(fx).all()):
             failure = f"Newton diverged: a non-finite value appeared after {len(steps)} iterations"
-        elif np.linalg.norm(step) < tol and residuals[-1] <= residual_tol:
+        elif np.sqrt(step @ step) < tol and residuals[-1] <= residual_tol:
             return result(True, f"converged in {len(steps)} iterations")
         elif len(steps) == max_iter:
             failure = (f"Newton did not converge in max_iter={max_iter} iterations "

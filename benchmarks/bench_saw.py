@@ -2,9 +2,10 @@
 
 Solvers compared, all in this one process:
 
-* batched     - course_lib.saw.sweep(method="batched"): every instant at once with newton_batch
-                (position by Newton; the linear velocity and acceleration stages by Newton too, or,
-                in the "direct" row, by one batched linear solve);
+* batched     - course_lib.saw.sweep(method="batched"): the saw's loop declared on the core and solved
+                by Mechanism.consecutive for every instant at once (newton_batch, Cramer's rule; the
+                linear velocity and acceleration stages by Newton too, or, in the "direct" row, by one
+                batched linear solve);
 * scipy loop  - one scipy.optimize.root (MINPACK "lm", analytic Jacobian) per stage per instant, each
                 seeded with the previous instant's solution ("hybr" stalls on the all-zero rates at rest:
                 its first step is bounded by a multiple of the seed's size);

@@ -937,7 +937,8 @@ def _draw_saw(t, artists, geometry, saw_module, motor_profile, turn) -> Readout:
 
 
 # ---------------------------------------------------------------------------- five-bar robot
-_SIGMA = (("+1 (up)", 1), ("−1 (down)", -1))
+_SIGMA = (("+1 (arms up)", 1), ("−1 (arms down)", -1))  # σ of the forward kinematics (lesson 00)
+_ROOT = (("+1 (+√Δ)", 1), ("−1 (−√Δ)", -1))  # σ1, σ2: the sign before √Δ in the root for θ1, θ4
 _MODES = ("forward", "inverse")
 _WORKSPACE_POINTS = 161
 
@@ -969,6 +970,7 @@ def fivebar_explorer(
     reach = max(robot.l1 + robot.l2, robot.l4 + robot.l3) + robot.l5 / 2
     limit = float(np.ceil(reach * 1.1 / 0.01) * 0.01)
     labels, values = tuple(label for label, _ in _SIGMA), tuple(value for _, value in _SIGMA)
+    roots = tuple(label for label, _ in _ROOT)
     controls = {
         "mode": _toggle("mode", _MODES, _choice_argument("mode", mode, _MODES, _MODES)),
         "theta1_deg": _slider("θ1 (°)", _angle_argument("theta1", theta1), -180.0, 180.0, 1.0, ".0f"),
@@ -976,8 +978,8 @@ def fivebar_explorer(
         "sigma": _toggle("assembly σ", _SIGMA, _choice_argument("sigma", sigma, labels, values)),
         "x3": _slider("X3 (m)", _range_argument("x3", x3, -limit, limit, "m"), -limit, limit, 0.005),
         "y3": _slider("Y3 (m)", _range_argument("y3", y3, -limit, limit, "m"), -limit, limit, 0.005),
-        "sigma1": _toggle("σ1 (θ1 root)", _SIGMA, _choice_argument("sigma1", sigma1, labels, values)),
-        "sigma2": _toggle("σ2 (θ4 root)", _SIGMA, _choice_argument("sigma2", sigma2, labels, values)),
+        "sigma1": _toggle("σ1 (θ1 root)", _ROOT, _choice_argument("sigma1", sigma1, roots, values)),
+        "sigma2": _toggle("σ2 (θ4 root)", _ROOT, _choice_argument("sigma2", sigma2, roots, values)),
     }
     figure = _figure(6.2, 5.0)
     ax = figure.add_axes((0.12, 0.1, 0.85, 0.86))

@@ -446,7 +446,7 @@ BAD_UPDATES = [
     (fivebar_explorer, {"sigma": NAN}, {"invalid"}, "refused"),
     (fivebar_explorer, {"sigma": -1.0}, {"ok"}, "σ = -1"),
     (fivebar_explorer, {"sigma": "-1"}, {"ok"}, "σ = -1"),
-    (fivebar_explorer, {"sigma": "+1 (UP)"}, {"ok"}, "σ = +1"),
+    (fivebar_explorer, {"sigma": "+1 (ARMS UP)"}, {"ok"}, "σ = +1"),
     (fivebar_explorer, {"sigma1": 3, "mode": "inverse"}, {"invalid"},
      "σ1 (θ1 root): refused 3, not one of 1, -1"),
     (fivebar_explorer, {"sigma2": "down", "mode": "inverse"}, {"invalid"}, "refused"),

@@ -68,6 +68,9 @@ BRANCHES = ("open", "crossed")
 #: |sin(θ3 − θ4)| below this counts as a toggle: J = l3·l4·sin(θ3 − θ4) is singular.
 SINGULAR_TOL = 1e-7
 
+#: A toggle angle closer than this (rad) to π or 0 is the change point of a full turn, not a limit.
+TOGGLE_TOL = 1e-7  # the square root of rounding in |AO4|² at a change point
+
 #: A discriminant more negative than this fraction of B² + (A − C)² means "cannot close";
 #: smaller negative values are rounding at a toggle and are taken as zero.
 DISCRIMINANT_TOL = 1e-12
@@ -554,7 +557,8 @@ class FourBar:
             return InputRange(full_rotation=False, intervals=(), toggle_angles=())
         theta_max = np.pi if extended is None else extended  # binds when < π
         theta_min = 0.0 if folded is None else folded  # binds when > 0
-        upper, lower = theta_max < np.pi, theta_min > 0
+        # a toggle within rounding of π or 0 (a change point: l3 ± l4 = l1 ± l2) does not stop a full turn
+        upper, lower = theta_max < np.pi - TOGGLE_TOL, theta_min > TOGGLE_TOL
         if not upper and not lower:
             return InputRange(full_rotation=True, intervals=((0.0, 2 * np.pi),), toggle_angles=())
         if upper and not lower:

@@ -449,3 +449,10 @@ def test_one_mask_convention_and_results_that_convert():
     assert np.array(DESK.solve(SWEEP, 10.0)).shape == (6, SWEEP.size)
     position, velocity, acceleration = DESK.coupler_point(SWEEP, 0.05, 0.3, 10.0)
     assert np.array(DESK.coupler_point(SWEEP, 0.05, 0.3, 10.0)).shape == (3, SWEEP.size, 2)
+
+
+@pytest.mark.parametrize("lengths", [(0.1, 0.2, 0.15, 0.15), (0.06, 0.14, 0.12, 0.2), (1, 1, 1, 1)])
+def test_a_change_point_crank_turns_fully(lengths):
+    # s + l = p + q: the crank passes the change point (coupler and rocker in line) and goes round
+    linkage = FourBar(*lengths)
+    assert linkage.grashof().name == "change-point" and linkage.input_range().full_rotation

@@ -62,6 +62,9 @@ WORKING_MODES = ((1, 1), (-1, 1), (1, -1), (-1, -1))
 #: A normalized singularity measure (a sine, see ``singularity_measures``) below this is singular.
 SINGULAR_TOL = 1e-7
 
+#: The lengths (m) the five-bar accepts: fourth powers of them stay far from under- and overflow.
+LENGTH_RANGE = (1e-60, 1e60)
+
 #: Relative slack for a discriminant that is negative only by rounding (clipped to zero).
 _DISCRIMINANT_SLACK = 1e-12
 
@@ -194,9 +197,15 @@ class FiveBar:
     l5: float
 
     def __post_init__(self) -> None:
-        for name in ("l1", "l2", "l3", "l4"):
-            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
-        object.__setattr__(self, "l5", require_positive("l5", self.l5, allow_zero=True))
+        for name in ("l1", "l2", "l3", "l4", "l5"):
+            length = require_positive(name, getattr(self, name), allow_zero=name == "l5")
+            # the closed forms hold fourth powers of the lengths: keep them clear of under- and overflow
+            if not (length == 0 or LENGTH_RANGE[0] <= length <= LENGTH_RANGE[1]):
+                raise InvalidGeometryError(
+                    f"{name} must lie between {LENGTH_RANGE[0]:.0e} m and {LENGTH_RANGE[1]:.0e} m; "
+                    f"got {length!r}"
+                )
+            object.__setattr__(self, name, length)
 
     # ------------------------------------------------------------------ geometry
     def _cranks(self, theta1, theta4):

@@ -59,6 +59,10 @@ def first_turn_time(alpha_max: float = ALPHA_MAX) -> float:
     return float(np.sqrt(6.0 * np.pi / _check_alpha_max(alpha_max)))
 
 
+#: The latest time (s) motor_profile accepts: θ2 ∝ t³ stays finite far beyond it (30 000 years).
+MAX_TIME = 1e12
+
+
 def motor_profile(t, alpha_max: float = ALPHA_MAX) -> MotorProfile:
     """θ2, ω2, α2 of the crank at time(s) ``t`` ≥ 0 (s), vectorized.
 
@@ -81,9 +85,11 @@ def motor_profile(t, alpha_max: float = ALPHA_MAX) -> MotorProfile:
     """
     A = _check_alpha_max(alpha_max)
     time = require_finite("t", t, unit="seconds")
-    if np.any(time < 0):
-        first = time.ravel()[np.flatnonzero(time < 0)[0]]
-        raise InvalidGeometryError(f"t must be >= 0 s (the motor starts at t = 0); got {first}")
+    if np.any((time < 0) | (time > MAX_TIME)):
+        first = time.ravel()[np.flatnonzero((time < 0) | (time > MAX_TIME))[0]]
+        raise InvalidGeometryError(
+            f"t must lie between 0 s (the motor starts at t = 0) and {MAX_TIME:.0e} s; got {first}"
+        )
     T = first_turn_time(A)
     s = time
     phase = np.select([s < T / 3, s < 2 * T / 3, s < T], [0, 1, 2], default=3)

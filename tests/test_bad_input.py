@@ -202,3 +202,22 @@ def test_an_explorer_answers_any_state_with_a_status(build, state):
     assert readout.status in ("ok", "invalid", "unreachable", "singular", "error")
     assert "= nan" not in readout.text.lower()   # a refused NaN may be named, never shown as a result
     assert explorer.update().status in ("ok", "invalid", "unreachable", "singular", "error")  # still works
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e-70, 1e70, 1e200])
+def test_a_five_bar_outside_its_length_range_is_refused_not_wrong(scale):
+    # at 1e-200 m the closed form's fourth powers underflow: it used to return a point 3× off
+    refuses(lambda l1: FiveBar(l1, 0.15 * scale, 0.15 * scale, 0.1 * scale, 0.08 * scale), "l1", 0.1 * scale)
+
+
+@pytest.mark.parametrize("scale", [1e-50, 1e50])
+def test_a_five_bar_inside_its_length_range_scales(scale):
+    # every position scales with the lengths: the pen's point at any size is the desk robot's, scaled
+    desk = ROBOT.forward(1.0, 2.0)
+    scaled = FiveBar(0.1 * scale, 0.15 * scale, 0.15 * scale, 0.1 * scale, 0.08 * scale).forward(1.0, 2.0)
+    assert np.allclose(np.array(scaled) / scale, np.array(desk), rtol=1e-12, atol=0)
+
+
+@pytest.mark.parametrize("time", [1e308, 1e13, -1.0])
+def test_motor_profile_refuses_a_time_it_cannot_hold(time):
+    refuses(profile.motor_profile, "t", time)

@@ -31,7 +31,6 @@ import nbformat
 from nbclient import NotebookClient
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-os.environ.setdefault("PYTHONHASHSEED", "0")  # kernels inherit it: sympy takes the same route every run
 
 
 def _short_tracebacks() -> None:

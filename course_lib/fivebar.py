@@ -175,7 +175,7 @@ def _half_angle_root(a, b, c, sigma):
     use_first = size_1 >= size_2
     numerator = np.where(use_first, numerator_1, numerator_2)
     denominator = np.where(use_first, denominator_1, denominator_2)
-    theta = wrap_angle(2 * np.arctan2(numerator, denominator))
+    theta = wrap_angle(2 * np.arctan2(numerator, denominator), nan_ok=True)
     undetermined = np.maximum(size_1, size_2) <= 1e-14 * (np.abs(a) + np.abs(b) + np.abs(c) + 1e-300)
     return theta, discriminant < -slack, undetermined
 

@@ -454,7 +454,8 @@ class FourBar:
         85.752
         """
         solution = self.solve(theta2, branch=branch, on_unreachable=on_unreachable)
-        joint_angle = np.abs(wrap_angle(np.asarray(solution.theta4) - np.asarray(solution.theta3)))
+        turn = np.asarray(solution.theta4) - np.asarray(solution.theta3)
+        joint_angle = np.abs(wrap_angle(turn, nan_ok=True))
         mu = np.minimum(joint_angle, np.pi - joint_angle) if acute else joint_angle
         return scalar_or_array(mu)
 

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .errors import require_finite
+
 __all__ = ["polar", "cross_k", "loop_residual", "wrap_angle", "to_complex", "from_complex", "scalar_or_array",
            "Unpacks"]
 
@@ -21,11 +23,13 @@ __all__ = ["polar", "cross_k", "loop_residual", "wrap_angle", "to_complex", "fro
 def polar(length, angle) -> np.ndarray:
     """The vector of ``length`` at ``angle`` (rad, from +x, counter-clockwise), shape (..., 2).
 
+    Raises ``InvalidGeometryError`` naming ``length`` or ``angle`` when it is not finite numbers.
+
     >>> polar([1.0, 1.0], [0.0, np.pi]).round(12).tolist()
     [[1.0, 0.0], [-1.0, 0.0]]
     """
-    length = np.asarray(length, dtype=float)
-    angle = np.asarray(angle, dtype=float)
+    length = require_finite("length", length, "m")
+    angle = require_finite("angle", angle, "rad")
     return np.stack(np.broadcast_arrays(length * np.cos(angle), length * np.sin(angle)), axis=-1)
 
 
@@ -62,13 +66,16 @@ def scalar_or_array(value):
     return array.item() if array.ndim == 0 else array
 
 
-def wrap_angle(angle) -> np.ndarray:
+def wrap_angle(angle, nan_ok: bool = False) -> np.ndarray:
     """Angle(s) wrapped into (−π, π].
+
+    Raises ``InvalidGeometryError`` naming ``angle`` when it is not finite numbers; with
+    ``nan_ok=True`` NaN entries (an unreachable input's angle) stay NaN.
 
     >>> bool(float(wrap_angle(3 * np.pi / 2)) == -np.pi / 2)
     True
     """
-    angle = np.asarray(angle, dtype=float)
+    angle = np.asarray(angle, dtype=float) if nan_ok else require_finite("angle", angle, "rad")
     wrapped = np.mod(angle + np.pi, 2 * np.pi) - np.pi
     return np.where(wrapped == -np.pi, np.pi, wrapped)
 

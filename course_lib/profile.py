@@ -85,11 +85,10 @@ def motor_profile(t, alpha_max: float = ALPHA_MAX) -> MotorProfile:
     """
     A = _check_alpha_max(alpha_max)
     time = require_finite("t", t, unit="seconds")
-    if np.any((time < 0) | (time > MAX_TIME)):
-        first = time.ravel()[np.flatnonzero((time < 0) | (time > MAX_TIME))[0]]
-        raise InvalidGeometryError(
-            f"t must lie between 0 s (the motor starts at t = 0) and {MAX_TIME:.0e} s; got {first}"
-        )
+    for bad, rule in ((time < 0, "t must be >= 0 s (the motor starts at t = 0)"),
+                      (time > MAX_TIME, f"t must be <= {MAX_TIME:.0e} s")):
+        if np.any(bad):
+            raise InvalidGeometryError(f"{rule}; got {time.ravel()[np.flatnonzero(bad)[0]]}")
     T = first_turn_time(A)
     s = time
     phase = np.select([s < T / 3, s < 2 * T / 3, s < T], [0, 1, 2], default=3)

@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from course_lib import checks, mobility, profile, saw
+from course_lib import checks, mobility, planar, profile, saw
 from course_lib.errors import CourseLibError
 from course_lib.fivebar import FiveBar
 from course_lib.fourbar import FourBar
@@ -82,6 +82,8 @@ ANGLE_CALLS = {
     "saw.solve_simultaneous": (lambda value: saw.solve_simultaneous(value), "theta2"),
     "saw.joint_positions": (lambda value: saw.joint_positions(value), "theta2"),
     "profile.motor_profile": (lambda value: profile.motor_profile(value), "t"),
+    "planar.polar.angle": (lambda value: planar.polar(0.1, value), "angle"),
+    "planar.wrap_angle": (lambda value: planar.wrap_angle(value), "angle"),
 }
 CHOICE_CALLS = {
     "FourBar.solve.branch": (lambda value: DESK.solve(0.3, branch=value), "branch"),

@@ -230,7 +230,8 @@ near = functools.partial(close, atol=1e-9)
 
 def angles_close(value, reference, tol: float = ANGLE_TOL) -> bool:
     value, reference = _pairs(value, reference)
-    return value.shape == reference.shape and bool(np.all(np.abs(wrap_angle(value - reference)) <= tol))
+    gaps = np.abs(wrap_angle(value - reference, nan_ok=True))
+    return value.shape == reference.shape and bool(np.all(gaps <= tol))
 
 
 def in_degrees(value, reference) -> bool:

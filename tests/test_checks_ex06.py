@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
+from feedback import hides
 from test_checks_bad_input import SILLY as SHARED_SILLY
 
 from course_lib import checks
@@ -47,16 +48,6 @@ def ram_by_differences(theta2, omega2, alpha2=0.0, step=1e-5):
     """Ram (ẋ, ẍ) by central differences of the construction along θ2(t) = θ2 + ω2 t + α2 t²/2."""
     at = [by_hand(theta2 + omega2 * t + alpha2 * t**2 / 2)[3] for t in (-step, 0.0, step)]
     return (at[2] - at[0]) / (2 * step), (at[2] - 2 * at[1] + at[0]) / step**2
-
-
-def hides(feedback, *values) -> bool:
-    """True when no rounding (2–8 significant digits) of any value appears in the message."""
-    for value in np.ravel(values):
-        for digits in range(2, 9):
-            for text in (f"{value:.{digits}g}", f"{value:.{digits}f}", f"{abs(value):.{digits}g}"):
-                if len(text.strip("-0.")) >= 2 and text in feedback.message:
-                    return False
-    return True
 
 
 def accepts(feedback):

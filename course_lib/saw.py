@@ -38,6 +38,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import (
+    ConvergenceError,
     InvalidGeometryError,
     SingularJacobianError,
     report_unreachable,
@@ -293,6 +294,22 @@ def _one_instant(theta2, omega2, alpha2, x0, variant: str, saw: Saw):
     return (*motion, seed)
 
 
+def _course_assembly(x, seed, method: str, theta2) -> None:
+    """Raise ConvergenceError, naming the seed, where Newton reached the other assembly: the rod
+    pointing right (cos θ3 > 0) instead of the course's, pointing left towards the slider."""
+    theta3 = np.asarray(x)[..., 2]
+    other = np.cos(theta3) > 0
+    if np.any(other):
+        first = np.flatnonzero(np.ravel(other))[0]
+        angle = float(np.ravel(theta2)[first]) if np.ndim(theta2) else float(theta2)
+        where = f" (instant {first}, theta2={angle:.6g})" if np.ndim(other) else f" at theta2={angle:.6g}"
+        raise ConvergenceError(
+            f"{method} Newton from the seed x0={np.round(seed, 6).tolist()} reached the other assembly"
+            f"{where}: the rod points right (cos(theta3) > 0, theta3 = {np.ravel(theta3)[first]:.6g} rad); "
+            "the course's saw has it pointing left to the slider (theta3 near pi): seed theta3 near pi"
+        )
+
+
 # ---------------------------------------------------------------- Newton solutions at one crank angle
 
 
@@ -356,8 +373,9 @@ def solve_consecutive(
     position = None if variant == "loop" else _core(saw, variant)
     stages = _core(saw).consecutive([theta2], [omega2], [alpha2], seed, tol=tol, max_iter=max_iter,
                                     linear_stages=linear_stages, position=position)
-    return SawSolution(x=np.concatenate([stage.x for stage in stages.values()]),
-                       iterations=sum(stage.iterations for stage in stages.values()),
+    x = np.concatenate([stage.x for stage in stages.values()])
+    _course_assembly(x, seed, "consecutive", theta2)
+    return SawSolution(x=x, iterations=sum(stage.iterations for stage in stages.values()),
                        stages=MappingProxyType(stages), method="consecutive")
 
 
@@ -383,6 +401,7 @@ def solve_simultaneous(
     position = None if variant == "loop" else _core(saw, variant)
     result = _core(saw).simultaneous([theta2], [omega2], [alpha2], seed, tol=tol, max_iter=max_iter,
                                      position=position)
+    _course_assembly(result.x, seed, "simultaneous", theta2)
     return SawSolution(x=result.x, iterations=result.iterations,
                        stages=MappingProxyType({"simultaneous": result}), method="simultaneous")
 
@@ -542,6 +561,7 @@ def sweep(
         stages = _core(saw).consecutive(*_motion(theta2, omega2, alpha2), seed, tol=tol,
                                         linear_stages=linear_stages, position=position)
         values = np.concatenate([stage.x for stage in stages.values()], axis=1)
+        _course_assembly(values, seed, "batched", theta2)
         stage_iterations = np.stack([stage.iterations for stage in stages.values()], axis=1)
     else:
         values = np.empty((n, 9))

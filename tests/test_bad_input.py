@@ -223,3 +223,18 @@ def test_a_five_bar_inside_its_length_range_scales(scale):
 @pytest.mark.parametrize("time", [1e308, 1e13, -1.0])
 def test_motor_profile_refuses_a_time_it_cannot_hold(time):
     refuses(profile.motor_profile, "t", time)
+
+
+OTHER_SEED = [0.2, 0.2, 0.3, 0, 0, 0, 0, 0, 0]   # rod pointing right: Newton reaches the other assembly
+
+
+@pytest.mark.parametrize("solve", [
+    lambda: saw.solve_consecutive(0.0, x0=OTHER_SEED),
+    lambda: saw.solve_simultaneous(0.0, x0=OTHER_SEED),
+    lambda: saw.sweep(20, method="batched", x0=OTHER_SEED),
+    lambda: saw.sweep(20, method="consecutive", x0=OTHER_SEED),
+])
+def test_the_saw_names_the_seed_that_reaches_the_other_assembly(solve):
+    # the other assembly: the slider line crossed with the rod pointing right, cos θ3 > 0
+    with pytest.raises(CourseLibError, match=r"x0=\[0\.2, 0\.2, 0\.3.*other assembly.*points right"):
+        solve()

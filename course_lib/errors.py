@@ -29,6 +29,7 @@ __all__ = [
     "InvalidGeometryError",
     "require_positive",
     "require_finite",
+    "require_broadcast",
     "require_choice",
     "report_unreachable",
 ]
@@ -126,6 +127,19 @@ def require_finite(name: str, value: Any, unit: str = "") -> np.ndarray:
         suffix = f" in {unit}" if unit else ""
         raise InvalidGeometryError(f"{name} must be finite{suffix}; got {first}{where}")
     return array
+
+
+def require_broadcast(**arrays: Any) -> list[np.ndarray]:
+    """The named arrays broadcast to one shape, or ``InvalidGeometryError`` naming them and their shapes.
+
+    >>> [a.shape for a in require_broadcast(theta2=np.zeros(3), omega2=1.0)]
+    [(3,), (3,)]
+    """
+    try:
+        return np.broadcast_arrays(*(np.asarray(value, dtype=float) for value in arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{name} of shape {np.shape(value)}" for name, value in arrays.items())
+        raise InvalidGeometryError(f"the inputs must broadcast to one shape; got {shapes}") from None
 
 
 def require_choice(name: str, value: Any, choices: Iterable[Any]) -> Any:

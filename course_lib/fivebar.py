@@ -39,6 +39,7 @@ from .errors import (
     InvalidGeometryError,
     SingularJacobianError,
     report_unreachable,
+    require_broadcast,
     require_choice,
     require_finite,
     require_positive,
@@ -254,8 +255,8 @@ class FiveBar:
         >>> round(float(k["f"]), 12), round(float(k["g"]), 12), round(float(k["D"]), 12)
         (0.0, 0.0, 0.08)
         """
-        theta1 = require_finite("theta1", theta1, "rad")
-        theta4 = require_finite("theta4", theta4, "rad")
+        theta1, theta4 = require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
+                                           theta4=require_finite("theta4", theta4, "rad"))
         l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
         c1, s1, c4, s4 = np.cos(theta1), np.sin(theta1), np.cos(theta4), np.sin(theta4)
         D = l5 + l1 * c1 - l4 * c4
@@ -294,8 +295,8 @@ class FiveBar:
         """
         sigma = _sign_choice("mode", mode)
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
-        theta1 = require_finite("theta1", theta1, "rad")
-        theta4 = require_finite("theta4", theta4, "rad")
+        theta1, theta4 = require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
+                                           theta4=require_finite("theta4", theta4, "rad"))
         l3, l4, l5 = self.l3, self.l4, self.l5
         c4, s4 = np.cos(theta4), np.sin(theta4)
         p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
@@ -344,8 +345,7 @@ class FiveBar:
         >>> [round(float(k[name]), 6) for name in ("a1", "b1", "c1")]
         [0.0211, -0.08, 0.0371]
         """
-        X = require_finite("x3", x3, "m")
-        Y = require_finite("y3", y3, "m")
+        X, Y = require_broadcast(x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
         l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
         common = X**2 + Y**2 + l5**2 / 4
         return {

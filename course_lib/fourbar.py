@@ -47,6 +47,7 @@ import numpy as np
 from .errors import (
     SingularJacobianError,
     report_unreachable,
+    require_broadcast,
     require_choice,
     require_finite,
     require_positive,
@@ -250,7 +251,8 @@ class FourBar:
         >>> np.round(r, 12).tolist()
         [0.04, -0.12]
         """
-        q = np.stack(np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (theta3, theta4, theta2))), -1)
+        q = np.stack(require_broadcast(**{name: require_finite(name, value, "rad") for name, value in
+                                          (("theta3", theta3), ("theta4", theta4), ("theta2", theta2))}), -1)
         return self.mechanism.residual(q[..., :2], q[..., 2:])
 
     def loop_jacobian(self, theta3, theta4) -> np.ndarray:
@@ -262,7 +264,8 @@ class FourBar:
         >>> np.round(J, 12).tolist()
         [[-2.0, 0.0], [0.0, -3.0]]
         """
-        q = np.stack(np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (theta3, theta4))), -1)
+        q = np.stack(require_broadcast(theta3=require_finite("theta3", theta3, "rad"),
+                                       theta4=require_finite("theta4", theta4, "rad")), -1)
         return self.mechanism.jacobian(q, np.zeros(q.shape[:-1] + (1,)))
 
     @cached_property
@@ -355,10 +358,10 @@ class FourBar:
         """
         require_choice("branch", branch, BRANCHES)
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
-        theta2, omega2, alpha2 = np.broadcast_arrays(
-            require_finite("theta2", theta2, "rad"),
-            require_finite("omega2", omega2, "rad/s"),
-            require_finite("alpha2", alpha2, "rad/s^2"),
+        theta2, omega2, alpha2 = require_broadcast(
+            theta2=require_finite("theta2", theta2, "rad"),
+            omega2=require_finite("omega2", omega2, "rad/s"),
+            alpha2=require_finite("alpha2", alpha2, "rad/s^2"),
         )
         with np.errstate(invalid="ignore", divide="ignore"):
             theta3, theta4, unreachable, undetermined, trig = self._positions(theta2, branch)

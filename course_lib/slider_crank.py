@@ -31,6 +31,7 @@ import numpy as np
 from .errors import (
     SingularJacobianError,
     report_unreachable,
+    require_broadcast,
     require_choice,
     require_finite,
     require_positive,
@@ -103,7 +104,7 @@ class OffsetSliderCrank:
         theta2 = require_finite("theta2", theta2, unit="rad")
         omega2 = require_finite("omega2", omega2, unit="rad/s")
         alpha2 = require_finite("alpha2", alpha2, unit="rad/s²")
-        theta2, omega2, alpha2 = np.broadcast_arrays(theta2, omega2, alpha2)
+        theta2, omega2, alpha2 = require_broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)
         a2, b3 = self.crank, self.rod
         s2, c2 = np.sin(theta2), np.cos(theta2)
         height = self.offset - a2 * s2  # vertical rise of the rod from A to B

@@ -238,3 +238,24 @@ def test_the_saw_names_the_seed_that_reaches_the_other_assembly(solve):
     # the other assembly: the slider line crossed with the rod pointing right, cos θ3 > 0
     with pytest.raises(CourseLibError, match=r"x0=\[0\.2, 0\.2, 0\.3.*other assembly.*points right"):
         solve()
+
+
+@pytest.mark.parametrize(("call", "names"), [
+    (lambda: DESK.solve([0.1, 0.2, 0.3], [1.0, 2.0]), ("theta2", "omega2")),
+    (lambda: DESK.loop_residual([0.1, 0.2], [0.1, 0.2, 0.3], 0.0), ("theta2", "theta3")),
+    (lambda: SAW_TEXTBOOK.solve([0.1, 0.2, 0.3], [1.0, 2.0]), ("theta2", "omega2")),
+    (lambda: ROBOT.forward([1.0, 2.0, 3.0], [1.0, 2.0]), ("theta1", "theta4")),
+    (lambda: ROBOT.inverse([0.0, 0.01, 0.02], [0.2, 0.2]), ("x3", "y3")),
+])
+def test_arrays_that_do_not_broadcast_are_named_with_their_shapes(call, names):
+    with pytest.raises(CourseLibError, match="broadcast") as caught:
+        call()
+    assert all(name in str(caught.value) for name in names) and "(3,)" in str(caught.value)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: DESK.loop_residual(np.nan, 0.0, 0.0), lambda: DESK.loop_jacobian(0.0, np.inf),
+])
+def test_nan_is_refused_by_name_not_passed_through(call):
+    with pytest.raises(CourseLibError, match="must be finite"):
+        call()

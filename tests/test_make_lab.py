@@ -1,4 +1,5 @@
-"""`make lab` starts a JupyterLab server rooted at notebooks/ that answers on /api/status."""
+"""`make lab` starts a JupyterLab server rooted at notebooks/ that answers on /api/status, with the
+project's settings installed (the Jupyter news pop-up never shows)."""
 
 import json
 import os
@@ -45,6 +46,13 @@ def test_make_lab_serves_the_lessons():
                                          headers={"Authorization": f"token {token}"})
         with urllib.request.urlopen(request, timeout=5) as response:
             assert json.load(response)["type"] == "notebook"  # served from notebooks/
+        # tools/lab-settings/overrides.json changes the defaults the frontend reads: news "Never"
+        request = urllib.request.Request(
+            f"http://127.0.0.1:{port}/lab/api/settings/@jupyterlab/apputils-extension:notification",
+            headers={"Authorization": f"token {token}"},
+        )
+        with urllib.request.urlopen(request, timeout=5) as response:
+            assert json.load(response)["schema"]["properties"]["fetchNews"]["default"] == "false"
     finally:
         os.killpg(server.pid, signal.SIGTERM)
         server.wait(timeout=30)

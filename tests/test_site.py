@@ -28,9 +28,6 @@ sys.path.insert(0, str(ROOT / "tools"))
 import build_site  # noqa: E402
 
 HTML = build_site.HTML
-CHROMIUM = pathlib.Path("/usr/bin/chromium")
-CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                 "--disable-component-update", "--disable-sync", "--no-first-run"]
 FORMULA_PAGE = "notebooks/04_fourbar_velocity_acceleration"
 EXPLORER_PAGE = "notebooks/11_explorers"
 EXERCISE_PAGE = "notebooks/exercises/ex03_fourbar"
@@ -142,19 +139,6 @@ def served(site):
         server.server_close()
 
 
-@pytest.fixture(scope="module")
-def browser():
-    if not CHROMIUM.exists():
-        pytest.skip("browser test needs Debian's chromium at /usr/bin/chromium (apt-get install -y chromium)")
-    sync_api = pytest.importorskip("playwright.sync_api", reason="browser test needs python playwright")
-    with sync_api.sync_playwright() as playwright:
-        chromium = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        try:
-            yield chromium
-        finally:
-            chromium.close()
-
-
 SHOTS = pathlib.Path(tempfile.mkdtemp(prefix="course-site-"))
 
 
@@ -213,11 +197,11 @@ class Visit:
 
 
 @pytest.fixture
-def visit(browser, served):
+def visit(chromium, served):
     opened = []
 
     def open_page(page: str) -> Visit:
-        opened.append(Visit(browser, served, page))
+        opened.append(Visit(chromium, served, page))
         return opened[-1]
 
     yield open_page

@@ -4,7 +4,6 @@ are the explorers' and an animation's display bundles.  Skipped, with the reason
 /usr/bin/chromium or playwright is missing (CI installs chromium: see .ci/run).
 """
 
-import pathlib
 
 import matplotlib
 import nbformat
@@ -16,8 +15,6 @@ from course_lib.widgets import fivebar_explorer, fourbar_explorer, saw_explorer
 
 matplotlib.use("Agg")
 
-CHROMIUM = pathlib.Path("/usr/bin/chromium")
-CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking"]
 
 
 def _animation():
@@ -47,17 +44,6 @@ def page_html(tmp_path_factory):
     path = tmp_path_factory.mktemp("static") / "pictures.html"
     path.write_text(html, encoding="utf-8")
     return path
-
-
-@pytest.fixture(scope="module")
-def chromium():
-    if not CHROMIUM.exists():
-        pytest.skip("browser test needs Debian's chromium at /usr/bin/chromium (apt-get install -y chromium)")
-    sync_api = pytest.importorskip("playwright.sync_api", reason="browser test needs python playwright")
-    with sync_api.sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        yield browser
-        browser.close()
 
 
 def _shown_images(page) -> list[int]:

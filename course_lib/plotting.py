@@ -21,7 +21,7 @@ import io
 import itertools
 import math
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -32,7 +32,8 @@ from PIL import Image
 from .errors import InvalidGeometryError
 from .newton import NewtonResult
 
-__all__ = ["draw_linkage", "plot_convergence", "animation_html", "AnimationHTML", "LINK_COLORS"]
+__all__ = ["draw_linkage", "LinkageArtist", "animate_linkage", "plot_convergence", "animation_html",
+           "AnimationHTML", "LINK_COLORS"]
 
 #: One colour per link, in the order the links are given.
 LINK_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown")
@@ -130,6 +131,197 @@ def draw_linkage(
     if title is not None:
         ax.set_title(title)
     return ax
+
+
+
+class LinkageArtist:
+    """One artist for a moving linkage on an axes: a line per link in the course's colours, white
+    joint circles, blocks for sliders and optional point labels; :meth:`move` puts them all at one
+    configuration.  The explorers and the animations draw every linkage through it.
+
+    ``links`` maps each link's name to the keys of its two end points (a plain sequence of pairs is
+    named "link 1", "link 2", …).  The keys index the ``points`` given to :meth:`move`: a mapping
+    (e.g. a :class:`~course_lib.mechanism.Mechanism`'s point names) or an array of shape (P, 2).
+    A link whose end point is missing or not finite is hidden, so a linkage that cannot be
+    assembled shows what is known; every known end point gets a joint circle.  ``styles``
+    overrides a link's line properties by name; ``sliders`` are point keys drawn as a block;
+    ``labels`` maps point keys to the text written beside them.  ``animated=True`` leaves the
+    artists out of a plain ``canvas.draw`` (the explorers draw them over a cached background).
+
+    >>> from matplotlib.figure import Figure
+    >>> ax = Figure().add_subplot()
+    >>> artist = LinkageArtist(ax, {"crank": ("O2", "A"), "rod": ("A", "B")}, sliders=["B"])
+    >>> artist.move({"O2": (0, 0), "A": (0.03, 0.04), "B": (0.12, 0.0)})
+    >>> artist.lines["rod"].get_xydata().tolist(), artist.lines["rod"].get_visible()
+    ([[0.03, 0.04], [0.12, 0.0]], True)
+    >>> artist.move({"O2": (0, 0), "A": (0.03, 0.04), "B": (float("nan"), 0.0)})
+    >>> artist.lines["rod"].get_visible(), artist.lines["joints"].get_xydata().tolist()
+    (False, [[0.0, 0.0], [0.03, 0.04]])
+    """
+
+    def __init__(self, ax: Axes, links, *, styles: Mapping[str, Mapping] | None = None,
+                 sliders: Sequence = (), labels: Mapping | None = None, animated: bool = False,
+                 label_offset: float = 0.0):
+        if not isinstance(ax, Axes):
+            raise InvalidGeometryError(f"ax must be a matplotlib Axes; got {type(ax).__name__}")
+        pairs = dict(links) if isinstance(links, Mapping) else {
+            f"link {k + 1}": link for k, link in enumerate(_sequence("links", links))}
+        self.links: dict[str, tuple] = {}
+        for name, link in pairs.items():
+            if isinstance(link, str) or not isinstance(link, Sequence) or len(link) != 2:
+                raise InvalidGeometryError(f"links[{name!r}] must be a pair of point keys; got {link!r}")
+            self.links[str(name)] = tuple(link)
+        styles = dict(styles or {})
+        unknown = sorted(set(styles) - set(self.links))
+        if unknown:
+            raise InvalidGeometryError(f"styles names {unknown[0]!r}, not a link; links: {list(self.links)}")
+        self._ends = list(dict.fromkeys(key for link in self.links.values() for key in link))
+        self.sliders = tuple(_sequence("sliders", sliders))
+        self.labels = dict(labels or {})
+        self.label_offset = float(label_offset)
+        self.lines: dict[str, object] = {}
+        for k, name in enumerate(self.links):
+            style = {"color": LINK_COLORS[k % len(LINK_COLORS)], "lw": 3, "solid_capstyle": "round",
+                     **styles.get(name, {})}
+            (self.lines[name],) = ax.plot([], [], animated=animated, **style)
+        (self.lines["joints"],) = ax.plot([], [], "o", ms=7, mfc="white", mec="black", zorder=4,
+                                          animated=animated)
+        if self.sliders:
+            (self.lines["sliders"],) = ax.plot([], [], "s", ms=14, mfc="0.85", mec="black", zorder=3,
+                                               animated=animated)
+        self.texts = {key: ax.text(0, 0, str(text), fontsize=9, animated=animated)
+                      for key, text in self.labels.items()}
+
+    @property
+    def artists(self) -> dict[str, object]:
+        """Every matplotlib artist it moves, by name: the links, "joints", "sliders", "label <key>"."""
+        return {**self.lines, **{f"label {key}": text for key, text in self.texts.items()}}
+
+    def move(self, points) -> None:
+        """Put the linkage at one configuration: ``points`` by key (mapping or (P, 2) array, m)."""
+        known = _known_points(points)
+        for name, (start, end) in self.links.items():
+            line = self.lines[name]
+            line.set_visible(start in known and end in known)
+            if line.get_visible():
+                line.set_data([known[start][0], known[end][0]], [known[start][1], known[end][1]])
+        joints = np.array([known[key] for key in self._ends if key in known]).reshape(-1, 2)
+        self.lines["joints"].set_data(joints[:, 0], joints[:, 1])
+        if self.sliders:
+            blocks = np.array([known[key] for key in self.sliders if key in known]).reshape(-1, 2)
+            self.lines["sliders"].set_data(blocks[:, 0], blocks[:, 1])
+        for key, text in self.texts.items():
+            text.set_visible(key in known)
+            if key in known:
+                text.set_position(known[key] + self.label_offset)
+
+
+def _sequence(name: str, value) -> list:
+    if isinstance(value, str) or not isinstance(value, Sequence | np.ndarray):
+        raise InvalidGeometryError(f"{name} must be a list; got {value!r}")
+    return list(value)
+
+
+def _known_points(points) -> dict:
+    """Finite points by key, from a mapping key → (x, y) or an array (P, 2)."""
+    if isinstance(points, Mapping):
+        items = points.items()
+    else:
+        array = np.asarray(points, dtype=float)
+        if array.ndim != 2 or array.shape[1] != 2:
+            raise InvalidGeometryError(f"points must be (x, y) pairs, shape (P, 2); got shape {array.shape}")
+        items = enumerate(array)
+    known = {}
+    for key, xy in items:
+        xy = np.asarray(xy, dtype=float).reshape(-1)
+        if xy.shape != (2,):
+            raise InvalidGeometryError(f"points[{key!r}] must be one (x, y) pair; got {xy.tolist()!r}")
+        if np.all(np.isfinite(xy)):
+            known[key] = xy
+    return known
+
+
+def _paths(points) -> dict:
+    """Each point's path over the frames, key → (n, 2), from a mapping or an (n, P, 2) array."""
+    if isinstance(points, Mapping):
+        paths = {key: np.asarray(path, dtype=float) for key, path in points.items()}
+    else:
+        array = np.asarray(points, dtype=float)
+        if array.ndim != 3 or array.shape[2] != 2:
+            raise InvalidGeometryError(f"points must have shape (frames, P, 2); got shape {array.shape}")
+        paths = dict(enumerate(np.moveaxis(array, 1, 0)))
+    shapes = {path.shape for path in paths.values()}
+    if not paths or len(shapes) != 1 or next(iter(shapes))[1:] != (2,) or next(iter(shapes))[0] < 1:
+        raise InvalidGeometryError(f"points must give every point one (x, y) per frame; got shapes {shapes}")
+    return paths
+
+
+def animate_linkage(
+    links,
+    points,
+    *,
+    ground: Sequence = (),
+    trace: Sequence = (),
+    sliders: Sequence = (),
+    labels: Mapping | None = None,
+    styles: Mapping[str, Mapping] | None = None,
+    caption: Callable[[int], str] | None = None,
+    background: Callable[[Axes], object] | None = None,
+    title: str | None = None,
+    size: tuple[float, float] = (4.2, 3.0),
+    dpi: float = 60,
+    interval_ms: float = 80,
+    max_frames: int = 48,
+) -> AnimationHTML:
+    """A linkage moving through the frames of ``points``, as an :func:`animation_html` player.
+
+    ``links`` (name → pair of point keys), ``sliders``, ``labels`` and ``styles`` are those of
+    :class:`LinkageArtist`; ``points`` gives each point's path, a mapping key → array (frames, 2) (a
+    :class:`~course_lib.mechanism.Mechanism`'s ``joints(motion)``) or an array (frames, P, 2) (the
+    course machines' ``joints``).  ``ground`` points get the hatched fixed-pivot symbol, ``trace``
+    points their dotted path; ``caption(frame)`` writes a line in the corner, ``background(ax)``
+    draws anything else that stays still.  Limits fit the whole motion.
+
+    >>> html = animate_linkage({"crank": ("O", "A")},
+    ...                        {"O": np.zeros((3, 2)), "A": [[1, 0], [0, 1], [-1, 0]]}, ground=["O"])
+    >>> html.frame_count
+    3
+    """
+    paths = _paths(points)
+    for argument, keys in (("ground", ground), ("trace", trace)):
+        for key in _sequence(argument, keys):
+            if key not in paths:
+                raise InvalidGeometryError(f"{argument} names {key!r}, not a point; points: {list(paths)}")
+    figure = Figure(figsize=size, dpi=dpi, layout="constrained")
+    ax = figure.add_subplot()
+    everything = np.concatenate(list(paths.values()))
+    everything = everything[np.isfinite(everything).all(axis=1)]
+    if not len(everything):
+        raise InvalidGeometryError("points: no frame has a finite point to draw")
+    low, high = everything.min(axis=0), everything.max(axis=0)
+    span = float((high - low).max()) or 1.0
+    margin = 0.08 * span
+    ax.set(xlim=(low[0] - margin, high[0] + margin), ylim=(low[1] - 2 * margin, high[1] + margin),
+           aspect="equal", xlabel="x (m)", ylabel="y (m)")
+    if title is not None:
+        ax.set_title(title)
+    for key in trace:
+        ax.plot(*paths[key].T, ":", color="0.55", lw=1)
+    for key in ground:
+        _ground_symbol(ax, paths[key][0], 0.03 * span)
+    if background is not None:
+        background(ax)
+    artist = LinkageArtist(ax, links, styles=styles, sliders=sliders, labels=labels,
+                           label_offset=0.03 * span)
+    text = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize=8) if caption else None
+
+    def update(frame: int) -> None:
+        artist.move({key: path[frame] for key, path in paths.items()})
+        if text is not None:
+            text.set_text(caption(frame))
+
+    return animation_html(figure, update, frames=len(next(iter(paths.values()))),
+                          interval_ms=interval_ms, max_frames=max_frames)
 
 
 def plot_convergence(

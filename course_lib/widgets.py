@@ -57,7 +57,7 @@ from PIL import Image as PILImage
 
 from .errors import CourseLibError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
-from .plotting import LINK_COLORS, _Quantizer
+from .plotting import LINK_COLORS, LinkageArtist, _Quantizer
 
 __all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer"]
 
@@ -608,23 +608,22 @@ def fourbar_explorer(
     ax_mu.grid(True, linestyle="--", alpha=0.5)
     curve_line, = ax.plot([], [], color="tab:purple", lw=1.2, label="coupler curve of P")
     mu_line, = ax_mu.plot([], [], color="tab:purple", lw=1.5)
+    plate = {"color": LINK_COLORS[1], "lw": 1, "alpha": 0.6}
+    linkage = LinkageArtist(ax, _FOURBAR_LINKS, styles={"plate": plate, "plate PB": plate},
+                            labels={"A": "A", "B": "B", "P": "P"}, animated=True)
     artists = {
         "coupler_curve": curve_line,
         "mu_curve": mu_line,
         "ground": _moving_line(ax, [], [], "--", color=LINK_COLORS[3], lw=1.5),
-        "crank": _moving_line(ax, [], [], color=LINK_COLORS[0], lw=3, solid_capstyle="round"),
-        "coupler": _moving_line(ax, [], [], color=LINK_COLORS[1], lw=3, solid_capstyle="round"),
-        "rocker": _moving_line(ax, [], [], color=LINK_COLORS[2], lw=3, solid_capstyle="round"),
-        "plate": _moving_line(ax, [], [], color=LINK_COLORS[1], lw=1, alpha=0.6),
-        "joints": _moving_line(ax, [], [], "o", ms=7, mfc="white", mec="black", zorder=4),
+        **linkage.artists,
         "point_p": _moving_line(ax, [], [], "o", ms=6, color="tab:purple", zorder=5),
         "mu_cursor": _moving_line(ax_mu, [], [], "o", ms=7, color="black", zorder=5),
         "mu_cursor_line": ax_mu.axvline(0.0, color="black", lw=1, animated=True),
         "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
                            fontsize=10, fontweight="bold", animated=True),
     }
-    for key, label in (("O2", "O2"), ("A", "A"), ("B", "B"), ("O4", "O4"), ("P", "P")):
-        artists[f"label_{key}"] = ax.text(0, 0, label, fontsize=9, animated=True)
+    for key in ("O2", "O4"):
+        artists[f"label_{key}"] = ax.text(0, 0, key, fontsize=9, animated=True)
     for key in ("ground_O2", "ground_O4"):
         patch = Polygon(_ground_triangle(0.01), closed=True, facecolor="none", edgecolor="0.3",
                         hatch="///", lw=1, animated=True)
@@ -635,19 +634,22 @@ def fourbar_explorer(
     ax.legend(handles=[curve_line], loc="lower right", fontsize=8)
 
     def draw(state, geometry_changed: bool) -> Readout:
-        return _draw_fourbar(state, geometry_changed, artists, ax)
+        return _draw_fourbar(state, geometry_changed, artists, ax, linkage)
 
     geometry = ("ground", "crank", "coupler", "rocker", "branch", "p", "delta_deg")
     return Explorer("four-bar", controls, figure, artists, draw, geometry,
                     geometry_artists=_FOURBAR_GEOMETRY_LAYER)
 
 
+#: The moving links by name: the pairs of points they join (P is the coupler point on plate ABP).
+_FOURBAR_LINKS = {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "plate": ("A", "P"),
+                  "plate PB": ("P", "B")}
 #: Artists that change only with a length, the branch or the coupler point (the cached geometry layer).
 _FOURBAR_GEOMETRY_LAYER = ("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4", "label_O2",
                            "label_O4")
 
 
-def _draw_fourbar(state, geometry_changed, artists, ax) -> Readout:
+def _draw_fourbar(state, geometry_changed, artists, ax, drawing: LinkageArtist) -> Readout:
     """Solve the four-bar at the state's θ2 and move the artists; the plain update step."""
     theta2 = np.radians(float(state["theta2_deg"]))
     branch = state["branch"]
@@ -656,6 +658,7 @@ def _draw_fourbar(state, geometry_changed, artists, ax) -> Readout:
     l1, l2, l3, l4 = linkage.l1, linkage.l2, linkage.l3, linkage.l4
     p, delta = float(state["p"]), np.radians(float(state["delta_deg"]))
     offset = 0.04 * max(l1, l2, l3, l4)
+    drawing.label_offset = offset
     if geometry_changed:
         sweep = np.linspace(-np.pi, np.pi, _FOURBAR_CURVE_POINTS)
         curve = linkage.coupler_point(sweep, p, delta, branch=branch, on_unreachable="nan").position
@@ -677,9 +680,7 @@ def _draw_fourbar(state, geometry_changed, artists, ax) -> Readout:
         _input_range_text(linkage),
     ]
     A = np.array([l2 * np.cos(theta2), l2 * np.sin(theta2)])
-    O4 = np.array([l1, 0.0])
-    artists["crank"].set_data([0.0, A[0]], [0.0, A[1]])
-    artists["label_A"].set_position((A[0] + offset, A[1] + offset))
+    O2, O4 = np.zeros(2), np.array([l1, 0.0])
     artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
     distance = float(np.hypot(*(O4 - A)))
     try:
@@ -692,8 +693,8 @@ def _draw_fourbar(state, geometry_changed, artists, ax) -> Readout:
     if failure is None and not _finite(solution.theta3, solution.theta4, mu, point):
         failure = "the closed form returns no number here"
     if failure is not None:
-        _hide(artists, "coupler rocker plate point_p mu_cursor label_B label_P")
-        artists["joints"].set_data([0.0, A[0], l1], [0.0, A[1], 0.0])
+        _hide(artists, "point_p mu_cursor")
+        drawing.move({"O2": O2, "A": A, "O4": O4})
         if distance < 1e-9 * max(l1, l2):  # A on O4: the coupler's direction is undefined
             _hide(artists, "reach_A reach_O4")
             artists["failure"].set_text(f"A lands on O4 at θ2 = {np.degrees(theta2):.0f}°")
@@ -722,14 +723,9 @@ def _draw_fourbar(state, geometry_changed, artists, ax) -> Readout:
     B = O4 + l4 * np.array([np.cos(solution.theta4), np.sin(solution.theta4)])
     _hide(artists, "reach_A reach_O4")
     artists["failure"].set_text("")
-    _show(artists, "coupler rocker plate point_p mu_cursor label_B label_P")
-    artists["coupler"].set_data([A[0], B[0]], [A[1], B[1]])
-    artists["rocker"].set_data([B[0], l1], [B[1], 0.0])
-    artists["plate"].set_data([A[0], point[0], B[0]], [A[1], point[1], B[1]])
-    artists["joints"].set_data([0.0, A[0], B[0], l1], [0.0, A[1], B[1], 0.0])
+    _show(artists, "point_p mu_cursor")
+    drawing.move({"O2": O2, "A": A, "B": B, "O4": O4, "P": point})
     artists["point_p"].set_data([point[0]], [point[1]])
-    artists["label_B"].set_position((B[0] + offset, B[1] + offset))
-    artists["label_P"].set_position((point[0] + offset, point[1] + offset))
     artists["mu_cursor"].set_data([np.degrees(theta2)], [np.degrees(mu)])
     warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
     return Readout("ok", (
@@ -863,12 +859,12 @@ def saw_explorer(
     ax_profile.set_title("motor profile", fontsize=9, pad=3)
     ax_profile.legend(fontsize=7, loc="upper left")
     ax_profile.grid(True, linestyle="--", alpha=0.5)
+    drawing = LinkageArtist(ax, {"r1": ("O2", "B"), "crank": ("O2", "A"), "rod": ("A", "B")}, sliders=["B"],
+                            styles={"r1": {"color": "tab:purple", "lw": 1.2, "linestyle": "--"},
+                                    "crank": {"color": LINK_COLORS[0]}, "rod": {"color": LINK_COLORS[1]}},
+                            animated=True)
     artists = {
-        "rod_block": _moving_line(ax, [], [], "s", ms=14, mfc="0.85", mec="black"),
-        "r1": _moving_line(ax, [], [], "--", color="tab:purple", lw=1.2),
-        "crank": _moving_line(ax, [], [], color=LINK_COLORS[0], lw=3, solid_capstyle="round"),
-        "rod": _moving_line(ax, [], [], color=LINK_COLORS[1], lw=3, solid_capstyle="round"),
-        "joints": _moving_line(ax, [], [], "o", ms=6, mfc="white", mec="black"),
+        **drawing.artists,
         "profile_cursor": ax_profile.axvline(0.0, color="black", lw=1, animated=True),
         "profile_points": _moving_line(ax_profile, [], [], "o", ms=5, color="black"),
         "failure": ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
@@ -888,34 +884,29 @@ def saw_explorer(
         artists[f"point_{key}"] = _moving_line(panel, [], [], "o", ms=4, color="black")
 
     def draw(state, geometry_changed: bool) -> Readout:
-        return _draw_saw(float(state["t"]), artists, geometry, saw_module, motor_profile, turn_time())
+        return _draw_saw(float(state["t"]), artists, drawing, geometry, saw_module, motor_profile,
+                         turn_time())
 
     explorer = Explorer("power saw", controls, figure, artists, draw, (), (play,))
     explorer.play = play  # the Play button (frame k ↔ t = k·dt), also in ``extra``
     return explorer
 
 
-def _draw_saw(t, artists, geometry, saw_module, motor_profile, turn) -> Readout:
+def _draw_saw(t, artists, drawing, geometry, saw_module, motor_profile, turn) -> Readout:
     """Solve the saw at time t of the motor profile and move the artists; the plain update step."""
     try:
         theta2, omega2, alpha2 = (float(v) for v in motor_profile(t))
         values = saw_module.analytic(theta2, omega2, alpha2, saw=geometry)
         joints = saw_module.joint_positions(theta2, saw=geometry)
     except CourseLibError as err:
-        for key in ("crank", "rod", "joints", "rod_block", "r1", "profile_points"):
-            artists[key].set_visible(False)
+        drawing.move({})
+        artists["profile_points"].set_visible(False)
         artists["failure"].set_text(f"no assembly at t = {t:.3f} s")
         return Readout("unreachable", (f"t = {t:.3f} s: the saw cannot be solved here.",
                                        f"course_lib says: {err}"))
-    for key in ("crank", "rod", "joints", "rod_block", "r1", "profile_points"):
-        artists[key].set_visible(True)
+    artists["profile_points"].set_visible(True)
     artists["failure"].set_text("")
-    O2, A, B = joints
-    artists["crank"].set_data([O2[0], A[0]], [O2[1], A[1]])
-    artists["rod"].set_data([A[0], B[0]], [A[1], B[1]])
-    artists["r1"].set_data([O2[0], B[0]], [O2[1], B[1]])
-    artists["joints"].set_data([O2[0], A[0], B[0]], [O2[1], A[1], B[1]])
-    artists["rod_block"].set_data([B[0]], [B[1]])
+    drawing.move(dict(zip(("O2", "A", "B"), joints, strict=True)))
     artists["title"].set_text(f"t = {t:.3f} s")
     artists["profile_cursor"].set_xdata([t, t])
     artists["profile_points"].set_data([t, t, t], [theta2, omega2, alpha2])
@@ -997,22 +988,20 @@ def fivebar_explorer(
         ax.add_patch(Polygon(_ground_triangle(0.012) + [center, 0.0], closed=True, facecolor="none",
                              edgecolor="0.3", hatch="///"))
     singular_line, = ax.plot([], [], ".", color="tab:red", ms=2, label="parallel singularity of (σ1, σ2)")
+    drawing = LinkageArtist(ax, {"leg1_crank": ("P1", "P2"), "leg1_distal": ("P2", "P3"),
+                                 "leg4_distal": ("P4", "P3"), "leg4_crank": ("P5", "P4")},
+                            labels={"P3": "P3"}, label_offset=0.03 * limit, animated=True)
     ax.plot([], [], "s", color=(0.12, 0.47, 0.71, 0.3), label="workspace (both legs reach)")
     ax.legend(loc="lower left", fontsize=8)
     artists = {
         "workspace": shading,
         "singularity": singular_line,
         "base": _moving_line(ax, [-half, half], [0.0, 0.0], color=LINK_COLORS[4], lw=2),
-        "leg1_crank": _moving_line(ax, [], [], color=LINK_COLORS[0], lw=3, solid_capstyle="round"),
-        "leg1_distal": _moving_line(ax, [], [], color=LINK_COLORS[1], lw=3, solid_capstyle="round"),
-        "leg4_distal": _moving_line(ax, [], [], color=LINK_COLORS[2], lw=3, solid_capstyle="round"),
-        "leg4_crank": _moving_line(ax, [], [], color=LINK_COLORS[3], lw=3, solid_capstyle="round"),
-        "joints": _moving_line(ax, [], [], "o", ms=6, mfc="white", mec="black"),
-        "end_effector": _moving_line(ax, [], [], "o", ms=8, color="black"),
+        **drawing.artists,
+        "end_effector": _moving_line(ax, [], [], "o", ms=8, color="black", zorder=5),
         "target": _moving_line(ax, [], [], "x", ms=11, mew=2.5, color=_ERROR_COLOR),
         "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
                            fontsize=10, fontweight="bold", animated=True),
-        "label_P3": ax.text(0, 0, "P3", fontsize=9, animated=True),
     }
     for key in ("reach_a", "reach_b"):
         artists[key] = ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.35",
@@ -1023,7 +1012,7 @@ def fivebar_explorer(
     def draw(state, geometry_changed: bool) -> Readout:
         if geometry_changed:
             _fivebar_background(state, robot, grid, artists, controls, curves)
-        return _draw_fivebar(state, robot, artists, 0.03 * limit)
+        return _draw_fivebar(state, robot, artists, drawing)
 
     return Explorer("five-bar", controls, figure, artists, draw, ("mode", "sigma1", "sigma2"),
                     geometry_artists=("singularity",))
@@ -1065,7 +1054,7 @@ def _singularity_curve(robot, grid, modes) -> np.ndarray:
     return np.concatenate(points)
 
 
-def _draw_fivebar(state, robot, artists, offset) -> Readout:
+def _draw_fivebar(state, robot, artists, drawing) -> Readout:
     """Forward or inverse kinematics of the state and the artists moved; the plain update step."""
     half = robot.l5 / 2
     P1, P5 = np.array([half, 0.0]), np.array([-half, 0.0])
@@ -1082,25 +1071,19 @@ def _draw_fivebar(state, robot, artists, offset) -> Readout:
             theta1, theta4 = np.radians(float(state["theta1_deg"])), np.radians(float(state["theta4_deg"]))
             x3, y3 = robot.forward(theta1, theta4, mode=int(state["sigma"]))
     except CourseLibError as err:
-        return _fivebar_failure(state, robot, artists, err, P1, P5)
+        return _fivebar_failure(state, robot, artists, drawing, err, P1, P5)
     if not _finite(theta1, theta4, x3, y3):
-        _hide(artists, "leg1_crank leg1_distal leg4_distal leg4_crank end_effector label_P3")
-        artists["joints"].set_data([P1[0], P5[0]], [P1[1], P5[1]])
+        _hide(artists, "end_effector")
+        drawing.move({"P1": P1, "P5": P5})
         artists["failure"].set_text("no position here")
         return Readout("singular", ("The robot's position is undefined for these inputs "
                                     "(the closed form returns no number).", "Move a slider a little."))
     P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
     P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
     P3 = np.array([x3, y3])
-    _show(artists, "leg1_crank leg1_distal leg4_distal leg4_crank joints end_effector label_P3")
-    artists["leg1_crank"].set_data([P1[0], P2[0]], [P1[1], P2[1]])
-    artists["leg1_distal"].set_data([P2[0], P3[0]], [P2[1], P3[1]])
-    artists["leg4_distal"].set_data([P4[0], P3[0]], [P4[1], P3[1]])
-    artists["leg4_crank"].set_data([P5[0], P4[0]], [P5[1], P4[1]])
-    points = np.array([P1, P2, P3, P4, P5])
-    artists["joints"].set_data(points[:, 0], points[:, 1])
+    _show(artists, "end_effector")
+    drawing.move({"P1": P1, "P2": P2, "P3": P3, "P4": P4, "P5": P5})
     artists["end_effector"].set_data([x3], [y3])
-    artists["label_P3"].set_position((x3 + offset, y3 + offset))
     measures = robot.singularity_measures(theta1, theta4, x3, y3)
     parallel = float(measures.parallel)
     serial = min(abs(float(measures.serial_leg1)), abs(float(measures.serial_leg4)))
@@ -1124,13 +1107,12 @@ def _draw_fivebar(state, robot, artists, offset) -> Readout:
     ))
 
 
-def _fivebar_failure(state, robot, artists, err, P1, P5) -> Readout:
+def _fivebar_failure(state, robot, artists, drawing, err, P1, P5) -> Readout:
     """Explain an unreachable five-bar input and draw the reach circles that fail to meet."""
-    _hide(artists, "leg1_distal leg4_distal end_effector label_P3")
+    _hide(artists, "end_effector")
     if state["mode"] == "inverse":
         P3 = np.array([float(state["x3"]), float(state["y3"])])
-        _hide(artists, "leg1_crank leg4_crank")
-        artists["joints"].set_data([P1[0], P5[0]], [P1[1], P5[1]])
+        drawing.move({"P1": P1, "P5": P5})
         artists["target"].set_data([P3[0]], [P3[1]])
         artists["target"].set_visible(True)
         artists["failure"].set_text(f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach")
@@ -1147,11 +1129,7 @@ def _fivebar_failure(state, robot, artists, err, P1, P5) -> Readout:
         theta1, theta4 = np.radians(float(state["theta1_deg"])), np.radians(float(state["theta4_deg"]))
         P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
         P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
-        _show(artists, "leg1_crank leg4_crank")
-        artists["leg1_crank"].set_data([P1[0], P2[0]], [P1[1], P2[1]])
-        artists["leg4_crank"].set_data([P5[0], P4[0]], [P5[1], P4[1]])
-        points = np.array([P1, P2, P4, P5])
-        artists["joints"].set_data(points[:, 0], points[:, 1])
+        drawing.move({"P1": P1, "P2": P2, "P4": P4, "P5": P5})
         artists["reach_a"].set(center=tuple(P2), radius=robot.l2, visible=True)
         artists["reach_b"].set(center=tuple(P4), radius=robot.l3, visible=True)
         distance = float(np.hypot(*(P2 - P4)))

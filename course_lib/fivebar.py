@@ -153,6 +153,15 @@ def _stacked(*values) -> np.ndarray:
     return np.stack(np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in values)), axis=-1)
 
 
+def _configuration(theta1, theta4, x3, y3) -> list[np.ndarray]:
+    """θ1, θ4 (rad) and x3, y3 (m) as float arrays broadcast together; ``InvalidGeometryError`` naming the
+    argument and showing its value for an entry that is not a finite number (NaN, ±inf, text, …), or
+    naming them with their shapes when they do not broadcast."""
+    return require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
+                             theta4=require_finite("theta4", theta4, "rad"),
+                             x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
+
+
 def _sign_choice(name: str, value: Any) -> int:
     require_choice(name, value, (1, -1))
     return int(value)
@@ -223,7 +232,14 @@ class FiveBar:
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> np.round(robot.joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
+
+        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf):
+        an unreachable configuration has no joints to give.
         """
+        return self._joints(*_configuration(theta1, theta4, x3, y3))
+
+    def _joints(self, theta1, theta4, x3, y3) -> np.ndarray:
+        """``joints`` without the input checks: NaN in, NaN out."""
         p2x, p2y, p4x, p4y, x3, y3 = np.broadcast_arrays(*self._cranks(theta1, theta4), x3, y3)
         half = self.l5 / 2
         zeros = np.zeros_like(p2x)
@@ -239,7 +255,12 @@ class FiveBar:
         >>> x3, y3 = robot.forward(0.5, 2.5)
         >>> bool(np.abs(robot.constraints(0.5, 2.5, x3, y3)).max() < 1e-15)
         True
+
+        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf).
         """
+        return self._constraints(*_configuration(theta1, theta4, x3, y3))
+
+    def _constraints(self, theta1, theta4, x3, y3) -> np.ndarray:
         p = _stacked(x3, y3, theta1, theta4)
         return self._core().residual(p[..., :2], p[..., 2:])
 
@@ -416,8 +437,10 @@ class FiveBar:
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> np.round(robot.jacobian_end_effector(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[-0.28, 0.2], [0.28, 0.2]]
+
+        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf).
         """
-        return self._terms(theta1, theta4, x3, y3)[0]
+        return self._terms(*_configuration(theta1, theta4, x3, y3))[0]
 
     def jacobian_cranks(self, theta1, theta4, x3, y3) -> np.ndarray:
         """B = ∂(EcL2, EcL3)/∂(θ1, θ4) (m²/rad), shape (..., 2, 2); diagonal, because EcL2
@@ -426,8 +449,10 @@ class FiveBar:
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> (np.round(robot.jacobian_cranks(0.0, np.pi, 0.0, 0.1), 3) + 0.0).tolist()
         [[-0.02, 0.0], [0.0, 0.02]]
+
+        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf).
         """
-        return self._terms(theta1, theta4, x3, y3)[1]
+        return self._terms(*_configuration(theta1, theta4, x3, y3))[1]
 
     def singularity_measures(self, theta1, theta4, x3, y3) -> SingularityMeasures:
         """The three normalized singularity measures (see ``SingularityMeasures``).
@@ -437,16 +462,25 @@ class FiveBar:
         >>> m = robot.singularity_measures(theta1, theta4, 0.0, 0.2)
         >>> round(m.serial_leg1, 4), round(m.serial_leg4, 4), round(m.parallel, 4)
         (0.9529, -0.9529, -0.9793)
+
+        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf),
+        e.g. the NaN angles of an unreachable point: ``workspace`` maps the measures over a grid with
+        NaN where the point is out of reach.
         """
+        leg1, leg4, parallel = self._measures(*_configuration(theta1, theta4, x3, y3))
+        return SingularityMeasures(scalar_or_array(leg1), scalar_or_array(leg4), scalar_or_array(parallel))
+
+    def _measures(self, theta1, theta4, x3, y3):
+        """The three singularity measures without the input checks: NaN in, NaN out."""
         p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
         half = self.l5 / 2
         leg1 = ((p2x - half) * (y3 - p2y) - p2y * (x3 - p2x)) / (self.l1 * self.l2)
         leg4 = ((p4x + half) * (y3 - p4y) - p4y * (x3 - p4x)) / (self.l4 * self.l3)
         parallel = ((x3 - p2x) * (y3 - p4y) - (y3 - p2y) * (x3 - p4x)) / (self.l2 * self.l3)
-        return SingularityMeasures(scalar_or_array(leg1), scalar_or_array(leg4), scalar_or_array(parallel))
+        return leg1, leg4, parallel
 
     def _check_assembled(self, theta1, theta4, x3, y3) -> None:
-        residual = np.abs(self.constraints(theta1, theta4, x3, y3))
+        residual = np.abs(self._constraints(theta1, theta4, x3, y3))
         scale = max(self.l1, self.l2, self.l3, self.l4, self.l5) ** 2
         if not np.all(residual <= 1e-8 * scale):
             index = np.unravel_index(int(np.argmax(residual)), residual.shape)
@@ -456,19 +490,19 @@ class FiveBar:
             )
 
     def _singular(self, kind, on_singular, theta1, theta4, x3, y3):
-        """The mask of a "parallel" or "serial" singularity; raises there unless on_singular="nan"."""
+        """The mask of a "parallel" or "serial" singularity; raises there unless on_singular="nan".
+        The configuration must be checked already (``_configuration``)."""
         require_choice("on_singular", on_singular, ("raise", "nan"))
         self._check_assembled(theta1, theta4, x3, y3)
-        measures = self.singularity_measures(theta1, theta4, x3, y3)
+        leg1, leg4, parallel = self._measures(theta1, theta4, x3, y3)
         if kind == "parallel":
-            parallel = np.asarray(measures.parallel)
+            parallel = np.asarray(parallel)
             singular = np.abs(parallel) < SINGULAR_TOL
             sine = parallel[singular].ravel()[0] if singular.any() else 0
             message = ("parallel (type-2) singularity: the distal links l2, l3 are aligned (sin of their "
                        f"angle {sine:.2g}); the end-effector velocity is undefined there")
         else:
-            leg1, leg4 = (np.abs(np.asarray(m)) < SINGULAR_TOL for m in (measures.serial_leg1,
-                                                                            measures.serial_leg4))
+            leg1, leg4 = (np.abs(np.asarray(m)) < SINGULAR_TOL for m in (leg1, leg4))
             singular = leg1 | leg4
             which = "leg 1 (l1, l2)" if leg1.any() else "leg 4 (l4, l3)"
             message = f"serial (type-1) singularity: {which} is stretched or folded; the crank rates are " \
@@ -480,14 +514,15 @@ class FiveBar:
     def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = "raise") -> np.ndarray:
         """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4), by linear solves (no inverse).
         Raises ``SingularJacobianError`` at a parallel singularity (``on_singular="nan"`` gives NaN
-        there instead) and ``InvalidGeometryError`` when (x3, y3) is not the end effector of (θ1, θ4)
-        (the same holds for the two rate functions below).
+        there instead) and ``InvalidGeometryError`` when (x3, y3) is not the end effector of (θ1, θ4) or
+        an input is not finite, naming it (the same holds for the two rate functions below).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
         >>> np.round(robot.velocity_jacobian(theta1, theta4, 0.0, 0.2), 4).tolist()
         [[-0.0754, -0.0754], [0.0614, -0.0614]]
         """
+        theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         singular = self._singular("parallel", on_singular, theta1, theta4, x3, y3)
         A, B = self._terms(theta1, theta4, x3, y3)
         shape, B = A.shape[:-2], B.reshape(-1, 2, 2)
@@ -504,6 +539,7 @@ class FiveBar:
         >>> (np.round(robot.end_effector_velocity(theta1, theta4, 0.0, 0.2, 1.0, -1.0), 4) + 0.0).tolist()
         [0.0, 0.1229]
         """
+        theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         omega = [require_finite("omega1", omega1, "rad/s"), require_finite("omega4", omega4, "rad/s")]
         singular = self._singular("parallel", on_singular, theta1, theta4, x3, y3)
         p = _stacked(x3, y3, theta1, theta4, *omega)
@@ -519,6 +555,7 @@ class FiveBar:
         >>> np.round(robot.crank_rates(theta1, theta4, 0.0, 0.2, 0.0, 0.1), 4).tolist()
         [0.8137, -0.8137]
         """
+        theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         velocity = [require_finite(name, value, "m/s") for name, value in (("vx", vx), ("vy", vy))]
         singular = self._singular("serial", on_singular, theta1, theta4, x3, y3)
         p = _stacked(theta1, theta4, x3, y3, *velocity)
@@ -542,11 +579,8 @@ class FiveBar:
         X, Y = np.meshgrid(x, y)
         solution = self.inverse(X, Y, modes=modes, on_unreachable="nan")
         theta1, theta4, reachable = solution.theta1, solution.theta4, solution.reachable
-        measures = self.singularity_measures(theta1, theta4, X, Y)
-        return WorkspaceMap(
-            X, Y, np.asarray(reachable), theta1, theta4,
-            measures.serial_leg1, measures.serial_leg4, measures.parallel, tuple(modes),
-        )
+        leg1, leg4, parallel = self._measures(theta1, theta4, X, Y)   # NaN where out of reach
+        return WorkspaceMap(X, Y, np.asarray(reachable), theta1, theta4, leg1, leg4, parallel, tuple(modes))
 
     def draw(self, theta1: float, theta4: float, x3: float, y3: float, ax=None, title: str | None = None,
              **style):

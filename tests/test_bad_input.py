@@ -25,6 +25,10 @@ from course_lib.widgets import fivebar_explorer, fourbar_explorer, saw_explorer
 DESK = FourBar(0.06, 0.18, 0.12, 0.20)
 ROBOT = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
 SAW_TEXTBOOK = OffsetSliderCrank(0.075, 0.170, 0.045)
+# an assembled pose of the robot, and the methods that take one
+POSE = dict(zip(("theta1", "theta4", "x3", "y3"), (1.2, 1.9, *ROBOT.forward(1.2, 1.9)), strict=True))
+FIVEBAR_POSE_METHODS = ("singularity_measures", "joints", "jacobian_end_effector", "jacobian_cranks",
+                        "constraints")
 
 # ---------------------------------------------------------------- bad values, by kind
 NOT_A_NUMBER = ["0.06", True, False, None, 1j, "abc", b"1", {"l": 1}, {1.0}, [0.1, "x"], [[0.1], [0.2, 0.3]]]
@@ -77,6 +81,8 @@ ANGLE_CALLS = {
     "FiveBar.forward.theta4": (lambda value: ROBOT.forward(1.0, value), "theta4"),
     "FiveBar.inverse.x3": (lambda value: ROBOT.inverse(value, 0.2), "x3"),
     "FiveBar.inverse.y3": (lambda value: ROBOT.inverse(0.0, value), "y3"),
+    **{f"FiveBar.{method}.{name}": (lambda value, method=method, name=name: getattr(ROBOT, method)(
+        **{**POSE, name: value}), name) for method in FIVEBAR_POSE_METHODS for name in POSE},
     "saw.analytic": (lambda value: saw.analytic(value), "theta2"),
     "saw.solve_consecutive": (lambda value: saw.solve_consecutive(value), "theta2"),
     "saw.solve_simultaneous": (lambda value: saw.solve_simultaneous(value), "theta2"),
@@ -259,3 +265,17 @@ def test_arrays_that_do_not_broadcast_are_named_with_their_shapes(call, names):
 def test_nan_is_refused_by_name_not_passed_through(call):
     with pytest.raises(CourseLibError, match="must be finite"):
         call()
+
+
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+@pytest.mark.parametrize("name", list(POSE))
+@pytest.mark.parametrize("rates", [
+    lambda pose: ROBOT.velocity_jacobian(**pose),
+    lambda pose: ROBOT.end_effector_velocity(**pose, omega1=1.0, omega4=-1.0),
+    lambda pose: ROBOT.crank_rates(**pose, vx=0.0, vy=0.1),
+], ids=["velocity_jacobian", "end_effector_velocity", "crank_rates"])
+def test_five_bar_rates_name_a_non_finite_pose(rates, name, value):
+    # not "the configuration is not assembled: residual nan": the argument itself, by name
+    with pytest.raises(CourseLibError, match=rf"^{name} must be finite in (rad|m); got {value}$"):
+        rates({**POSE, name: value})
+    assert np.all(np.isfinite(rates(POSE)))

@@ -29,7 +29,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from PIL import Image
 
-from .errors import InvalidGeometryError
+from .errors import CourseLibError, InvalidGeometryError, _numbers, require_choice, require_finite
 from .newton import NewtonResult
 
 __all__ = ["draw_linkage", "LinkageArtist", "animate_linkage", "plot_convergence", "animation_html",
@@ -75,21 +75,23 @@ def draw_linkage(
     >>> ax.get_title()
     'one bar'
     """
-    xy = np.asarray(points, dtype=float)
-    if xy.ndim != 2 or xy.shape[1] != 2:
+    xy = require_finite("points", points, unit="metres")
+    if xy.ndim != 2 or xy.shape[1] != 2 or not len(xy):
         raise InvalidGeometryError(f"points must be a list of (x, y) pairs; got shape {xy.shape}")
-    if not np.all(np.isfinite(xy)):
-        raise InvalidGeometryError("points must be finite: the linkage is not assembled here")
+    links = [_link(k, link, len(xy)) for k, link in enumerate(_sequence("links", links))]
+    ground = [_index("ground", index, len(xy)) for index in _sequence("ground", ground)]
+    labels = joint_labels if joint_labels is not None else [str(k + 1) for k in range(len(xy))]
+    if isinstance(labels, str) or len(_sequence("joint_labels", labels)) != len(xy):
+        raise InvalidGeometryError(f"joint_labels must give one text per joint ({len(xy)}); got {labels!r}")
+    require_choice("linestyle", linestyle, ("-", "--", "-.", ":"))
+    alpha = _fraction("alpha", alpha)
     if ax is None:
         import matplotlib.pyplot as plt
 
         ax = plt.figure(figsize=(5, 4)).add_subplot()
+    _axes(ax)
     span = float(np.ptp(xy, axis=0).max()) or 1.0
     for k, (i, j, label) in enumerate(links):
-        if not (0 <= i < len(xy) and 0 <= j < len(xy)):
-            raise InvalidGeometryError(
-                f"link {label!r} joins joints {i}, {j}; only {len(xy)} given"
-            )
         color = LINK_COLORS[k % len(LINK_COLORS)]
         segment = xy[[i, j]]
         ax.plot(
@@ -117,7 +119,6 @@ def draw_linkage(
     for index in ground:
         _ground_symbol(ax, xy[index], 0.03 * span)
     ax.plot(xy[:, 0], xy[:, 1], "o", ms=7, mfc="white", mec="black", zorder=3, alpha=alpha)
-    labels = joint_labels if joint_labels is not None else [str(k + 1) for k in range(len(xy))]
     for (x, y), label in zip(xy, labels, strict=True):
         ax.annotate(
             label, (x, y), xytext=(6, 6), textcoords="offset points", fontsize=9, alpha=alpha
@@ -132,6 +133,44 @@ def draw_linkage(
         ax.set_title(title)
     return ax
 
+
+
+def _axes(ax) -> Axes:
+    if not isinstance(ax, Axes):
+        raise InvalidGeometryError(f"ax must be a matplotlib Axes; got {ax!r}")
+    return ax
+
+
+def _index(name: str, value, count: int) -> int:
+    """A joint index: a whole number from 0 to count − 1."""
+    whole = isinstance(value, int | np.integer) and not isinstance(value, bool | np.bool_)
+    if not whole or not 0 <= value < count:
+        raise InvalidGeometryError(f"{name} must hold joint numbers from 0 to {count - 1}; got {value!r}")
+    return int(value)
+
+
+def _link(k: int, link, count: int) -> tuple[int, int, str]:
+    """A link of :func:`draw_linkage`: (i, j, label) with i, j joint numbers."""
+    if isinstance(link, str) or not isinstance(link, Sequence) or len(link) != 3:
+        raise InvalidGeometryError(f"links[{k}] must be (i, j, label); got {link!r}")
+    return _index(f"links[{k}]", link[0], count), _index(f"links[{k}]", link[1], count), str(link[2])
+
+
+def _fraction(name: str, value) -> float:
+    number = _numbers(name, value, "a number from 0 to 1")
+    if number.ndim or not 0 <= number <= 1:
+        raise InvalidGeometryError(f"{name} must be a number from 0 to 1; got {value!r}")
+    return float(number)
+
+
+def _callback(name: str, function: Callable, frame: int):
+    """``function(frame)``; what it raises becomes a named error (the original is chained)."""
+    try:
+        return function(frame)
+    except CourseLibError:
+        raise
+    except Exception as err:
+        raise InvalidGeometryError(f"{name}({frame}) raised {type(err).__name__}: {err}") from err
 
 
 class LinkageArtist:
@@ -162,8 +201,7 @@ class LinkageArtist:
     def __init__(self, ax: Axes, links, *, styles: Mapping[str, Mapping] | None = None,
                  sliders: Sequence = (), labels: Mapping | None = None, animated: bool = False,
                  label_offset: float = 0.0):
-        if not isinstance(ax, Axes):
-            raise InvalidGeometryError(f"ax must be a matplotlib Axes; got {type(ax).__name__}")
+        _axes(ax)
         pairs = dict(links) if isinstance(links, Mapping) else {
             f"link {k + 1}": link for k, link in enumerate(_sequence("links", links))}
         self.links: dict[str, tuple] = {}
@@ -181,9 +219,13 @@ class LinkageArtist:
         self.label_offset = float(label_offset)
         self.lines: dict[str, object] = {}
         for k, name in enumerate(self.links):
-            style = {"color": LINK_COLORS[k % len(LINK_COLORS)], "lw": 3, "solid_capstyle": "round",
-                     **styles.get(name, {})}
-            (self.lines[name],) = ax.plot([], [], animated=animated, **style)
+            (self.lines[name],) = ax.plot([], [], color=LINK_COLORS[k % len(LINK_COLORS)], lw=3,
+                                          solid_capstyle="round", animated=animated)
+            try:
+                self.lines[name].set(**styles.get(name, {}))
+            except (AttributeError, TypeError, ValueError) as err:
+                raise InvalidGeometryError(f"styles[{name!r}] is not a set of line properties: {err}"
+                                           ) from None
         (self.lines["joints"],) = ax.plot([], [], "o", ms=7, mfc="white", mec="black", zorder=4,
                                           animated=animated)
         if self.sliders:
@@ -227,13 +269,13 @@ def _known_points(points) -> dict:
     if isinstance(points, Mapping):
         items = points.items()
     else:
-        array = np.asarray(points, dtype=float)
+        array = _numbers("points", points, "(x, y) pairs of numbers")
         if array.ndim != 2 or array.shape[1] != 2:
             raise InvalidGeometryError(f"points must be (x, y) pairs, shape (P, 2); got shape {array.shape}")
         items = enumerate(array)
     known = {}
     for key, xy in items:
-        xy = np.asarray(xy, dtype=float).reshape(-1)
+        xy = _numbers(f"points[{key!r}]", xy, "an (x, y) pair of numbers").reshape(-1)
         if xy.shape != (2,):
             raise InvalidGeometryError(f"points[{key!r}] must be one (x, y) pair; got {xy.tolist()!r}")
         if np.all(np.isfinite(xy)):
@@ -244,9 +286,10 @@ def _known_points(points) -> dict:
 def _paths(points) -> dict:
     """Each point's path over the frames, key → (n, 2), from a mapping or an (n, P, 2) array."""
     if isinstance(points, Mapping):
-        paths = {key: np.asarray(path, dtype=float) for key, path in points.items()}
+        paths = {key: _numbers(f"points[{key!r}]", path, "an array of (x, y)")
+                 for key, path in points.items()}
     else:
-        array = np.asarray(points, dtype=float)
+        array = _numbers("points", points, "an array of (x, y) per frame and point")
         if array.ndim != 3 or array.shape[2] != 2:
             raise InvalidGeometryError(f"points must have shape (frames, P, 2); got shape {array.shape}")
         paths = dict(enumerate(np.moveaxis(array, 1, 0)))
@@ -288,16 +331,26 @@ def animate_linkage(
     3
     """
     paths = _paths(points)
+    for argument, function in (("caption", caption), ("background", background)):
+        if function is not None and not callable(function):
+            raise InvalidGeometryError(f"{argument} must be a function or None; got {function!r}")
+    width, height = (_positive_number(f"size[{k}]", value) for k, value in enumerate(_pair("size", size)))
+    if width > 20 or height > 20:
+        raise InvalidGeometryError(f"size must be at most 20 × 20 inches; got {size!r}")
     for argument, keys in (("ground", ground), ("trace", trace)):
         for key in _sequence(argument, keys):
             if key not in paths:
                 raise InvalidGeometryError(f"{argument} names {key!r}, not a point; points: {list(paths)}")
-    figure = Figure(figsize=size, dpi=dpi, layout="constrained")
+    figure = Figure(figsize=(width, height), dpi=_dpi(dpi), layout="constrained")
     ax = figure.add_subplot()
+    artist = LinkageArtist(ax, links, styles=styles, sliders=sliders, labels=labels)
+    for name, ends in artist.links.items():
+        if not set(ends) <= set(paths):
+            raise InvalidGeometryError(f"links: {name} joins {ends}, not all points; points: {list(paths)}")
     everything = np.concatenate(list(paths.values()))
     everything = everything[np.isfinite(everything).all(axis=1)]
     if not len(everything):
-        raise InvalidGeometryError("points: no frame has a finite point to draw")
+        raise InvalidGeometryError("points must have a finite (x, y) in some frame; every point is nan or inf")
     low, high = everything.min(axis=0), everything.max(axis=0)
     span = float((high - low).max()) or 1.0
     margin = 0.08 * span
@@ -310,15 +363,14 @@ def animate_linkage(
     for key in ground:
         _ground_symbol(ax, paths[key][0], 0.03 * span)
     if background is not None:
-        background(ax)
-    artist = LinkageArtist(ax, links, styles=styles, sliders=sliders, labels=labels,
-                           label_offset=0.03 * span)
+        _callback("background", lambda _: background(ax), 0)
+    artist.label_offset = 0.03 * span
     text = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize=8) if caption else None
 
     def update(frame: int) -> None:
         artist.move({key: path[frame] for key, path in paths.items()})
         if text is not None:
-            text.set_text(caption(frame))
+            text.set_text(str(_callback("caption", caption, frame)))
 
     return animation_html(figure, update, frames=len(next(iter(paths.values()))),
                           interval_ms=interval_ms, max_frames=max_frames)
@@ -342,12 +394,18 @@ def plot_convergence(
     >>> len(fig.axes)
     3
     """
+    if not isinstance(result, NewtonResult) or len(result.history) == 0:
+        raise InvalidGeometryError(f"result must be a NewtonResult with its history (from newton); "
+                                   f"got {result!r}")
     history = np.asarray(result.history, dtype=float).reshape(len(result.history), -1)
     n = history.shape[1]
-    names = list(names) if names is not None else [f"x{k + 1}" for k in range(n)]
-    if len(names) != n:
-        raise InvalidGeometryError(f"names must have {n} entries; got {len(names)}")
-    reference = history[-1] if exact is None else np.asarray(exact, float).reshape(n)
+    names = [f"x{k + 1}" for k in range(n)] if names is None else names
+    if isinstance(names, str) or len(_sequence("names", names)) != n:
+        raise InvalidGeometryError(f"names must give one name per variable ({n}); got {names!r}")
+    reference = history[-1] if exact is None else require_finite("exact", exact)
+    if exact is not None and reference.size != n:
+        raise InvalidGeometryError(f"exact must give one value per variable ({n}); got {exact!r}")
+    reference = reference.reshape(n)
     errors = np.abs(history - reference)
     if exact is None:
         errors = errors[:-1]
@@ -525,12 +583,25 @@ def animation_html(
     if isinstance(max_frames, bool) or not isinstance(max_frames, int | np.integer) or max_frames < 1:
         raise InvalidGeometryError(f"max_frames must be a positive whole number; got {max_frames!r}")
     if dpi is not None:
-        fig.set_dpi(_positive_number("dpi", dpi))
+        fig.set_dpi(_dpi(dpi))
     chosen = [int(k) for k in np.arange(min(frames, max_frames)) * frames // min(frames, max_frames)]
     interval *= frames / len(chosen)
     frames_drawn, backgrounds = _render_frames(fig, update, chosen)
     _close(fig)
     return _player(frames_drawn, backgrounds, interval)
+
+
+def _dpi(value) -> float:
+    dpi = _positive_number("dpi", value)
+    if dpi > 600:
+        raise InvalidGeometryError(f"dpi must be at most 600 (dots per inch); got {value!r}")
+    return dpi
+
+
+def _pair(name: str, value) -> tuple:
+    if isinstance(value, str) or not isinstance(value, Sequence | np.ndarray) or len(value) != 2:
+        raise InvalidGeometryError(f"{name} must be a (width, height) pair in inches; got {value!r}")
+    return tuple(value)
 
 
 def _positive_number(name: str, value) -> float:
@@ -544,7 +615,7 @@ def _render_frames(fig: Figure, update: Callable[[int], object], chosen: list[in
     """Each chosen frame as an RGB array, with the index of its background (what does not move) in
     the list of backgrounds also returned: one layout and one full draw, then only what moves."""
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
-    update(chosen[0])
+    _callback("update", update, chosen[0])
     canvas.draw()  # the one layout (constrained, tight, …), then the layout engine is switched off
     engine = fig.get_layout_engine()
     fig.set_layout_engine("none")
@@ -552,7 +623,7 @@ def _render_frames(fig: Figure, update: Callable[[int], object], chosen: list[in
     parts = [artist for artist in fig.findobj() if not isinstance(artist, Figure | Axes)]
     _clear_stale(parts)  # (some, e.g. an empty text or a tick out of view, stay stale after a draw)
     if len(chosen) > 1:
-        update(chosen[1])
+        _callback("update", update, chosen[1])
     moving = [artist for artist in parts if artist.stale]
     was_animated = [artist.get_animated() for artist in moving]
     for artist in moving:
@@ -562,7 +633,7 @@ def _render_frames(fig: Figure, update: Callable[[int], object], chosen: list[in
     frames, backgrounds, watched, limits, saved = [], [], [], None, None
     try:
         for frame in chosen:
-            update(frame)
+            _callback("update", update, frame)
             now = [(axes.get_xlim(), axes.get_ylim()) for axes in fig.axes]
             if saved is None or now != limits or any(artist.stale for artist in watched):
                 canvas.draw()  # something besides the moving artists changed: a new background

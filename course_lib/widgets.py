@@ -44,7 +44,7 @@ import io
 import math
 import numbers
 import textwrap
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import ipywidgets as widgets
@@ -59,7 +59,8 @@ from .errors import CourseLibError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
 from .plotting import LINK_COLORS, LinkageArtist, _Quantizer
 
-__all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer"]
+__all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer",
+           "mechanism_explorer"]
 
 #: Description width shared by every slider, so the columns line up.
 _STYLE = {"description_width": "120px"}
@@ -1146,3 +1147,101 @@ def _fivebar_failure(state, robot, artists, drawing, err, P1, P5) -> Readout:
         ]
     lines.append(f"course_lib says: {err}")
     return Readout("unreachable", tuple(lines))
+
+
+# ---------------------------------------------------------------------------- any declared mechanism
+def mechanism_explorer(
+    mechanism,
+    motion,
+    *,
+    ground=(),
+    trace=(),
+    sliders=(),
+    rates: Mapping | None = None,
+    readout: Callable[[object], Sequence[str]] | None = None,
+    title: str = "mechanism",
+    size: tuple[float, float] = (4.0, 3.6),
+) -> Explorer:
+    """Explorer of any declared :class:`~course_lib.mechanism.Mechanism` driven by one input.
+
+    ``motion``, a sweep of the input solved by ``mechanism.solve`` (one crank turn, say), sets the
+    slider's range, the drawing's limits and the dotted paths of the ``trace`` points, and seeds
+    every event's solve from its nearest instant, so the explorer stays on the sweep's assembly.
+    An angle input (a name starting with "theta") gets a slider in degrees over [−180°, 180°];
+    any other input a slider over the sweep's values.  The linkage is drawn from the declared
+    points and links through :class:`~course_lib.plotting.LinkageArtist`, with the fixed-pivot
+    symbol at the ``ground`` points and blocks at the ``sliders``.  ``rates`` (input → rate) go
+    to each solve, so ``readout(instant)`` (the :class:`~course_lib.mechanism.Motion` at the
+    slider's value → lines of text) can show velocities; by default each unknown is listed.
+    A value where the loops cannot be closed is reported in the readout; nothing raises.
+
+    >>> import sympy as sp
+    >>> from course_lib.mechanism import Mechanism
+    >>> th, x = sp.symbols("theta x")
+    >>> crank = Mechanism([x - sp.cos(th)], [x], [th], points={"O": sp.Matrix([0, 0]),
+    ...                   "A": sp.Matrix([sp.cos(th), sp.sin(th)]), "B": sp.Matrix([x, 0])},
+    ...                   links=[("O", "A"), ("A", "B")])
+    >>> turn = crank.solve({th: np.radians(np.arange(0, 360, 10))}, guess={x: 1.0})
+    >>> explorer = mechanism_explorer(crank, turn, ground=["O"], sliders=["B"])
+    >>> explorer.update(theta_deg=60.0).lines[0]
+    'x = 0.5'
+    """
+    from .mechanism import Mechanism, Motion
+
+    if not isinstance(mechanism, Mechanism):
+        raise InvalidGeometryError(f"mechanism must be a course_lib Mechanism; got {mechanism!r}")
+    if not isinstance(motion, Motion) or np.ndim(next(iter(motion.inputs.values()))) != 1:
+        raise InvalidGeometryError(f"motion must be a sweep solved by mechanism.solve (one input array); "
+                                   f"got {type(motion).__name__}")
+    if len(mechanism.inputs) != 1 or not mechanism.links:
+        raise InvalidGeometryError(f"mechanism must have one input and declared links; got inputs "
+                                   f"{[s.name for s in mechanism.inputs]} and links {list(mechanism.links)}")
+    name = mechanism.inputs[0].name
+    sweep = np.asarray(motion.inputs[name], dtype=float)
+    angle = name.startswith("theta")
+    key = f"{name}_deg" if angle else name
+    first = _wrap_degrees(math.degrees(sweep[0])) if angle else float(sweep[0])
+    low, high = (-180.0, 180.0) if angle else (float(sweep.min()), float(sweep.max()))
+    step = 1.0 if angle else (high - low) / 200 or 1.0
+    label = f"{name.replace('theta', 'θ')} ({'°' if angle else 'm'})"
+    controls = {key: _slider(label, first, low, high, step, ".0f" if angle else ".4f")}
+    figure = _figure(*size)
+    ax = figure.add_axes((0.17, 0.13, 0.78, 0.8))
+    ax.set(xlabel="x (m)", ylabel="y (m)", title=title)
+    ax.grid(True, linestyle="--", alpha=0.5)
+    paths = mechanism.joints(motion)
+    everything = np.concatenate([path[np.isfinite(path).all(axis=1)] for path in paths.values()])
+    span = float(np.ptp(everything, axis=0).max()) or 1.0
+    (xmin, ymin), (xmax, ymax) = everything.min(axis=0), everything.max(axis=0)
+    _set_equal_limits(ax, xmin - 0.08 * span, xmax + 0.08 * span, ymin - 0.15 * span, ymax + 0.08 * span)
+    for point in trace:
+        ax.plot(*paths[point].T, ":", color="0.55", lw=1)
+    for point in ground:
+        ax.add_patch(Polygon(_ground_triangle(0.03 * span) + paths[point][0], closed=True,
+                             facecolor="none", edgecolor="0.3", hatch="///"))
+    drawing = LinkageArtist(ax, mechanism.links, sliders=sliders, animated=True)
+    artists = {**drawing.artists,
+               "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
+                                  fontsize=10, fontweight="bold", animated=True)}
+    converged = np.flatnonzero(np.asarray(motion.converged, dtype=bool))
+
+    def draw(state, geometry_changed: bool) -> Readout:
+        value = math.radians(state[key]) if angle else float(state[key])
+        gaps = np.abs((sweep[converged] - value + np.pi) % (2 * np.pi) - np.pi if angle
+                      else sweep[converged] - value)
+        nearest = converged[int(np.argmin(gaps))]
+        guess = {unknown: float(values[nearest]) for unknown, values in motion.position.items()}
+        try:
+            now = mechanism.solve({name: value}, rates=rates, guess=guess)
+        except CourseLibError as err:
+            drawing.move({})
+            artists["failure"].set_text(f"no assembly at {name} = {state[key]:g}")
+            return Readout("unreachable", (f"{name} = {state[key]:g}: the loops cannot be closed here "
+                                           "from the nearest solved instant.", f"course_lib says: {err}"))
+        artists["failure"].set_text("")
+        drawing.move(mechanism.joints(now))
+        lines = readout(now) if readout is not None else [f"{unknown} = {value:.4g}"
+                                                          for unknown, value in now.position.items()]
+        return Readout("ok", tuple(lines))
+
+    return Explorer(title, controls, figure, artists, draw)

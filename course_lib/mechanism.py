@@ -46,6 +46,7 @@ from .errors import (
 )
 from .newton import (
     BatchNewtonResult,
+    LinearStack,
     NewtonResult,
     is_singular,
     linear_solver,
@@ -306,11 +307,13 @@ class Mechanism:
         return [self.rate_symbols[s][order - 1] for s in symbols]
 
     def _compile(self, expressions, *groups) -> Callable[..., np.ndarray]:
-        """f(values, *arrays, known=None): array k (..., len(groups[k])) → (len(expressions), ...).
+        """f(values, *arrays, known=None, same_point=False): array k (..., len(groups[k])) →
+        (len(expressions), ...).
 
         Lambdified once with cse; the parameters' ``values`` are arguments.  cos and sin of an unknown
         or input are arguments too, computed once per call, or taken from ``known`` ({(name, "cos"):
-        array}), where those of inputs are kept for the next call with the same inputs."""
+        array}), where those of inputs are kept for the next call with the same inputs, and with
+        ``same_point`` those of unknowns too (the next call is at the same q)."""
         symbols = [s for group in groups for s in group]
         expressions = [sp.sympify(e) for e in expressions]
         trig = sorted({(f.func.__name__, f.args[0]) for e in expressions for f in e.atoms(sp.cos, sp.sin)
@@ -323,7 +326,7 @@ class Mechanism:
         angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
                      for func, s in trig]
 
-        def evaluate(values, *arrays, known=None):
+        def evaluate(values, *arrays, known=None, same_point=False):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
             columns = [arrays[k][..., j] for k, j in where]
             angles = []
@@ -331,7 +334,7 @@ class Mechanism:
                 value = None if known is None else known.get(key)
                 if value is None:
                     value = func(columns[index])
-                    if known is not None and is_input:
+                    if known is not None and (is_input or same_point):
                         known[key] = value
                 angles.append(value)
             out = np.empty((len(expressions),) + np.broadcast_shapes(*(a.shape[:-1] for a in arrays)))
@@ -377,10 +380,10 @@ class Mechanism:
         terms = self._newton_fn(self._values, q, u, known=known)
         return _vector(terms, 0, n), _matrix(terms, n, n, n)
 
-    def _rate_terms(self, q, u, known=None) -> tuple[np.ndarray, np.ndarray]:
-        """J (..., n, n) and F_u (..., n, m) from one evaluation."""
+    def _rate_terms(self, q, u, known=None, same_point=False) -> tuple[np.ndarray, np.ndarray]:
+        """J (..., n, n) and F_u (..., n, m) from one evaluation (``known``, ``same_point``: see _compile)."""
         n, m = len(self.unknowns), len(self.inputs)
-        terms = self._rate_fn(self._values, q, u, known=known)
+        terms = self._rate_fn(self._values, q, u, known=known, same_point=same_point)
         return _matrix(terms, 0, n, n), _matrix(terms, n * n, n, m)
 
     def _rhs(self, q, q_rate, u, u_rate, u_acceleration, known=None) -> np.ndarray:
@@ -463,11 +466,13 @@ class Mechanism:
         q, u, u_rate = arrays[:3]
         known = {(name, func): _broadcast(value, shape).ravel() for name, pair in (trig or {}).items()
                  for func, value in zip(("cos", "sin"), pair, strict=True)}
-        J, F_u = self._rate_terms(q, u, known)
-        singular = is_singular(J) if singular is None else _broadcast(singular, shape).ravel()
-        if singular.any():
-            J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
-        solve, any_singular = linear_solver(J), singular.any()
+        J, F_u = self._rate_terms(q, u, known, same_point=True)
+        stack = LinearStack(J)
+        singular = stack.singular if singular is None else _broadcast(singular, shape).ravel()
+        any_singular = singular.any()
+        if any_singular:
+            stack = LinearStack(np.where(singular[:, None, None], np.eye(len(self.unknowns)), J))
+        solve = stack.solve
         q_rate = solve(sum(F_u[:, :, j] * -u_rate[:, j, None] for j in range(u_rate.shape[1])))
         q_acc = None
         if u_acceleration is not None:
@@ -481,17 +486,21 @@ class Mechanism:
 
     # ------------------------------------------------------------ the course's two Newton routes
 
-    def _run(self, stage, u, terms, start, tol, max_iter, direct=False):
+    def _run(self, stage, u, terms, start, tol, max_iter, direct=False, jacobian=None):
         """One Newton stage from ``start``: (k,) with history by :func:`newton`, (N, k) by
-        :func:`newton_batch`; ``terms(x)`` gives (F, J); ``direct``: one linear solve (a linear stage).
-        Failures raise naming the stage and the inputs."""
+        :func:`newton_batch`.  ``terms(x)`` gives (F, J); for a linear stage it gives F alone and
+        ``jacobian`` is its constant J ((k, k), or a :class:`~course_lib.newton.LinearStack` of the batch's),
+        prepared once for every iteration; ``direct``: one linear solve.  Failures raise naming the stage
+        and the inputs."""
         batch = start.ndim == 2
         if direct:
-            F0, J = terms(start)
-            stuck = is_singular(J if batch else J[None])
-            x = start + linear_solver(np.where(stuck[:, None, None], np.eye(start.shape[-1]), J) if batch
-                                      else J[None])(-(F0 if batch else F0[None])).reshape(start.shape)
-            residual = np.linalg.norm(terms(x)[0], axis=-1)
+            F0 = terms(start)
+            stack = jacobian if batch else LinearStack(jacobian[None])
+            stuck = stack.singular
+            if batch and stuck.any():
+                stack = LinearStack(np.where(stuck[:, None, None], np.eye(start.shape[-1]), stack.matrices))
+            x = start + stack.solve(-(F0 if batch else F0[None])).reshape(start.shape)
+            residual = np.linalg.norm(terms(x), axis=-1)
             if batch:
                 result = BatchNewtonResult(x, residual <= tol, np.ones(len(x), int), stuck,
                                            np.linalg.norm(x - start, axis=-1), residual, "one linear solve")
@@ -501,6 +510,11 @@ class Mechanism:
                                       np.array([np.linalg.norm(step)]), np.abs(step)[None, :],
                                       np.array([np.linalg.norm(F0), residual]), "one linear solve",
                                       bool(stuck[0]))
+        elif jacobian is not None and batch:
+            result = newton_batch(terms, start, jac=jacobian, tol=tol, max_iter=max_iter)
+        elif jacobian is not None:
+            result = newton(terms, start, jac=lambda v: jacobian, tol=tol, max_iter=max_iter,
+                            on_failure="report")
         elif batch:
             result = newton_batch(terms, start, jac=True, tol=tol, max_iter=max_iter)
         else:
@@ -545,17 +559,19 @@ class Mechanism:
         form, known = position or self, {}
         position = self._run("position", u, lambda v: form._newton_terms(v, u, known), start[..., :n], tol,
                              max_iter)
-        q = position.x
-        J, F_u = self._rate_terms(q, u, known)
+        q, at_q = position.x, dict(known)
+        J, F_u = self._rate_terms(q, u, at_q, same_point=True)
+        jacobian = LinearStack(J) if batch else J  # both linear stages: one J, prepared once
 
         def linear(stage, constant, guess):
-            def terms(v):
-                return np.einsum("...ij,...j->...i", J, v) + constant, J
+            def residual(v):
+                return np.einsum("...ij,...j->...i", J, v) + constant
 
-            return self._run(stage, u, terms, guess, tol, max_iter, direct=linear_stages == "direct")
+            return self._run(stage, u, residual, guess, tol, max_iter, direct=linear_stages == "direct",
+                             jacobian=jacobian)
 
         velocity = linear("velocity", np.einsum("...ij,...j->...i", F_u, u_rate), start[..., n:2 * n])
-        rest = self._rhs(q, velocity.x, u, u_rate, u_acc, known)
+        rest = self._rhs(q, velocity.x, u, u_rate, u_acc, at_q)
         acceleration = linear("acceleration", -rest, start[..., 2 * n:])
         return {"position": position, "velocity": velocity, "acceleration": acceleration}
 

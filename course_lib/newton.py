@@ -28,7 +28,7 @@ import numpy as np
 from .errors import ConvergenceError, InvalidGeometryError, SingularJacobianError, require_choice
 
 __all__ = ["NewtonResult", "BatchNewtonResult", "newton", "newton_batch", "finite_difference_jacobian",
-           "hadamard_ratio", "is_singular", "linear_solver", "singular_jacobian_text"]
+           "hadamard_ratio", "is_singular", "linear_solver", "LinearStack", "singular_jacobian_text"]
 
 #: J counts as singular when |det J| < Π‖row of J‖ / MAX_CONDITION (see :func:`hadamard_ratio`).
 MAX_CONDITION = 1e12
@@ -135,18 +135,128 @@ def _rows_product(a: list, n: int):
     return product
 
 
-def _cramer(J: np.ndarray) -> tuple:
-    """For a stack (N, n, n), n ≤ 3: J's entries as (N,) arrays (views if already contiguous, as the
-    core lays them out), det J and the adjugate (see :func:`_adjugate`)."""
-    n = J.shape[-1]
-    if J.strides[0] == J.itemsize:
-        a = [J[:, i, j] for i in range(n) for j in range(n)]
-    else:
-        a = list(np.ascontiguousarray(J.reshape(J.shape[0], -1).T))
-    return (a, *_adjugate(a, n))
+#: Cofactors of a 3×3 matrix, entries numbered row by row: C[k] = a[i]·a[j] − a[p]·a[q] for the four rows
+#: (i, j, p, q) of this table; C[i, j] = A[i+1, j+1]·A[i+2, j+2] − A[i+1, j+2]·A[i+2, j+1] (indices mod 3),
+#: the products of :func:`_adjugate` (adj J = Cᵀ), so that a stack costs four gathers, not 27 products.
+_COFACTORS_3 = np.array([[4, 5, 3, 7, 8, 6, 1, 2, 0], [8, 6, 7, 2, 0, 1, 5, 3, 4],
+                         [5, 3, 4, 8, 6, 7, 2, 0, 1], [7, 8, 6, 1, 2, 0, 4, 5, 3]])
 
 
-def hadamard_ratio(J: np.ndarray, _parts=None) -> np.ndarray:
+class LinearStack:
+    """A stack of N matrices J (N, n, n) prepared once for J·x = b: for n ≤ 3 its entries laid out
+    (n, n, N), det J and the cofactors, shared by the singularity test and by every solve (the arithmetic
+    of one matrix in :func:`_adjugate`, so a stack and a single matrix give the same bits); LU above.
+
+    ``rows`` (indices or a mask) keeps those matrices only.  A stack the core lays out (entries first)
+    is used without a copy.
+
+    >>> stack = LinearStack(np.array([[[2.0, 0.0], [0.0, 4.0]], [[1.0, 1.0], [2.0, 2.0]]]))
+    >>> stack.singular.tolist(), stack.take(~stack.singular).solve(np.array([[2.0, 8.0]])).tolist()
+    ([False, True], [[1.0, 2.0]])
+    """
+
+    __slots__ = ("n", "size", "_J", "_A", "_det", "_cofactors", "_singular")
+
+    def __init__(self, J: np.ndarray, rows=None):
+        J = np.asarray(J, dtype=float)
+        self.n, self._singular = J.shape[-1], None
+        if self.n > 3:
+            self._J = J if rows is None else J[rows]
+            self._A = self._det = self._cofactors = None
+            self.size = len(self._J)
+            return
+        A = J.transpose(1, 2, 0)
+        if rows is not None:
+            A = A[:, :, rows] if np.asarray(rows).dtype == bool else np.take(A, rows, axis=2)
+        elif not A.flags.c_contiguous:
+            A = np.ascontiguousarray(A)
+        self._set(A)
+
+    def _set(self, A: np.ndarray) -> None:
+        n, self._A, self._J, self.size = A.shape[0], A, None, A.shape[-1]
+        if n == 3:
+            flat = A.reshape(9, -1)
+            cofactors = flat.take(_COFACTORS_3[0], axis=0)
+            cofactors *= flat.take(_COFACTORS_3[1], axis=0)
+            other = flat.take(_COFACTORS_3[2], axis=0)
+            other *= flat.take(_COFACTORS_3[3], axis=0)
+            cofactors -= other
+            self._cofactors = cofactors.reshape(A.shape)
+            self._det = (A[0] * self._cofactors[0]).sum(axis=0)
+        else:
+            self._cofactors = None
+            self._det = A[0, 0] if n == 1 else A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+
+    def take(self, rows) -> LinearStack:
+        """The same stack restricted to ``rows`` (indices or a mask), nothing computed again."""
+        part = LinearStack.__new__(LinearStack)
+        part.n, part._singular = self.n, None if self._singular is None else self._singular[rows]
+        if self.n > 3:
+            part._J, part._A, part._det, part._cofactors = self._J[rows], None, None, None
+            part.size = len(part._J)
+            return part
+        part._A, part._J, part._det = self._A[:, :, rows], None, self._det[rows]
+        part._cofactors = None if self._cofactors is None else self._cofactors[:, :, rows]
+        part.size = part._A.shape[-1]
+        return part
+
+    @property
+    def matrices(self) -> np.ndarray:
+        """The stack (N, n, n) (a view of the entries for n ≤ 3)."""
+        return self._J if self.n > 3 else self._A.transpose(2, 0, 1)
+
+    @property
+    def ratio(self) -> np.ndarray:
+        """|det J| / Π‖row of J‖ per matrix (see :func:`hadamard_ratio`)."""
+        if self.n > 3:
+            J = self._J
+            return np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+        A = self._A
+        if self.n == 2:
+            rows = (A[0, 0] * A[0, 0] + A[0, 1] * A[0, 1]) * (A[1, 0] * A[1, 0] + A[1, 1] * A[1, 1])
+        else:
+            rows = (A * A).sum(axis=1).prod(axis=0)
+        return np.abs(self._det) / np.sqrt(rows)
+
+    @property
+    def singular(self) -> np.ndarray:
+        """True per matrix that is singular or not finite (see :func:`is_singular`); computed once."""
+        if self._singular is None:
+            with np.errstate(all="ignore"):
+                self._singular = ~(self.ratio > 1.0 / MAX_CONDITION)
+        return self._singular
+
+    @property
+    def finite(self) -> np.ndarray:
+        """True per matrix whose entries are all finite."""
+        if self.n > 3:
+            return np.isfinite(self._J).all(axis=(1, 2))
+        return np.isfinite(self._A).all(axis=(0, 1))
+
+    def solve(self, b) -> np.ndarray:
+        """x (N, n) with J·x = b for b (N, n), every matrix at once (inf or NaN where J is singular)."""
+        b = np.asarray(b, dtype=float)
+        if self.n > 3:
+            return np.linalg.solve(self._J, b[..., None])[..., 0]
+        return self._solve_columns(b.T).T
+
+    def _solve_columns(self, b: np.ndarray) -> np.ndarray:
+        """x (n, N), rows contiguous whatever the layout of the stack, from b (n, N): Cramer's rule,
+        x = adj(J)·b / det J."""
+        A, det = self._A, self._det
+        x = np.empty(b.shape)
+        if self.n == 1:
+            np.divide(b, det, out=x)
+        elif self.n == 2:
+            np.divide(A[1, 1] * b[0] - A[0, 1] * b[1], det, out=x[0])
+            np.divide(A[0, 0] * b[1] - A[1, 0] * b[0], det, out=x[1])
+        else:
+            products = np.multiply(self._cofactors, b[:, None], out=np.empty(self._cofactors.shape))
+            np.divide(products.sum(axis=0, out=x), det, out=x)
+        return x
+
+
+def hadamard_ratio(J: np.ndarray) -> np.ndarray:
     """|det J| / Π‖row of J‖ per matrix of a stack (N, n, n): 1 for orthogonal rows, 0 when singular.
 
     The library's one singularity test (:func:`is_singular`): it does not change when a row
@@ -155,44 +265,27 @@ def hadamard_ratio(J: np.ndarray, _parts=None) -> np.ndarray:
     >>> float(hadamard_ratio(np.array([[[2.0, 0.0], [0.0, 3.0]]]))[0])
     1.0
     """
-    n = J.shape[-1]
-    if n > 3:
-        return np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-    a, det, _ = _parts or _cramer(J)
-    return np.abs(det) / np.sqrt(_rows_product(a, n))
+    return LinearStack(J).ratio
 
 
-def is_singular(J: np.ndarray, _parts=None) -> np.ndarray:
+def is_singular(J: np.ndarray) -> np.ndarray:
     """True per matrix of a stack (N, n, n) that is singular or not finite (ratio ≤ 1/MAX_CONDITION).
 
     >>> is_singular(np.array([[[1.0, 1.0], [2.0, 2.0]], [[1.0, 0.0], [0.0, 1.0]]])).tolist()
     [True, False]
     """
-    with np.errstate(all="ignore"):
-        return ~(hadamard_ratio(J, _parts) > 1.0 / MAX_CONDITION)
+    return LinearStack(J).singular
 
 
-def linear_solver(J: np.ndarray, _parts=None) -> Callable[[np.ndarray], np.ndarray]:
-    """b ↦ x with J·x = b for a stack J (N, n, n) and b (N, n): Cramer's rule with the adjugate
-    formed once (so several right-hand sides cost little) for n ≤ 3, LU for larger n.
+def linear_solver(J: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """b ↦ x with J·x = b for a stack J (N, n, n) and b (N, n): Cramer's rule with the cofactors
+    formed once (so several right-hand sides cost little) for n ≤ 3, LU for larger n (:class:`LinearStack`).
 
     >>> solve = linear_solver(np.array([[[2.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 4.0]]]))
     >>> solve(np.array([[3.0, 1.0, 4.0]])).tolist()
     [[1.0, 1.0, 1.0]]
     """
-    n = J.shape[-1]
-    if n > 3:
-        return lambda b: np.linalg.solve(J, np.asarray(b, dtype=float)[..., None])[..., 0]
-    a, det, adjugate = _parts or _cramer(J)
-
-    def solve(b):
-        b = np.asarray(b, dtype=float)
-        out = np.empty((n, det.size)).T  # contiguous columns
-        for i, column in enumerate(_cramer_solve(a, adjugate, det, [b[:, j] for j in range(n)], n)):
-            out[:, i] = column
-        return out
-
-    return solve
+    return LinearStack(J).solve
 
 
 def _solve_one(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
@@ -346,13 +439,16 @@ def _row_norms(a: np.ndarray) -> np.ndarray:
     return np.sqrt(np.einsum("ij,ij->i", a, a))
 
 
-def newton_batch(F: Callable, x0, jac: Callable | bool | None = None, tol: float = 1e-6, max_iter: int = 50,
-                 residual_tol: float | None = None, on_failure: str = "report") -> BatchNewtonResult:
+def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStack | None = None,
+                 tol: float = 1e-6, max_iter: int = 50, residual_tol: float | None = None,
+                 on_failure: str = "report") -> BatchNewtonResult:
     """Solve N independent systems F(x_i) = 0 at once, one vectorized loop, by the rule of :func:`newton`.
 
     ``x0`` (N, n); ``F`` maps the (N, n) iterates to (N, n) residuals and ``jac`` to (N, n, n)
     Jacobians (row i depends on row i only); ``jac=True``: ``F`` returns the pair, so that they
-    share their work (as in ``scipy.optimize.root``).  Each system stops on its own.  Failed
+    share their work (as in ``scipy.optimize.root``).  ``jac`` an (N, n, n) array or a
+    :class:`LinearStack`: a Jacobian that does not change, for an affine F(x) = J·x + c (a linear stage
+    of a mechanism), prepared once for every iteration.  Each system stops on its own.  Failed
     systems have ``converged`` False (and ``singular`` True if J stopped them); with
     ``on_failure="raise"`` the first failed one raises as :func:`newton` would.
 
@@ -363,6 +459,13 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | None = None, tol: float
     >>> both = newton_batch(lambda x: (x**2 - targets, 2 * x[:, :, None]), np.ones((2, 1)), jac=True)
     >>> bool(np.array_equal(both.x, result.x)), both.iterations.tolist()
     (True, [5, 6])
+
+    A linear system takes one step to its solution and a second, of round-off size, to show it:
+
+    >>> J, c = np.array([[[2.0, 1.0], [1.0, 3.0]]]), np.array([[-3.0, -4.0]])
+    >>> linear = newton_batch(lambda x: np.einsum("nij,nj->ni", J, x) + c, np.zeros((1, 2)), jac=J)
+    >>> np.round(linear.x, 12).tolist(), linear.iterations.tolist()
+    ([[1.0, 1.0]], [2])
     """
     tol, max_iter, residual_tol = _settings(tol, max_iter, residual_tol, on_failure)
     try:
@@ -372,7 +475,18 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | None = None, tol: float
     if x.ndim != 2 or not np.all(np.isfinite(x)):
         raise InvalidGeometryError(f"x0 must be a finite (N, n) array; got shape {np.shape(x0)}")
     N, n = x.shape
-    if jac is True:
+    fixed = None
+    if isinstance(jac, np.ndarray | LinearStack):
+        stack = isinstance(jac, LinearStack)
+        if (jac.size, jac.n) != (N, n) if stack else jac.shape != (N, n, n):
+            got = f"a LinearStack of {jac.size} {jac.n}x{jac.n} matrices" if stack else f"shape {jac.shape}"
+            raise InvalidGeometryError(f"a constant jac must be a stack of shape {(N, n, n)} for x0 of shape "
+                                       f"{(N, n)}; got {got}")
+        fixed = jac if stack else LinearStack(_real("jac", jac, (N, n, n), x))
+
+        def evaluate(xs):
+            return _real("F", F(xs), (N, n), xs), None
+    elif jac is True:
         def evaluate(xs):
             pair = F(xs)
             if not (isinstance(pair, tuple) and len(pair) == 2):
@@ -399,17 +513,19 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | None = None, tol: float
             if rows.size == 0:
                 break
             whole = rows.size == N  # while every row iterates, slices avoid fancy-indexed copies
-            J = J() if whole else J()[rows]
-            parts = _cramer(J) if n <= 3 else None
-            bad = is_singular(J, parts)
+            if fixed is not None:
+                stack = fixed if whole else fixed.take(rows)
+            else:
+                stack = LinearStack(J(), None if whole else rows)
+            bad = stack.singular
             if bad.any():
-                singular[rows[bad & np.isfinite(J).all(axis=(1, 2))]] = True
-                rows, J, whole = rows[~bad], J[~bad], False
+                singular[rows[bad & stack.finite]] = True
+                keep = ~bad
+                rows, stack, whole = rows[keep], stack.take(keep), False
                 if rows.size == 0:
                     break
-                parts = _cramer(J) if n <= 3 else None
             sel = slice(None) if whole else rows
-            step = linear_solver(J, parts)(-fx[sel])
+            step = stack.solve(-fx[sel])
             x[sel] += step
             iterations[sel] += 1
             steps = _row_norms(step)

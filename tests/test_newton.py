@@ -307,3 +307,50 @@ def test_linear_solver_equals_numpy_solve(n):
     J, b = rng.normal(size=(50, n, n)) + 2 * np.eye(n), rng.normal(size=(50, n))
     np.testing.assert_allclose(linear_solver(J)(b), np.linalg.solve(J, b[..., None])[..., 0], rtol=1e-10,
                                atol=1e-12)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_linear_stack_solves_as_numpy_and_each_matrix_alone(n):
+    from course_lib.newton import LinearStack, _solve_one, is_singular
+
+    rng = np.random.default_rng(20 + n)
+    J, b = rng.normal(size=(40, n, n)) + 2 * np.eye(n), rng.normal(size=(40, n))
+    J[5] = 0.0  # singular, flagged and left out below
+    stack = LinearStack(J)
+    np.testing.assert_array_equal(stack.singular, is_singular(J))
+    assert stack.singular.tolist() == [k == 5 for k in range(40)]
+    good = LinearStack(J, ~stack.singular)
+    x = good.solve(b[~stack.singular])
+    np.testing.assert_allclose(x, np.linalg.solve(J[~stack.singular], b[~stack.singular][..., None])[..., 0],
+                               rtol=1e-10, atol=1e-12)
+    # a subset taken from the prepared stack, a stack laid out otherwise, and one matrix at a time: same bits
+    np.testing.assert_array_equal(stack.take(~stack.singular).solve(b[~stack.singular]), x)
+    columns_first = np.ascontiguousarray(J.transpose(1, 2, 0)).transpose(2, 0, 1)
+    np.testing.assert_array_equal(LinearStack(columns_first, np.flatnonzero(~stack.singular)).solve(
+        b[~stack.singular]), x)
+    np.testing.assert_array_equal(stack.matrices, J)
+    if n <= 3:
+        singles = [_solve_one(J[k], b[k]) for k in np.flatnonzero(~stack.singular)]
+        np.testing.assert_array_equal(np.array(singles), x)
+
+
+def test_batch_with_a_constant_jacobian_is_the_run_with_that_jacobian_as_a_callable():
+    # an affine F = J·x + c: Newton lands in one step and sees it in the next, the answer of numpy's solve
+    rng = np.random.default_rng(3)
+    J, c = rng.normal(size=(30, 3, 3)) + 3 * np.eye(3), rng.normal(size=(30, 3))
+    J[4] = [[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]]  # singular row of the batch
+
+    def F(x):
+        return np.einsum("nij,nj->ni", J, x) + c
+
+    constant = newton_batch(F, np.zeros((30, 3)), jac=J, tol=1e-10)
+    callable_ = newton_batch(F, np.zeros((30, 3)), jac=lambda x: J, tol=1e-10)
+    for name in ("x", "converged", "iterations", "singular", "step_norms", "residual_norms", "message"):
+        np.testing.assert_array_equal(getattr(constant, name), getattr(callable_, name), err_msg=name)
+    ok = np.arange(30) != 4
+    assert constant.singular.tolist() == (~ok).tolist() and constant.converged.tolist() == ok.tolist()
+    assert (constant.iterations[ok] == 2).all()
+    np.testing.assert_allclose(constant.x[ok], np.linalg.solve(J[ok], -c[ok][..., None])[..., 0], rtol=1e-12,
+                               atol=1e-14)
+    with pytest.raises(InvalidGeometryError, match=r"a constant jac must be a stack of shape \(30, 3, 3\)"):
+        newton_batch(F, np.zeros((30, 3)), jac=J[:2])

@@ -76,6 +76,10 @@ TOGGLE_TOL = 1e-7  # the square root of rounding in |AO4|² at a change point
 #: smaller negative values are rounding at a toggle and are taken as zero.
 DISCRIMINANT_TOL = 1e-12
 
+#: Crank angles per block of an array solve: one block's working arrays stay in cache, and the memory
+#: beyond the results does not grow with the number of angles.
+BLOCK = 1 << 16
+
 
 @cache
 def _declaration():
@@ -281,50 +285,128 @@ class FourBar:
         longest = max(self.l1, self.l2, self.l3, self.l4)
         return self.l1 / longest, self.l2 / longest, self.l3 / longest, self.l4 / longest
 
-    def _half_angle_coefficients(self, cos2: np.ndarray, sin2: np.ndarray):
-        """Norton's A, B, C of A·t² + B·t + C = 0, t = tan(θ4/2), times 2·l2·l4 (> 0: same roots).
+    def _block_positions(self, theta2: np.ndarray, branch: str, theta3: np.ndarray, theta4: np.ndarray,
+                         unreachable: np.ndarray):
+        """The closed form on one block of crank angles (1-d), worked in place: θ3, θ4 into ``theta3``,
+        ``theta4`` (NaN where unreachable or undetermined) and the unreachable mask into ``unreachable``.
 
-        With K1 = l1/l2, K2 = l1/l4, K3 = (l2² − l3² + l4² + l1²)/(2 l2 l4) Norton writes
-        A = cos θ2 − K1 − K2 cos θ2 + K3, B = −2 sin θ2, C = K1 − (K2 + 1) cos θ2 + K3; multiplied
-        out no ratio of lengths is formed, so a very short crank cannot overflow them.
+        Returns the undetermined mask (None when coupler ≠ rocker: it cannot occur), the mask of NaN
+        positions (None when there is none) and (cos, sin) of θ2, θ3, θ4.
+
+        Norton's A, B, C of A·t² + B·t + C = 0, t = tan(θ4/2), are used times 2·l2·l4 (> 0: same
+        roots): with K1 = l1/l2, K2 = l1/l4, K3 = (l2² − l3² + l4² + l1²)/(2 l2 l4) Norton writes
+        A = cos θ2 − K1 − K2 cos θ2 + K3, B = −2 sin θ2, C = K1 − (K2 + 1) cos θ2 + K3; multiplied out
+        no ratio of lengths is formed, so a very short crank cannot overflow them.
         """
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
-        A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
-        B = -4 * l2 * l4 * sin2
-        C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
-        return A, B, C
-
-    def _positions(self, theta2: np.ndarray, branch: str):
-        """θ3, θ4 (NaN where unreachable or undetermined), the unreachable and undetermined masks,
-        and (cos, sin) of θ2, θ3, θ4."""
-        l1, l2, l3, l4 = self._unit_lengths()
         cos2, sin2 = np.cos(theta2), np.sin(theta2)
-        A, B, C = self._half_angle_coefficients(cos2, sin2)
-        discriminant = B**2 - 4 * A * C
-        # B² + (A − C)² = 16 l4² |AO4|² sets the scale (B² − 4AC is 16 l4² (|AO4|² − (l2 S)²))
-        unreachable = discriminant < -DISCRIMINANT_TOL * (B**2 + (A - C) ** 2)
-        # the crank pin A on O4 with coupler = rocker: B may be anywhere on a circle (a change point)
-        distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
-        undetermined = (distance_AO4 < SINGULAR_TOL**2) & (abs(l3 - l4) < SINGULAR_TOL**2)
-        unreachable &= ~undetermined
-        root = np.sqrt(np.where(unreachable | undetermined, np.nan, np.maximum(discriminant, 0.0)))
-        root = -root if branch == "open" else root
+        # A = 2 l2 l4 cos θ2 − 2 l1 l4 − 2 l1 l2 cos θ2 + k3, B = −4 l2 l4 sin θ2,
+        # C = 2 l1 l4 − 2 (l1 l2 + l2 l4) cos θ2 + k3: each operation in that order, one buffer each
+        A = np.multiply(cos2, 2 * l2 * l4)
+        A -= 2 * l1 * l4
+        work = np.multiply(cos2, 2 * l1 * l2)
+        A -= work
+        A += k3
+        B = np.multiply(sin2, -4 * l2 * l4)
+        C = np.multiply(cos2, 2 * (l1 * l2 + l2 * l4))
+        np.subtract(2 * l1 * l4, C, out=C)
+        C += k3
+        square = np.multiply(B, B)
+        discriminant = np.multiply(A, 4)
+        discriminant *= C
+        np.subtract(square, discriminant, out=discriminant)  # B² − 4AC (B² ≥ +0: never −0)
+        clean = discriminant.size == 0 or discriminant.min() >= 0  # the usual case: every loop closes
+        if clean:
+            unreachable[...] = False
+        else:
+            # B² + (A − C)² = 16 l4² |AO4|² sets the scale (B² − 4AC is 16 l4² (|AO4|² − (l2 S)²))
+            np.subtract(A, C, out=work)
+            work *= work
+            work += square
+            work *= -DISCRIMINANT_TOL
+            np.less(discriminant, work, out=unreachable)
+            np.maximum(discriminant, 0.0, out=discriminant)
+        bad, undetermined = unreachable, None
+        if abs(l3 - l4) < SINGULAR_TOL**2:
+            # the crank pin A on O4 with coupler = rocker: B may be anywhere on a circle (a change point)
+            distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
+            undetermined = distance_AO4 < SINGULAR_TOL**2
+            unreachable &= ~undetermined
+            bad, clean = unreachable | undetermined, False
+        bad = None if clean or not bad.any() else bad
+        if bad is not None:
+            discriminant[bad] = np.nan
+        root = np.sqrt(discriminant, out=discriminant)
         # t = y/x with (y, x) = (−B ± √Δ, 2A) or, the same root, (2C, −B ∓ √Δ): take the larger pair
-        y1, x1 = -B + root, 2 * A
-        y2, x2 = 2 * C, -B - root
-        first = np.abs(y1) + np.abs(x1) >= np.abs(y2) + np.abs(x2)
-        y, x = np.where(first, y1, y2), np.where(first, x1, x2)
+        minus_B = np.negative(B, out=B)
+        if branch == "open":  # Norton's minus sign
+            y1 = minus_B - root
+            x2 = np.add(minus_B, root, out=root)
+        else:
+            y1 = minus_B + root
+            x2 = np.subtract(minus_B, root, out=root)
+        x1, y2 = np.multiply(A, 2, out=A), np.multiply(C, 2, out=C)
+        size1 = np.abs(y1, out=square)
+        size1 += np.abs(x1, out=work)
+        size2 = np.abs(y2, out=minus_B)
+        size2 += np.abs(x2, out=work)
+        first = size1 >= size2
+        y, x = y2, x2
+        np.copyto(y, y1, where=first)
+        np.copyto(x, x1, where=first)
         # θ4 = 2·atan2(y, x): its cosine and sine by the double-angle formulas, no wrap needed
-        norm = x * x + y * y
-        cos4, sin4 = (x * x - y * y) / norm, 2 * x * y / norm
-        theta4 = np.arctan2(sin4, cos4)
+        xx, yy = np.multiply(x, x, out=size1), np.multiply(y, y, out=size2)
+        norm = np.add(xx, yy, out=work)
+        cos4 = np.subtract(xx, yy, out=xx)
+        cos4 /= norm
+        sin4 = np.multiply(x, 2, out=x)
+        sin4 *= y
+        sin4 /= norm
+        np.arctan2(sin4, cos4, out=theta4)
         # θ3 from the loop: R3 = R1 + R4 − R2 = B − A, of length l3
-        coupler_x = l1 + l4 * cos4 - l2 * cos2
-        coupler_y = l4 * sin4 - l2 * sin2
-        theta3 = np.arctan2(coupler_y, coupler_x)
-        trig = (cos2, sin2, coupler_x / l3, coupler_y / l3, cos4, sin4)
-        return theta3, theta4, unreachable, undetermined, trig
+        coupler_x = np.multiply(cos4, l4, out=y1)
+        coupler_x += l1
+        coupler_x -= np.multiply(cos2, l2, out=yy)
+        coupler_y = np.multiply(sin4, l4, out=x1)
+        coupler_y -= np.multiply(sin2, l2, out=yy)
+        np.arctan2(coupler_y, coupler_x, out=theta3)
+        coupler_x /= l3
+        coupler_y /= l3
+        return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4)
+
+    def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, moving_any: bool, rates,
+                     singular: np.ndarray) -> None:
+        """ω3, ω4, α3, α4 of one block into ``rates`` (4 arrays) from the loop declared on the core
+        (:attr:`mechanism`): J·[ω3, ω4] = b and J·[α3, α4] = b' with the closed form's sines and
+        cosines; NaN at a toggle while moving (flagged in ``singular``), and where ``bad`` (a mask or
+        None) marks a position that is NaN.  ``omega2``, ``alpha2``: numbers or arrays like ``theta2``."""
+        cos2, sin2, cos3, sin3, cos4, sin4 = trig
+        toggle = np.multiply(sin3, cos4)
+        toggle -= cos3 * sin4
+        toggle = np.abs(toggle, out=toggle) < SINGULAR_TOL  # det J = l3·l4·sin(θ3 − θ4)
+        moving = np.logical_or(np.not_equal(omega2, 0), np.not_equal(alpha2, 0))  # a numpy bool or array
+        np.logical_and(toggle, moving, out=singular)
+        if bad is not None:
+            singular &= ~bad
+        if not moving_any:  # at rest: no rates to solve for
+            undefined = np.isnan(cos3)
+            for values in rates:
+                values[...] = 0.0
+                if undefined.any():
+                    values[undefined] = np.nan
+            return
+        q_rate, q_acc, _ = self._unit_mechanism.rates(
+            np.stack([theta3, theta4], axis=-1), theta2[:, None], np.reshape(omega2, (-1, 1)),
+            np.reshape(alpha2, (-1, 1)),
+            trig={"theta2": (cos2, sin2), "theta3": (cos3, sin3), "theta4": (cos4, sin4)}, singular=toggle)
+        for values, solved in zip(rates, (q_rate[:, 0], q_rate[:, 1], q_acc[:, 0], q_acc[:, 1]), strict=True):
+            values[...] = solved
+        if toggle.any():  # a toggle at rest: b = 0, so the rates are 0; moving: NaN
+            at_rest = toggle & ~moving
+            for values in rates:
+                values[at_rest] = 0.0
+                values[singular] = np.nan
 
     # ---------------------------------------------------------------- solve
     def solve(
@@ -339,6 +421,8 @@ class FourBar:
 
         Inputs broadcast together.  Position: closed form (half-angle quadratic);
         rates: J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b' from the declared loop (:attr:`mechanism`).
+        Arrays are worked through in blocks of :data:`BLOCK` angles, so the memory beyond the
+        results does not grow with their size.
 
         Raises
         ------
@@ -358,75 +442,80 @@ class FourBar:
         """
         require_choice("branch", branch, BRANCHES)
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
-        theta2, omega2, alpha2 = require_broadcast(
-            theta2=require_finite("theta2", theta2, "rad"),
-            omega2=require_finite("omega2", omega2, "rad/s"),
-            alpha2=require_finite("alpha2", alpha2, "rad/s^2"),
-        )
+        theta2 = require_finite("theta2", theta2, "rad")
+        omega2 = require_finite("omega2", omega2, "rad/s")
+        alpha2 = require_finite("alpha2", alpha2, "rad/s^2")
+        try:
+            shape = np.broadcast_shapes(theta2.shape, omega2.shape, alpha2.shape)
+        except ValueError:
+            require_broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)  # raises, naming the shapes
+            raise
+        # flat views (copies only where an input is broadcast); a number stays a number
+        angles = np.broadcast_to(theta2, shape).ravel()
+        speed, acceleration = (float(v) if v.ndim == 0 else np.broadcast_to(v, shape).ravel()
+                               for v in (omega2, alpha2))
+        size = angles.size
+        moving_any = size > 0 and bool(np.any(omega2 != 0) or np.any(alpha2 != 0))
+        values = [np.empty(size) for _ in range(6)]  # θ3, θ4, ω3, ω4, α3, α4
+        unreachable, singular = np.empty(size, bool), np.empty(size, bool)
+        any_unreachable = any_singular = False
+        first_undetermined = None
         with np.errstate(invalid="ignore", divide="ignore"):
-            theta3, theta4, unreachable, undetermined, trig = self._positions(theta2, branch)
-        report_unreachable(
-            unreachable,
-            {"theta2": theta2},
-            f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle quadratic)",
-            on_unreachable,
-        )
-        if undetermined.any() and on_unreachable == "raise":
-            first = np.unravel_index(np.flatnonzero(undetermined)[0], undetermined.shape)
+            for start in range(0, size, BLOCK):
+                block = slice(start, start + BLOCK)
+                theta3, theta4 = values[0][block], values[1][block]
+                undetermined, bad, trig = self._block_positions(angles[block], branch, theta3, theta4,
+                                                                unreachable[block])
+                if bad is not None:
+                    any_unreachable = any_unreachable or bool(unreachable[block].any())
+                self._block_rates(
+                    angles[block], speed if np.ndim(speed) == 0 else speed[block],
+                    acceleration if np.ndim(acceleration) == 0 else acceleration[block], theta3, theta4,
+                    trig, bad, moving_any, [v[block] for v in values[2:]], singular[block])
+                if undetermined is not None and undetermined.any():
+                    singular[block] |= undetermined
+                    if first_undetermined is None:
+                        first_undetermined = start + int(np.flatnonzero(undetermined)[0])
+                any_singular = any_singular or bool(singular[block].any())
+        if any_unreachable:
+            report_unreachable(
+                unreachable.reshape(shape),
+                {"theta2": theta2},
+                f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle quadratic)",
+                on_unreachable,
+            )
+        if on_unreachable == "raise" and first_undetermined is not None:
+            first = np.unravel_index(first_undetermined, shape)
+            at = np.broadcast_to(theta2, shape)[first]
             raise SingularJacobianError(
-                f"at theta2={theta2[first]:.6g} the crank pin A lands on O4 and coupler = rocker, so B "
+                f"at theta2={at:.6g} the crank pin A lands on O4 and coupler = rocker, so B "
                 "may be anywhere on a circle of radius l3: the position is not determined (a change "
                 "point; any other theta2 is fine)",
-                x=float(theta2[first]),
+                x=float(at),
             )
-        with np.errstate(invalid="ignore"):
-            omega3, omega4, alpha3, alpha4, singular = self._rates(
-                theta2, theta3, theta4, trig, omega2, alpha2, unreachable | undetermined, on_unreachable
+        if on_unreachable == "raise" and any_singular:  # a toggle while moving (nothing else is left)
+            first = int(np.flatnonzero(singular)[0])
+            index = np.unravel_index(first, shape)
+            count = f" ({int(singular.sum())} of {size} inputs, first at index {first})" if shape else ""
+            at = [np.broadcast_to(v, shape)[index] for v in (theta2, omega2, alpha2)]
+            raise SingularJacobianError(
+                f"the loop Jacobian is singular at theta2={at[0]:.6g} (coupler and rocker "
+                f"collinear: a toggle position), so omega3, omega4 are undefined for "
+                f"omega2={at[1]:.6g}, alpha2={at[2]:.6g}{count}",
+                x=float(at[0]),
             )
-        singular = singular | undetermined
+        theta3, theta4, omega3, omega4, alpha3, alpha4 = (scalar_or_array(v.reshape(shape)) for v in values)
         return FourBarSolution(
-            theta3=scalar_or_array(theta3),
-            theta4=scalar_or_array(theta4),
-            omega3=scalar_or_array(omega3),
-            omega4=scalar_or_array(omega4),
-            alpha3=scalar_or_array(alpha3),
-            alpha4=scalar_or_array(alpha4),
-            mask=scalar_or_array(unreachable),
-            singular=scalar_or_array(singular),
+            theta3=theta3,
+            theta4=theta4,
+            omega3=omega3,
+            omega4=omega4,
+            alpha3=alpha3,
+            alpha4=alpha4,
+            mask=scalar_or_array(unreachable.reshape(shape)),
+            singular=scalar_or_array(singular.reshape(shape)),
             branch=branch,
         )
-
-    def _rates(self, theta2, theta3, theta4, trig, omega2, alpha2, unreachable, on_unreachable):
-        """ω3, ω4, α3, α4 from the loop declared on the core (:attr:`mechanism`): J·[ω3, ω4] = b and
-        J·[α3, α4] = b' with the closed form's sines and cosines; NaN at a toggle while moving."""
-        cos2, sin2, cos3, sin3, cos4, sin4 = trig
-        toggle = np.abs(sin3 * cos4 - cos3 * sin4) < SINGULAR_TOL  # det J = l3·l4·sin(θ3 − θ4)
-        moving = (omega2 != 0) | (alpha2 != 0)
-        singular = toggle & moving & ~unreachable
-        if singular.any() and on_unreachable == "raise":
-            first = int(np.flatnonzero(singular)[0])
-            index = np.unravel_index(first, singular.shape) if singular.ndim else ()
-            count = f" ({int(singular.sum())} of {singular.size} inputs, first at index {first})"
-            count = count if singular.ndim else ""
-            raise SingularJacobianError(
-                f"the loop Jacobian is singular at theta2={theta2[index]:.6g} (coupler and rocker "
-                f"collinear: a toggle position), so omega3, omega4 are undefined for "
-                f"omega2={omega2[index]:.6g}, alpha2={alpha2[index]:.6g}{count}",
-                x=float(theta2[index]),
-            )
-        if not moving.any():  # at rest: no rates to solve for
-            rates = np.where(np.isnan(cos3), np.nan, np.zeros((4,) + theta2.shape))
-        else:
-            q_rate, q_acc, _ = self._unit_mechanism.rates(
-                np.stack([theta3, theta4], axis=-1), theta2[..., None], omega2[..., None], alpha2[..., None],
-                trig={"theta2": (cos2, sin2), "theta3": (cos3, sin3), "theta4": (cos4, sin4)},
-                singular=toggle)
-            rates = [q_rate[..., 0], q_rate[..., 1], q_acc[..., 0], q_acc[..., 1]]
-            if toggle.any():  # a toggle at rest: b = 0, so the rates are 0
-                rates = np.where(toggle & ~moving, 0.0, rates)
-        if singular.any():
-            rates = np.where(singular, np.nan, rates)
-        return (*rates, singular)
 
     # --------------------------------------------------------------- derived
     def joints(self, theta2, branch: str = "open", on_unreachable: str = "raise") -> np.ndarray:

@@ -8,21 +8,32 @@
 4. The generic core: the loop declared once on ``course_lib.mechanism.Mechanism`` (sympy, lambdified),
    ``solve`` sweeping every crank angle with continuation from the same seed, then the rates.
 
+Then the closed forms against the trig floor, the transcendental work a closed form cannot avoid
+(sin, cos, two arctan2 and a square root of N doubles, nothing else), timed in turn with it:
+``FourBar.solve`` on the N crank angles, and the five-bar's ``FiveBar.inverse`` and
+``FiveBar.workspace`` on a grid of about N points; with each one's memory, the peak that
+``tracemalloc`` sees during the call divided by the number of points (the inputs made before; the
+four-bar's also at 10⁷ points).
+
 The wiper linkage of lessons 03–04 (l1..l4 = 0.20, 0.06, 0.18, 0.12 m), ω2 = 10 rad/s, α2 = 5 rad/s².
 Prints a table, then one JSON line whose "vs_scipy_loop" is (scipy-loop time per point) /
-(closed-form time per point).  Usage: python benchmarks/bench_fourbar.py [N] [SAMPLE]
+(closed-form time per point) and "vs_trig_floor" is (FourBar.solve time) / (trig floor time).
+Usage: python benchmarks/bench_fourbar.py [N] [SAMPLE]
 """
 
 from __future__ import annotations
 
 import json
+import math
 import sys
+import tracemalloc
 
 import numpy as np
 import scipy.optimize
 import sympy as sp
-from timing import best_of
+from timing import best_of, best_of_each
 
+from course_lib.fivebar import FiveBar
 from course_lib.fourbar import FourBar
 from course_lib.mechanism import Mechanism
 from course_lib.newton import newton_batch
@@ -30,6 +41,8 @@ from course_lib.newton import newton_batch
 LINKAGE = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
 OMEGA2, ALPHA2 = 10.0, 5.0
 SEED = np.array([0.6, 2.0])  # (θ3, θ4) near the middle of the open branch: 17°–57°, 86°–146°
+ROBOT = FiveBar(l1=0.10, l2=0.15, l3=0.15, l4=0.10, l5=0.08)  # the five-bar of bench_fivebar.py
+MEMORY_SIZES = (1_000_000, 10_000_000)  # points at which the four-bar's bytes per point are measured
 
 TH2, TH3, TH4 = sp.symbols("theta2 theta3 theta4")
 L1, L2, L3, L4 = sp.symbols("l1:5", positive=True)
@@ -103,6 +116,47 @@ def largest_difference(a, b):
     return float(angle_gap), float(rate_gap)
 
 
+def trig_floor(theta2):
+    """sin, cos, two arctan2 and a square root of every angle (θ2 ≥ 0 here), and nothing else."""
+    sine, cosine = np.sin(theta2), np.cos(theta2)
+    return np.arctan2(sine, cosine), np.arctan2(cosine, sine), np.sqrt(theta2)
+
+
+def bytes_per_point(function, n_points: int) -> float:
+    """Peak memory traced during ``function()`` (inputs made before it), per point."""
+    tracemalloc.start()
+    try:
+        result = function()
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    del result
+    return peak / n_points
+
+
+def against_floor(theta2) -> dict:
+    """Times (best of 5, the trig floor timed in turn with them) and bytes per point of the closed
+    forms: FourBar.solve on ``theta2``, FiveBar.inverse and .workspace on a square grid of about as
+    many points."""
+    side = math.isqrt(theta2.size)
+    axis = np.linspace(-0.3, 0.3, side)
+    X, Y = np.meshgrid(axis, axis)
+    floor_s, solve_s, inverse_s, workspace_s = best_of_each(
+        5, lambda: trig_floor(theta2), lambda: LINKAGE.solve(theta2, OMEGA2, ALPHA2),
+        lambda: ROBOT.inverse(X, Y, on_unreachable="nan"), lambda: ROBOT.workspace(axis, axis))
+    memory = {}
+    for size in MEMORY_SIZES:
+        angles = theta2 if size == theta2.size else np.linspace(0, 2 * np.pi, size, endpoint=False)
+        memory[size] = bytes_per_point(lambda a=angles: LINKAGE.solve(a, OMEGA2, ALPHA2), size)
+        del angles
+    return {
+        "floor_s": floor_s, "solve_s": solve_s, "inverse_s": inverse_s, "workspace_s": workspace_s,
+        "grid_points": X.size, "solve_memory": memory,
+        "inverse_memory": bytes_per_point(lambda: ROBOT.inverse(X, Y, on_unreachable="nan"), X.size),
+        "workspace_memory": bytes_per_point(lambda: ROBOT.workspace(axis, axis), X.size),
+    }
+
+
 def main(n_points: int = 1_000_000, sample: int = 2000) -> dict:
     theta2 = np.linspace(0, 2 * np.pi, n_points, endpoint=False)
     sample_index = np.linspace(0, n_points - 1, sample).astype(int)
@@ -112,6 +166,7 @@ def main(n_points: int = 1_000_000, sample: int = 2000) -> dict:
     core_sweep(theta2[:10])  # derive and lambdify once, outside the timing
     core_time, (core_out, core_motion) = best_of(2, lambda: core_sweep(theta2))
     scipy_time, scipy_out = best_of(1, lambda: scipy_loop(theta2[sample_index]))
+    floor = against_floor(theta2)
 
     per_point = {"closed": closed_time / n_points, "newton": newton_time / n_points,
                  "core": core_time / n_points, "scipy": scipy_time / sample}
@@ -137,6 +192,25 @@ def main(n_points: int = 1_000_000, sample: int = 2000) -> dict:
     print(f"Mechanism core: {int(core_motion.converged.sum()):,} of {n_points:,} converged; vs closed form: "
           f"angles {core_gap[0]:.1e} rad, rates {core_gap[1]:.1e} (relative)")
     print(f"scipy loop vs closed form on the sample: angles {scipy_gap[0]:.1e} rad, rates {scipy_gap[1]:.1e}")
+    print()
+    grid, memory = floor["grid_points"], floor["solve_memory"]
+    print(f"Closed forms against the trig floor (sin, cos, 2 arctan2, sqrt of {n_points:,} doubles), "
+          f"best of 5 in turn")
+    print(f"{'closed form':44} {'points':>11} {'total (s)':>11} {'× trig floor':>13} {'bytes/point':>12}")
+    floor_rows = [
+        ("trig floor", n_points, floor["floor_s"], ""),
+        ("FourBar.solve (θ, ω, α of coupler, rocker)", n_points, floor["solve_s"],
+         " / ".join(f"{memory[size]:.0f}" for size in MEMORY_SIZES)),
+        ("FiveBar.inverse (grid, on_unreachable=nan)", grid, floor["inverse_s"],
+         f"{floor['inverse_memory']:.0f}"),
+        ("FiveBar.workspace (grid)", grid, floor["workspace_s"], f"{floor['workspace_memory']:.0f}"),
+    ]
+    for name, points, total, bytes_text in floor_rows:
+        ratio = total / floor["floor_s"] * n_points / points  # per point, against the floor's
+        print(f"{name:44} {points:11,} {total:11.4f} {ratio:13.2f} {bytes_text:>12}")
+    print(f"FourBar.solve bytes/point at {' and '.join(f'{size:,}' for size in MEMORY_SIZES)} points; "
+          "the results alone take 50 (six float64 and two bool arrays)")
+    per_floor_point = floor["floor_s"] / n_points
 
     return {
         "n_points": n_points,
@@ -156,6 +230,17 @@ def main(n_points: int = 1_000_000, sample: int = 2000) -> dict:
         "core_max_angle_diff_rad": core_gap[0],
         "newton_max_angle_diff_rad": newton_gap[0],
         "scipy_max_angle_diff_rad": scipy_gap[0],
+        "trig_floor_s": round(floor["floor_s"], 4),
+        "fourbar_solve_s": round(floor["solve_s"], 4),
+        "vs_trig_floor": round(floor["solve_s"] / floor["floor_s"], 2),
+        "bytes_per_point": {f"{size:.0e}".replace("+0", ""): round(memory[size], 1) for size in MEMORY_SIZES},
+        "fivebar_grid_points": grid,
+        "fivebar_inverse_s": round(floor["inverse_s"], 4),
+        "fivebar_inverse_vs_trig_floor": round(floor["inverse_s"] / grid / per_floor_point, 2),
+        "fivebar_inverse_bytes_per_point": round(floor["inverse_memory"], 1),
+        "fivebar_workspace_s": round(floor["workspace_s"], 4),
+        "fivebar_workspace_vs_trig_floor": round(floor["workspace_s"] / grid / per_floor_point, 2),
+        "fivebar_workspace_bytes_per_point": round(floor["workspace_memory"], 1),
     }
 
 

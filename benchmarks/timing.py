@@ -11,3 +11,16 @@ def best_of(repeats, function, *args):
         result = function(*args)
         best = min(best, time.perf_counter() - start)
     return best, result
+
+
+def best_of_each(repeats, *functions):
+    """The same rule for several functions called in turn, ``repeats`` rounds: a slow spell of the
+    machine falls on all of them alike, so ratios of their times stay fair.  Returns the smallest
+    wall time (s) of each, in order."""
+    best = [float("inf")] * len(functions)
+    for _ in range(repeats):
+        for k, function in enumerate(functions):
+            start = time.perf_counter()
+            function()
+            best[k] = min(best[k], time.perf_counter() - start)
+    return best

@@ -175,7 +175,7 @@ def _callback(name: str, function: Callable, frame: int):
 
 class LinkageArtist:
     """One artist for a moving linkage on an axes: a line per link in the course's colours, white
-    joint circles, blocks for sliders and optional point labels; :meth:`move` puts them all at one
+    joint circles, blocks for sliding joints and optional point labels; :meth:`move` puts them all at one
     configuration.  The explorers and the animations draw every linkage through it.
 
     ``links`` maps each link's name to the keys of its two end points (a plain sequence of pairs is
@@ -183,13 +183,13 @@ class LinkageArtist:
     (e.g. a :class:`~course_lib.mechanism.Mechanism`'s point names) or an array of shape (P, 2).
     A link whose end point is missing or not finite is hidden, so a linkage that cannot be
     assembled shows what is known; every known end point gets a joint circle.  ``styles``
-    overrides a link's line properties by name; ``sliders`` are point keys drawn as a block;
+    overrides a link's line properties by name; ``blocks`` are point keys drawn as a slider block;
     ``labels`` maps point keys to the text written beside them.  ``animated=True`` leaves the
     artists out of a plain ``canvas.draw`` (the explorers draw them over a cached background).
 
     >>> from matplotlib.figure import Figure
     >>> ax = Figure().add_subplot()
-    >>> artist = LinkageArtist(ax, {"crank": ("O2", "A"), "rod": ("A", "B")}, sliders=["B"])
+    >>> artist = LinkageArtist(ax, {"crank": ("O2", "A"), "rod": ("A", "B")}, blocks=["B"])
     >>> artist.move({"O2": (0, 0), "A": (0.03, 0.04), "B": (0.12, 0.0)})
     >>> artist.lines["rod"].get_xydata().tolist(), artist.lines["rod"].get_visible()
     ([[0.03, 0.04], [0.12, 0.0]], True)
@@ -199,7 +199,7 @@ class LinkageArtist:
     """
 
     def __init__(self, ax: Axes, links, *, styles: Mapping[str, Mapping] | None = None,
-                 sliders: Sequence = (), labels: Mapping | None = None, animated: bool = False,
+                 blocks: Sequence = (), labels: Mapping | None = None, animated: bool = False,
                  label_offset: float = 0.0):
         _axes(ax)
         pairs = dict(links) if isinstance(links, Mapping) else {
@@ -214,7 +214,7 @@ class LinkageArtist:
         if unknown:
             raise InvalidGeometryError(f"styles names {unknown[0]!r}, not a link; links: {list(self.links)}")
         self._ends = list(dict.fromkeys(key for link in self.links.values() for key in link))
-        self.sliders = tuple(_sequence("sliders", sliders))
+        self.blocks = tuple(_sequence("blocks", blocks))
         self.labels = dict(labels or {})
         self.label_offset = float(label_offset)
         self.lines: dict[str, object] = {}
@@ -228,15 +228,15 @@ class LinkageArtist:
                                            ) from None
         (self.lines["joints"],) = ax.plot([], [], "o", ms=7, mfc="white", mec="black", zorder=4,
                                           animated=animated)
-        if self.sliders:
-            (self.lines["sliders"],) = ax.plot([], [], "s", ms=14, mfc="0.85", mec="black", zorder=3,
+        if self.blocks:
+            (self.lines["blocks"],) = ax.plot([], [], "s", ms=14, mfc="0.85", mec="black", zorder=3,
                                                animated=animated)
         self.texts = {key: ax.text(0, 0, str(text), fontsize=9, animated=animated)
                       for key, text in self.labels.items()}
 
     @property
     def artists(self) -> dict[str, object]:
-        """Every matplotlib artist it moves, by name: the links, "joints", "sliders", "label <key>"."""
+        """Every matplotlib artist it moves, by name: the links, "joints", "blocks", "label <key>"."""
         return {**self.lines, **{f"label {key}": text for key, text in self.texts.items()}}
 
     def move(self, points) -> None:
@@ -249,9 +249,9 @@ class LinkageArtist:
                 line.set_data([known[start][0], known[end][0]], [known[start][1], known[end][1]])
         joints = np.array([known[key] for key in self._ends if key in known]).reshape(-1, 2)
         self.lines["joints"].set_data(joints[:, 0], joints[:, 1])
-        if self.sliders:
-            blocks = np.array([known[key] for key in self.sliders if key in known]).reshape(-1, 2)
-            self.lines["sliders"].set_data(blocks[:, 0], blocks[:, 1])
+        if self.blocks:
+            at = np.array([known[key] for key in self.blocks if key in known]).reshape(-1, 2)
+            self.lines["blocks"].set_data(at[:, 0], at[:, 1])
         for key, text in self.texts.items():
             text.set_visible(key in known)
             if key in known:
@@ -305,7 +305,7 @@ def animate_linkage(
     *,
     ground: Sequence = (),
     trace: Sequence = (),
-    sliders: Sequence = (),
+    blocks: Sequence = (),
     labels: Mapping | None = None,
     styles: Mapping[str, Mapping] | None = None,
     caption: Callable[[int], str] | None = None,
@@ -318,7 +318,7 @@ def animate_linkage(
 ) -> AnimationHTML:
     """A linkage moving through the frames of ``points``, as an :func:`animation_html` player.
 
-    ``links`` (name → pair of point keys), ``sliders``, ``labels`` and ``styles`` are those of
+    ``links`` (name → pair of point keys), ``blocks``, ``labels`` and ``styles`` are those of
     :class:`LinkageArtist`; ``points`` gives each point's path, a mapping key → array (frames, 2) (a
     :class:`~course_lib.mechanism.Mechanism`'s ``joints(motion)``) or an array (frames, P, 2) (the
     course machines' ``joints``).  ``ground`` points get the hatched fixed-pivot symbol, ``trace``
@@ -343,14 +343,14 @@ def animate_linkage(
                 raise InvalidGeometryError(f"{argument} names {key!r}, not a point; points: {list(paths)}")
     figure = Figure(figsize=(width, height), dpi=_dpi(dpi), layout="constrained")
     ax = figure.add_subplot()
-    artist = LinkageArtist(ax, links, styles=styles, sliders=sliders, labels=labels)
+    artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels)
     for name, ends in artist.links.items():
         if not set(ends) <= set(paths):
             raise InvalidGeometryError(f"links: {name} joins {ends}, not all points; points: {list(paths)}")
     everything = np.concatenate(list(paths.values()))
     everything = everything[np.isfinite(everything).all(axis=1)]
     if not len(everything):
-        raise InvalidGeometryError("points must have a finite (x, y) in some frame; every point is nan or inf")
+        raise InvalidGeometryError("points must have a finite (x, y) in some frame; all are nan or inf")
     low, high = everything.min(axis=0), everything.max(axis=0)
     span = float((high - low).max()) or 1.0
     margin = 0.08 * span

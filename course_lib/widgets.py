@@ -860,7 +860,7 @@ def saw_explorer(
     ax_profile.set_title("motor profile", fontsize=9, pad=3)
     ax_profile.legend(fontsize=7, loc="upper left")
     ax_profile.grid(True, linestyle="--", alpha=0.5)
-    drawing = LinkageArtist(ax, {"r1": ("O2", "B"), "crank": ("O2", "A"), "rod": ("A", "B")}, sliders=["B"],
+    drawing = LinkageArtist(ax, {"r1": ("O2", "B"), "crank": ("O2", "A"), "rod": ("A", "B")}, blocks=["B"],
                             styles={"r1": {"color": "tab:purple", "lw": 1.2, "linestyle": "--"},
                                     "crank": {"color": LINK_COLORS[0]}, "rod": {"color": LINK_COLORS[1]}},
                             animated=True)
@@ -1156,7 +1156,7 @@ def mechanism_explorer(
     *,
     ground=(),
     trace=(),
-    sliders=(),
+    blocks=(),
     rates: Mapping | None = None,
     readout: Callable[[object], Sequence[str]] | None = None,
     title: str = "mechanism",
@@ -1170,7 +1170,7 @@ def mechanism_explorer(
     An angle input (a name starting with "theta") gets a slider in degrees over [−180°, 180°];
     any other input a slider over the sweep's values.  The linkage is drawn from the declared
     points and links through :class:`~course_lib.plotting.LinkageArtist`, with the fixed-pivot
-    symbol at the ``ground`` points and blocks at the ``sliders``.  ``rates`` (input → rate) go
+    symbol at the ``ground`` points and slider blocks at the ``blocks`` points.  ``rates`` (input → rate) go
     to each solve, so ``readout(instant)`` (the :class:`~course_lib.mechanism.Motion` at the
     slider's value → lines of text) can show velocities; by default each unknown is listed.
     A value where the loops cannot be closed is reported in the readout; nothing raises.
@@ -1182,7 +1182,7 @@ def mechanism_explorer(
     ...                   "A": sp.Matrix([sp.cos(th), sp.sin(th)]), "B": sp.Matrix([x, 0])},
     ...                   links=[("O", "A"), ("A", "B")])
     >>> turn = crank.solve({th: np.radians(np.arange(0, 360, 10))}, guess={x: 1.0})
-    >>> explorer = mechanism_explorer(crank, turn, ground=["O"], sliders=["B"])
+    >>> explorer = mechanism_explorer(crank, turn, ground=["O"], blocks=["B"])
     >>> explorer.update(theta_deg=60.0).lines[0]
     'x = 0.5'
     """
@@ -1219,7 +1219,7 @@ def mechanism_explorer(
     for point in ground:
         ax.add_patch(Polygon(_ground_triangle(0.03 * span) + paths[point][0], closed=True,
                              facecolor="none", edgecolor="0.3", hatch="///"))
-    drawing = LinkageArtist(ax, mechanism.links, sliders=sliders, animated=True)
+    drawing = LinkageArtist(ax, mechanism.links, blocks=blocks, animated=True)
     artists = {**drawing.artists,
                "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
                                   fontsize=10, fontweight="bold", animated=True)}

@@ -40,12 +40,12 @@ def slider_x(theta):
 
 def test_the_artist_puts_each_link_between_its_points_and_hides_what_is_unknown():
     ax = Figure().add_subplot()
-    artist = LinkageArtist(ax, {"crank": ("O", "A"), "rod": ("A", "B")}, sliders=["B"], labels={"A": "A"},
+    artist = LinkageArtist(ax, {"crank": ("O", "A"), "rod": ("A", "B")}, blocks=["B"], labels={"A": "A"},
                            label_offset=0.01)
     points = {"O": (0.0, 0.0), "A": (0.03, 0.04), "B": (0.15, 0.0)}
     artist.move(points)
     assert artist.lines["rod"].get_xydata().tolist() == [[0.03, 0.04], [0.15, 0.0]]
-    assert artist.lines["sliders"].get_xydata().tolist() == [[0.15, 0.0]]
+    assert artist.lines["blocks"].get_xydata().tolist() == [[0.15, 0.0]]
     assert artist.texts["A"].get_position() == pytest.approx((0.04, 0.05))
     artist.move({**points, "B": (math.nan, 0.0)})
     assert artist.lines["crank"].get_visible() and not artist.lines["rod"].get_visible()
@@ -56,18 +56,18 @@ def test_the_artist_puts_each_link_between_its_points_and_hides_what_is_unknown(
 
 def test_an_animation_has_one_frame_per_instant_up_to_its_cap_and_a_still():
     paths = SLIDER_CRANK.joints(TURN)
-    html = animate_linkage(SLIDER_CRANK.links, paths, ground=["O"], trace=["A"], sliders=["B"],
+    html = animate_linkage(SLIDER_CRANK.links, paths, ground=["O"], trace=["A"], blocks=["B"],
                            caption=lambda k: f"frame {k}", title="slider-crank")
     assert html.frame_count == len(TURN.inputs["theta"]) and html.still_png[:4] == b"\x89PNG"
     assert animate_linkage(SLIDER_CRANK.links, paths, max_frames=12).frame_count == 12
 
 
 def test_the_mechanism_explorer_draws_the_slider_where_the_law_of_cosines_puts_it():
-    explorer = mechanism_explorer(SLIDER_CRANK, TURN, ground=["O"], sliders=["B"], rates={TH: 10.0})
+    explorer = mechanism_explorer(SLIDER_CRANK, TURN, ground=["O"], blocks=["B"], rates={TH: 10.0})
     for degrees in (-150.0, -20.0, 35.0, 90.0, 170.0):
         readout = explorer.update(theta_deg=degrees)
         assert readout.status == "ok"
-        (x, y), = explorer.artists["sliders"].get_xydata()
+        (x, y), = explorer.artists["blocks"].get_xydata()
         assert abs(x - slider_x(math.radians(degrees))) < 1e-12 and y == 0.0
     assert explorer.update(theta_deg=float("nan")).status == "invalid"
 
@@ -117,7 +117,7 @@ MISUSES = {
         "ax": [None, "ax"],
         "links": [None, [(0,)], ["ab"], 7],
         "styles": [{"link 1": {"zz": 1}}, {"link 9": {}}],
-        "sliders": ["B", 3],
+        "blocks": ["B", 3],
     }),
     "LinkageArtist.move": (lambda points: LinkageArtist(AX, [(0, 1)]).move(points), {
         "points": [None, "ab", {0: (1,), 1: (0, 0)}, {0: "ab"}, np.zeros((2, 3))],

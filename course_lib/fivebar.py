@@ -45,7 +45,7 @@ from .errors import (
     require_positive,
 )
 from .newton import linear_solver
-from .planar import Unpacks, scalar_or_array, wrap_angle
+from .planar import Unpacks, scalar_or_array
 
 __all__ = [
     "FiveBar",
@@ -68,6 +68,10 @@ LENGTH_RANGE = (1e-60, 1e60)
 
 #: Relative slack for a discriminant that is negative only by rounding (clipped to zero).
 _DISCRIMINANT_SLACK = 1e-12
+
+#: Points per block of the closed forms over large arrays: the temporaries of one block stay in the
+#: processor's cache and the memory beyond the results stays flat in the number of points.
+_BLOCK = 65_536
 
 
 @dataclass(frozen=True)
@@ -167,27 +171,115 @@ def _sign_choice(name: str, value: Any) -> int:
     return int(value)
 
 
-def _half_angle_root(a, b, c, sigma):
-    """θ = 2·atan((−b + σ√Δ)/2a) without dividing by a small number.
+def _working_mode(modes) -> tuple[int, int]:
+    """(σ1, σ2) from ``modes``, or ``InvalidGeometryError`` naming the bad one."""
+    if not (isinstance(modes, tuple | list) and len(modes) == 2):
+        raise InvalidGeometryError(f"modes must be a pair (sigma1, sigma2) of ±1; got {modes!r}")
+    return _sign_choice("sigma1 (modes[0])", modes[0]), _sign_choice("sigma2 (modes[1])", modes[1])
+
+
+def _in_blocks(inputs, outputs) -> np.nditer:
+    """An iterator over the float arrays ``inputs`` broadcast together, in blocks of at most ``_BLOCK``
+    entries (C order), that yields each input's block and a block of each new result array, of the
+    dtypes ``outputs``; ``iterator.operands[len(inputs):]`` are the results, of the broadcast shape.
+    A scalar input stays one number: its block is a view with stride 0, never a copy."""
+    return np.nditer(
+        [*inputs, *(None for _ in outputs)],
+        flags=["external_loop", "buffered", "zerosize_ok"],
+        op_flags=[["readonly"]] * len(inputs) + [["writeonly", "allocate"]] * len(outputs),
+        op_dtypes=[float] * len(inputs) + list(outputs),
+        order="C",
+        buffersize=_BLOCK,
+    )
+
+
+class _Scratch:
+    """Arrays of one block's length for the temporaries of the block kernels, allocated at the first
+    block and handed out again at every later one (a fresh array of 64K doubles costs the operating
+    system's page faults, more than the arithmetic on it)."""
+
+    def __init__(self) -> None:
+        self._arrays: dict = {}
+        self._taken: dict = {}
+        self._size = 0
+
+    def start(self, size: int) -> None:
+        """A new block of ``size`` entries: every array is free again."""
+        self._size, self._taken = size, {}
+
+    def take(self, dtype: type = float) -> np.ndarray:
+        """A free array of the block's length (its values are left over: write it before reading)."""
+        index = self._taken.get(dtype, 0)
+        self._taken[dtype] = index + 1
+        if (dtype, index) not in self._arrays:
+            self._arrays[dtype, index] = np.empty(_BLOCK, dtype=dtype)
+        return self._arrays[dtype, index][: self._size]
+
+
+def _half_angle_root(a, b, c, sigma, scratch: _Scratch):
+    """θ = 2·atan((−b + σ√Δ)/2a) without dividing by a small number, for the arrays a, b, c of one block.
 
     The root α = (−b + σ√Δ)/(2a) equals 2c/(−b − σ√Δ) (same σ).  Of the two
     fractions the one with the larger numerator/denominator pair is used, as
     2·atan2(numerator, denominator), which equals 2·atan(α) modulo 2π and stays
-    right when a → 0 (θ = ±π).  Returns (θ, undetermined mask, discriminant).
+    right when a → 0 (θ = ±π).  Returns θ in (−π, π] and two masks: the discriminant is
+    negative beyond rounding (out of reach; √Δ is taken as 0 there) and the angle is
+    undetermined (a = b = c = 0).  Worked in place, in arrays from ``scratch``.
     """
-    discriminant = b * b - 4 * a * c
-    slack = _DISCRIMINANT_SLACK * (b * b + 4 * np.abs(a * c))
-    root = np.sqrt(np.clip(discriminant, 0.0, None))
-    numerator_1, denominator_1 = -b + sigma * root, 2 * a
-    numerator_2, denominator_2 = 2 * c, -b - sigma * root
-    size_1 = np.maximum(np.abs(numerator_1), np.abs(denominator_1))
-    size_2 = np.maximum(np.abs(numerator_2), np.abs(denominator_2))
-    use_first = size_1 >= size_2
+    b_squared = np.multiply(b, b, out=scratch.take())
+    discriminant = np.multiply(4, a, out=scratch.take())
+    discriminant *= c
+    np.subtract(b_squared, discriminant, out=discriminant)                 # Δ = b² − 4ac
+    # out of reach: Δ < −slack, slack = 1e-12·(b² + 4|ac|) (a Δ negative only by rounding is 0)
+    bound = np.multiply(a, c, out=scratch.take())
+    np.abs(bound, out=bound)
+    bound *= 4
+    bound += b_squared
+    bound *= -_DISCRIMINANT_SLACK
+    far = np.less(discriminant, bound, out=scratch.take(bool))
+    root = np.sqrt(np.clip(discriminant, 0.0, None, out=b_squared), out=b_squared)
+    if sigma < 0:
+        np.negative(root, out=root)                                        # σ√Δ
+    numerator_2 = np.multiply(2, c, out=bound)                             # 2c / (−b − σ√Δ)
+    denominator_2 = np.negative(b, out=scratch.take())
+    numerator_1 = np.add(denominator_2, root, out=scratch.take())          # (−b + σ√Δ) / 2a
+    denominator_2 -= root
+    denominator_1 = np.multiply(2, a, out=root)
+    size_1 = np.abs(numerator_1, out=scratch.take())
+    np.maximum(size_1, np.abs(denominator_1, out=discriminant), out=size_1)
+    size_2 = np.abs(numerator_2, out=scratch.take())
+    np.maximum(size_2, np.abs(denominator_2, out=discriminant), out=size_2)
+    use_first = np.greater_equal(size_1, size_2, out=scratch.take(bool))
     numerator = np.where(use_first, numerator_1, numerator_2)
     denominator = np.where(use_first, denominator_1, denominator_2)
-    theta = wrap_angle(2 * np.arctan2(numerator, denominator), nan_ok=True)
-    undetermined = np.maximum(size_1, size_2) <= 1e-14 * (np.abs(a) + np.abs(b) + np.abs(c) + 1e-300)
-    return theta, discriminant < -slack, undetermined
+    theta = np.arctan2(numerator, denominator, out=numerator_1)
+    theta *= 2
+    _wrap_in_place(theta, scratch)
+    scale = np.abs(a, out=discriminant)
+    scale += np.abs(b, out=numerator_2)
+    scale += np.abs(c, out=numerator_2)
+    scale += 1e-300
+    scale *= 1e-14
+    undetermined = np.less_equal(np.maximum(size_1, size_2, out=size_1), scale, out=scratch.take(bool))
+    return theta, far, undetermined
+
+
+def _wrap_in_place(angle: np.ndarray, scratch: _Scratch) -> np.ndarray:
+    """``wrap_angle`` of a doubled atan2 (in [−2π, 2π]), in place: into (−π, π]; NaN stays NaN.
+
+    The same numbers as ``np.mod(angle + π, 2π) − π`` (then −π → π), without its division: on
+    [−π, 3π], where angle + π lies, the remainder is one subtraction of 2π at and above 2π (exact)
+    or one addition of 2π below 0, and adding or subtracting 0 elsewhere changes nothing.
+    """
+    full_turn = 2 * np.pi
+    flag, step = scratch.take(bool), scratch.take()
+    angle += np.pi
+    angle -= np.multiply(np.greater_equal(angle, full_turn, out=flag), full_turn, out=step)
+    angle += np.multiply(np.less(angle, 0.0, out=flag), full_turn, out=step)
+    angle -= np.pi
+    if np.equal(angle, -np.pi, out=flag).any():
+        angle[flag] = np.pi
+    return angle
 
 
 @dataclass(frozen=True)
@@ -367,8 +459,12 @@ class FiveBar:
         [0.0211, -0.08, 0.0371]
         """
         X, Y = require_broadcast(x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
+        return self._inverse_coefficients(X, Y)
+
+    def _inverse_coefficients(self, X, Y) -> dict[str, Any]:
+        """``inverse_coefficients`` without the input checks, for arrays or scalars."""
         l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
-        common = X**2 + Y**2 + l5**2 / 4
+        common = X * X + Y * Y + l5**2 / 4   # X * X: as X**2 on arrays, and the same on scalars
         return {
             "a1": l1**2 - l2**2 - l1 * l5 + 2 * l1 * X - l5 * X + common,
             "b1": -4 * l1 * Y + 0 * X,
@@ -397,22 +493,68 @@ class FiveBar:
         >>> round(x3, 12), round(y3, 12)
         (0.0, 0.2)
         """
-        if not (isinstance(modes, tuple | list) and len(modes) == 2):
-            raise InvalidGeometryError(f"modes must be a pair (sigma1, sigma2) of ±1; got {modes!r}")
-        sigma1 = _sign_choice("sigma1 (modes[0])", modes[0])
-        sigma2 = _sign_choice("sigma2 (modes[1])", modes[1])
+        sigma1, sigma2 = _working_mode(modes)
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
-        k = self.inverse_coefficients(x3, y3)
-        theta1, far1, free1 = _half_angle_root(k["a1"], k["b1"], k["c1"], sigma1)
-        theta4, far4, free4 = _half_angle_root(k["a2"], k["b2"], k["c2"], sigma2)
+        X, Y = require_finite("x3", x3, "m"), require_finite("y3", y3, "m")
+        require_broadcast(x3=X, y3=Y)
+        scratch = _Scratch()
+        with _in_blocks((X, Y), (float, float, bool, bool, bool)) as blocks:
+            for x, y, *results in blocks:
+                scratch.start(len(x))
+                for result, value in zip(results, self._inverse_block(x, y, sigma1, sigma2, scratch),
+                                         strict=True):
+                    result[...] = value
+            theta1, theta4, far1, far4, free = blocks.operands[2:]
         inputs = {"x3": x3, "y3": y3}
         report_unreachable(far1, inputs, "leg 1 (l1, l2) cannot reach the point", on_unreachable)
         report_unreachable(far4, inputs, "leg 4 (l4, l3) cannot reach the point", on_unreachable)
-        free = (free1 | free4) & ~(far1 | far4)
         report_unreachable(free, inputs, "a crank angle is undetermined (P3 on a base pivot)", on_unreachable)
-        bad = far1 | far4 | free
-        theta1, theta4 = np.where(bad, np.nan, theta1), np.where(bad, np.nan, theta4)
-        return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(~bad))
+        reachable = np.logical_or(far1, far4, out=far1)
+        reachable = np.logical_not(np.logical_or(reachable, free, out=reachable), out=reachable)
+        return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(reachable))
+
+    def _inverse_block(self, x, y, sigma1: int, sigma2: int, scratch: _Scratch):
+        """The closed-form inverse kinematics on one block of points: θ1, θ4 (NaN where out of reach)
+        and the masks: leg 1 cannot reach, leg 4 cannot reach, a crank angle is undetermined; all of
+        them arrays of ``scratch``, good until its next block.
+
+        The coefficients are ``inverse_coefficients``', operation for operation (so the same
+        numbers), worked in place.
+        """
+        l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
+        common = np.multiply(x, x, out=scratch.take())
+        common += np.multiply(y, y, out=scratch.take())
+        common += l5**2 / 4
+        l5_x = np.multiply(l5, x, out=scratch.take())
+        zero_x = np.multiply(0, x, out=scratch.take())   # 0·x: a zero b gets the sign it has there
+        roots = []
+        for crank, distal, sign, sigma in ((l1, l2, -1, sigma1), (l4, l3, 1, sigma2)):
+            # leg 1: a1 = l1² − l2² − l1·l5 + 2·l1·X − l5·X + common, c1 = … + l1·l5 − 2·l1·X − l5·X + …
+            # leg 4: a2 = −l3² + l4² + l4·l5 + 2·l4·X + l5·X + common, c2 = … − l4·l5 − 2·l4·X + l5·X + …
+            first = crank**2 - distal**2 if sign < 0 else -(distal**2) + crank**2
+            two_crank_x = np.multiply(2 * crank, x, out=scratch.take())
+            a = np.add(two_crank_x, first + sign * crank * l5, out=scratch.take())
+            c = np.subtract(first - sign * crank * l5, two_crank_x, out=two_crank_x)
+            if sign < 0:
+                a -= l5_x
+                c -= l5_x
+            else:
+                a += l5_x
+                c += l5_x
+            a += common
+            c += common
+            b = np.multiply(-4 * crank, y, out=scratch.take())
+            b += zero_x
+            roots.append(_half_angle_root(a, b, c, sigma, scratch))
+        (theta1, far1, free1), (theta4, far4, free4) = roots
+        bad = np.logical_or(far1, far4, out=scratch.take(bool))
+        free = np.logical_or(free1, free4, out=free1)
+        free &= ~bad
+        bad |= free
+        if bad.any():
+            theta1[bad] = np.nan
+            theta4[bad] = np.nan
+        return theta1, theta4, far1, far4, free
 
     # ------------------------------------------------------- Jacobians and rates
     @cached_property
@@ -478,6 +620,33 @@ class FiveBar:
         leg4 = ((p4x + half) * (y3 - p4y) - p4y * (x3 - p4x)) / (self.l4 * self.l3)
         parallel = ((x3 - p2x) * (y3 - p4y) - (y3 - p2y) * (x3 - p4x)) / (self.l2 * self.l3)
         return leg1, leg4, parallel
+
+    def _measures_block(self, theta1, theta4, x3, y3, scratch: _Scratch, leg1, leg4, parallel) -> None:
+        """``_measures`` on one block, operation for operation (the same numbers), written into the
+        arrays leg1, leg4, parallel, with the temporaries from ``scratch``."""
+        half = self.l5 / 2
+        p2x, p2y = np.cos(theta1, out=scratch.take()), np.sin(theta1, out=scratch.take())
+        p4x, p4y = np.cos(theta4, out=scratch.take()), np.sin(theta4, out=scratch.take())
+        p2x *= self.l1
+        p2x += half
+        p2y *= self.l1
+        p4x *= self.l4
+        p4x -= half
+        p4y *= self.l4
+        x_2, y_2 = np.subtract(x3, p2x, out=scratch.take()), np.subtract(y3, p2y, out=scratch.take())
+        x_4, y_4 = np.subtract(x3, p4x, out=scratch.take()), np.subtract(y3, p4y, out=scratch.take())
+        term = scratch.take()
+        for out, (along, across, p_y, x_p, y_p, lengths) in (
+            (leg1, (p2x, -half, p2y, x_2, y_2, self.l1 * self.l2)),
+            (leg4, (p4x, half, p4y, x_4, y_4, self.l4 * self.l3)),
+        ):   # ((p_x ∓ half)·(y3 − p_y) − p_y·(x3 − p_x)) / (crank·distal)
+            np.add(along, across, out=out)
+            out *= y_p
+            out -= np.multiply(p_y, x_p, out=term)
+            out /= lengths
+        np.multiply(x_2, y_4, out=parallel)
+        parallel -= np.multiply(y_2, x_4, out=term)
+        parallel /= self.l2 * self.l3
 
     def _check_assembled(self, theta1, theta4, x3, y3) -> None:
         residual = np.abs(self._constraints(theta1, theta4, x3, y3))
@@ -577,10 +746,19 @@ class FiveBar:
         if x.ndim != 1 or y.ndim != 1:
             raise InvalidGeometryError(f"x and y must be 1-D grid vectors; got shapes {x.shape}, {y.shape}")
         X, Y = np.meshgrid(x, y)
-        solution = self.inverse(X, Y, modes=modes, on_unreachable="nan")
-        theta1, theta4, reachable = solution.theta1, solution.theta4, solution.reachable
-        leg1, leg4, parallel = self._measures(theta1, theta4, X, Y)   # NaN where out of reach
-        return WorkspaceMap(X, Y, np.asarray(reachable), theta1, theta4, leg1, leg4, parallel, tuple(modes))
+        sigma1, sigma2 = _working_mode(modes)
+        scratch = _Scratch()
+        with _in_blocks((X, Y), (bool,) + (float,) * 5) as blocks:
+            for x3, y3, reachable, *angles, leg1, leg4, parallel in blocks:
+                scratch.start(len(x3))
+                theta1, theta4, far1, far4, free = self._inverse_block(x3, y3, sigma1, sigma2, scratch)
+                np.logical_not(np.logical_or(np.logical_or(far1, far4, out=far1), free, out=far1),
+                               out=reachable)
+                angles[0][...], angles[1][...] = theta1, theta4
+                # NaN angles where out of reach give NaN measures there
+                self._measures_block(theta1, theta4, x3, y3, scratch, leg1, leg4, parallel)
+            maps = blocks.operands[2:]
+        return WorkspaceMap(X, Y, *maps, tuple(modes))
 
     def draw(self, theta1: float, theta4: float, x3: float, y3: float, ax=None, title: str | None = None,
              **style):

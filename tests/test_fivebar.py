@@ -472,3 +472,38 @@ def test_results_unpack_index_and_convert_with_numpy():
     assert np.allclose(np.array(inverse), [1.2, 1.9]) and inverse[0] == inverse.theta1 and len(inverse) == 2
     measures = ROBOT.singularity_measures(1.2, 1.9, x3, y3)
     assert np.array(measures).tolist() == [measures.serial_leg1, measures.serial_leg4, measures.parallel]
+
+
+# ------------------------------------------------------------------------------- large arrays
+def test_large_arrays_give_what_single_points_give():
+    """More points than one block of the closed form (65,536), with a scalar y3 or a (n, 1) × (1, m)
+    broadcast: each entry is what the point alone gives, bit for bit, including the unreachable ones."""
+    rng = np.random.default_rng(5)
+    x = rng.uniform(-0.3, 0.3, 70_001)
+    for y in (0.17, rng.uniform(-0.3, 0.3, 70_001)):
+        result = ROBOT.inverse(x, y, (-1, 1), on_unreachable="nan")
+        assert 0 < result.reachable.mean() < 1
+        for i in [*range(0, x.size, 701), 65_535, 65_536, x.size - 1]:
+            y_i = np.broadcast_to(y, x.shape)[i]
+            alone = ROBOT.inverse(float(x[i]), float(y_i), (-1, 1), on_unreachable="nan")
+            assert alone.reachable == result.reachable[i]
+            assert np.array_equal([alone.theta1, alone.theta4], [result.theta1[i], result.theta4[i]],
+                                  equal_nan=True)
+    grid = ROBOT.inverse(x[:400, None], x[None, 400:700], (1, 1), on_unreachable="nan")
+    assert grid.theta1.shape == (400, 300)
+    assert np.array_equal(grid.theta4[123, 45], ROBOT.inverse(x[123], x[445], on_unreachable="nan").theta4,
+                          equal_nan=True)
+
+
+def test_a_large_workspace_agrees_with_inverse_and_the_measures():
+    x, y = np.linspace(-0.3, 0.3, 300), np.linspace(-0.28, 0.3, 250)   # 75,000 points
+    w = ROBOT.workspace(x, y, (1, -1))
+    X, Y = np.meshgrid(x, y)
+    solution = ROBOT.inverse(X, Y, (1, -1), on_unreachable="nan")
+    ok = solution.reachable
+    assert np.array_equal(w.reachable, ok) and 0.3 < ok.mean() < 0.5
+    assert np.array_equal(w.theta1, solution.theta1, equal_nan=True)
+    measures = ROBOT.singularity_measures(solution.theta1[ok], solution.theta4[ok], X[ok], Y[ok])
+    for name in ("serial_leg1", "serial_leg4", "parallel"):
+        assert np.array_equal(getattr(w, name)[ok], getattr(measures, name))
+        assert np.isnan(getattr(w, name)[~ok]).all()

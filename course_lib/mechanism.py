@@ -307,13 +307,14 @@ class Mechanism:
         return [self.rate_symbols[s][order - 1] for s in symbols]
 
     def _compile(self, expressions, *groups) -> Callable[..., np.ndarray]:
-        """f(values, *arrays, known=None, same_point=False): array k (..., len(groups[k])) →
+        """f(values, *arrays, known=None, same_point=False, seen=None): array k (..., len(groups[k])) →
         (len(expressions), ...).
 
         Lambdified once with cse; the parameters' ``values`` are arguments.  cos and sin of an unknown
         or input are arguments too, computed once per call, or taken from ``known`` ({(name, "cos"):
         array}), where those of inputs are kept for the next call with the same inputs, and with
-        ``same_point`` those of unknowns too (the next call is at the same q)."""
+        ``same_point`` those of unknowns too (the next call is at the same q).  ``seen``, a dict, is
+        given every cos and sin the call used."""
         symbols = [s for group in groups for s in group]
         expressions = [sp.sympify(e) for e in expressions]
         trig = sorted({(f.func.__name__, f.args[0]) for e in expressions for f in e.atoms(sp.cos, sp.sin)
@@ -326,7 +327,7 @@ class Mechanism:
         angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
                      for func, s in trig]
 
-        def evaluate(values, *arrays, known=None, same_point=False):
+        def evaluate(values, *arrays, known=None, same_point=False, seen=None):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
             columns = [arrays[k][..., j] for k, j in where]
             angles = []
@@ -337,7 +338,11 @@ class Mechanism:
                     if known is not None and (is_input or same_point):
                         known[key] = value
                 angles.append(value)
-            out = np.empty((len(expressions),) + np.broadcast_shapes(*(a.shape[:-1] for a in arrays)))
+                if seen is not None:
+                    seen[key] = value
+            shapes = {a.shape[:-1] for a in arrays}
+            out = np.empty((len(expressions),) + (shapes.pop() if len(shapes) == 1 else
+                                                  np.broadcast_shapes(*shapes)))
             for k, value in enumerate(function(*columns, *angles, *values)):
                 out[k] = value
             return out
@@ -374,10 +379,10 @@ class Mechanism:
     # ------------------------------------------------------------ numbers (arrays ordered as declared)
 
 
-    def _newton_terms(self, q, u, known=None) -> tuple[np.ndarray, np.ndarray]:
-        """F (..., n) and J (..., n, n) from one evaluation."""
+    def _newton_terms(self, q, u, known=None, seen=None) -> tuple[np.ndarray, np.ndarray]:
+        """F (..., n) and J (..., n, n) from one evaluation (``known``, ``seen``: see _compile)."""
         n = len(self.unknowns)
-        terms = self._newton_fn(self._values, q, u, known=known)
+        terms = self._newton_fn(self._values, q, u, known=known, seen=seen)
         return _vector(terms, 0, n), _matrix(terms, n, n, n)
 
     def _rate_terms(self, q, u, known=None, same_point=False) -> tuple[np.ndarray, np.ndarray]:
@@ -520,9 +525,9 @@ class Mechanism:
         else:
             result = newton(lambda v: terms(v)[0], start, jac=lambda v: terms(v)[1], tol=tol,
                             max_iter=max_iter, on_failure="report")
-        failed = np.flatnonzero(~np.atleast_1d(result.converged) | np.atleast_1d(result.singular))
-        if failed.size == 0:
+        if np.all(result.converged) and not np.any(result.singular):
             return result
+        failed = np.flatnonzero(~np.atleast_1d(result.converged) | np.atleast_1d(result.singular))
         first = failed[0]
         where = self._where(u, first)
         if batch:
@@ -556,10 +561,11 @@ class Mechanism:
         u, u_rate, u_acc, seed = (np.asarray(a, dtype=float) for a in (u, u_rate, u_acceleration, seed))
         n, batch = len(self.unknowns), u.ndim == 2
         start = np.tile(seed, (len(u), 1)) if batch else seed
-        form, known = position or self, {}
-        position = self._run("position", u, lambda v: form._newton_terms(v, u, known), start[..., :n], tol,
-                             max_iter)
-        q, at_q = position.x, dict(known)
+        form, known, seen = position or self, {}, {}
+        position = self._run("position", u, lambda v: form._newton_terms(v, u, known, seen), start[..., :n],
+                             tol, max_iter)
+        # newton_batch evaluates F last at the x it returns: the cos and sin seen there are those of q
+        q, at_q = position.x, {**known, **seen} if batch else dict(known)
         J, F_u = self._rate_terms(q, u, at_q, same_point=True)
         jacobian = LinearStack(J) if batch else J  # both linear stages: one J, prepared once
 

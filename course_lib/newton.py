@@ -448,7 +448,8 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
     Jacobians (row i depends on row i only); ``jac=True``: ``F`` returns the pair, so that they
     share their work (as in ``scipy.optimize.root``).  ``jac`` an (N, n, n) array or a
     :class:`LinearStack`: a Jacobian that does not change, for an affine F(x) = J·x + c (a linear stage
-    of a mechanism), prepared once for every iteration.  Each system stops on its own.  Failed
+    of a mechanism), prepared once for every iteration.  Each system stops on its own; ``F`` is called
+    last at the returned ``x`` (whose residuals give ``residual_norms``).  Failed
     systems have ``converged`` False (and ``singular`` True if J stopped them); with
     ``on_failure="raise"`` the first failed one raises as :func:`newton` would.
 
@@ -505,13 +506,20 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
 
     converged, singular = np.zeros(N, dtype=bool), np.zeros(N, dtype=bool)
     iterations, step_norms = np.zeros(N, dtype=int), np.full(N, np.inf)
+
+    def record(ended, kept):  # rows that stop: their count of updates and last norms
+        iterations[rows[ended]] = updates
+        if steps is not None:
+            step_norms[rows[ended]], residual_norms[rows[ended]] = steps[ended], residuals[ended]
+            return rows[kept], steps[kept], residuals[kept]
+        return rows[kept], steps, residuals
+
     with np.errstate(all="ignore"):  # failed rows may hold NaN; they are masked out
         fx, J = evaluate(x)
         residual_norms = _row_norms(fx)
         rows = np.flatnonzero(np.isfinite(residual_norms))  # the systems still iterating
-        for _ in range(max_iter):
-            if rows.size == 0:
-                break
+        updates, steps, residuals = 0, None, None  # made by every row still iterating; its last norms
+        while rows.size and updates < max_iter:
             whole = rows.size == N  # while every row iterates, slices avoid fancy-indexed copies
             if fixed is not None:
                 stack = fixed if whole else fixed.take(rows)
@@ -521,22 +529,24 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
             if bad.any():
                 singular[rows[bad & stack.finite]] = True
                 keep = ~bad
-                rows, stack, whole = rows[keep], stack.take(keep), False
+                stack, whole = stack.take(keep), False
+                rows, steps, residuals = record(bad, keep)
                 if rows.size == 0:
                     break
             sel = slice(None) if whole else rows
             step = stack.solve(-fx[sel])
             x[sel] += step
-            iterations[sel] += 1
+            updates += 1
             steps = _row_norms(step)
             fx, J = evaluate(x)
             residuals = _row_norms(fx[sel])
-            step_norms[sel], residual_norms[sel] = steps, residuals
             done = (steps < tol) & (residuals <= residual_tol)
-            converged[sel] |= done
             stop = done | ~np.isfinite(steps + residuals)
             if stop.any():
-                rows = rows[~stop]
+                converged[rows[stop]] = done[stop]
+                rows, steps, residuals = record(stop, ~stop)
+        if rows.size:  # max_iter updates without stopping
+            record(slice(None), slice(0))
 
     failed = np.flatnonzero(~converged)
     if failed.size == 0:

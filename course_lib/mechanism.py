@@ -306,9 +306,10 @@ class Mechanism:
     def _rates_of(self, symbols, order: int) -> list[sp.Symbol]:
         return [self.rate_symbols[s][order - 1] for s in symbols]
 
-    def _compile(self, expressions, *groups) -> Callable[..., np.ndarray]:
+    def _compile(self, expressions, *groups, keep: int | None = None) -> Callable[..., np.ndarray]:
         """f(values, *arrays, known=None, same_point=False, seen=None): array k (..., len(groups[k])) →
-        (len(expressions), ...).
+        (len(expressions), ...), or the first ``keep`` expressions only, each computed as among all of
+        them (the common subexpressions of all, the ones it uses): a part gives the bits of the whole.
 
         Lambdified once with cse; the parameters' ``values`` are arguments.  cos and sin of an unknown
         or input are arguments too, computed once per call, or taken from ``known`` ({(name, "cos"):
@@ -317,11 +318,29 @@ class Mechanism:
         given every cos and sin the call used."""
         symbols = [s for group in groups for s in group]
         expressions = [sp.sympify(e) for e in expressions]
-        trig = sorted({(f.func.__name__, f.args[0]) for e in expressions for f in e.atoms(sp.cos, sp.sin)
-                       if f.args[0] in symbols}, key=str)
-        dummies = {getattr(sp, func)(s): sp.Dummy() for func, s in trig}
-        function = sp.lambdify([*symbols, *dummies.values(), *self.parameters],
-                               [e.xreplace(dummies) for e in expressions], "numpy", cse=True)
+
+        def angles(among):
+            return sorted({(f.func.__name__, f.args[0]) for e in among for f in e.atoms(sp.cos, sp.sin)
+                           if f.args[0] in symbols}, key=str)
+
+        dummies = {getattr(sp, func)(s): sp.Dummy() for func, s in angles(expressions)}
+        replaced = [e.xreplace(dummies) for e in expressions]
+        trig, cse = angles(expressions), True
+        if keep is not None:
+            trig, expressions = angles(expressions[:keep]), expressions[:keep]
+
+            def cse(_):
+                replacements, reduced = sp.cse(replaced, list=False)
+                reduced, used = list(reduced)[:keep], []
+                needed = set().union(*(e.free_symbols for e in reduced))
+                for symbol, value in reversed(replacements):
+                    if symbol in needed:
+                        used.append((symbol, value))
+                        needed |= value.free_symbols
+                return used[::-1], reduced
+
+        arguments = [*symbols, *(dummies[getattr(sp, func)(s)] for func, s in trig), *self.parameters]
+        function = sp.lambdify(arguments, replaced[:len(expressions)], "numpy", cse=cse)
         inputs = {s.name for s in self.inputs}
         where = [(k, j) for k, group in enumerate(groups) for j in range(len(group))]
         angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
@@ -354,6 +373,19 @@ class Mechanism:
         """(q, u) → F and J side by side, sharing their subexpressions."""
         F = self.equations
         return self._compile([*F, *F.jacobian(self.unknowns)], self.unknowns, self.inputs)
+
+    @_derived
+    def _residual_fn(self):
+        """(q, u) → F alone, the bits of :attr:`_newton_fn`'s."""
+        F = self.equations
+        return self._compile([*F, *F.jacobian(self.unknowns)], self.unknowns, self.inputs, keep=F.rows)
+
+    @_derived
+    def _jacobian_fn(self):
+        """(q, u) → J alone, the bits of :attr:`_rate_fn`'s."""
+        F, n = self.equations, len(self.unknowns)
+        terms = [*F.jacobian(self.unknowns), *F.jacobian(self.inputs)]
+        return self._compile(terms, self.unknowns, self.inputs, keep=n * n)
 
     @_derived
     def _rate_fn(self):
@@ -404,11 +436,12 @@ class Mechanism:
         >>> [f(q, u).tolist() for f in (follower.residual, follower.jacobian, follower.input_jacobian)]
         [[1.5], [[1.0]], [[1.0]]]
         """
-        return self._newton_terms(q, u)[0]
+        return _vector(self._residual_fn(self._values, q, u), 0, len(self.unknowns))
 
     def jacobian(self, q, u) -> np.ndarray:
         """J = ∂F/∂q, shape (..., n, n) (see :meth:`residual`)."""
-        return self._rate_terms(q, u)[0]
+        n = len(self.unknowns)
+        return _matrix(self._jacobian_fn(self._values, q, u), 0, n, n)
 
     def input_jacobian(self, q, u) -> np.ndarray:
         """F_u = ∂F/∂u, shape (..., n, m) (see :meth:`residual`)."""

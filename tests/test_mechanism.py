@@ -260,6 +260,23 @@ def test_numeric_jacobians_match_finite_differences():
     assert G.shape == (6,) and JG.shape == (6, 6)
 
 
+def test_residual_and_jacobian_alone_are_the_bits_newton_and_the_rates_use():
+    # residual() and jacobian() compute only what they return, each entry as in the evaluation of F with J
+    # (Newton's) and of J with F_u (the rates'); F and J also against finite differences above
+    from course_lib import saw
+
+    rng = np.random.default_rng(11)
+    saws = [saw._core(saw.COURSE_SAW, variant) for variant in ("loop", "substituted")]
+    for mechanism in (WIPER, SLIDER, WATT, *saws):
+        n, m = len(mechanism.unknowns), len(mechanism.inputs)
+        q, u = rng.uniform(-3, 3, (9, n)), rng.uniform(-3, 3, (9, m))
+        F, J = mechanism._newton_terms(q, u)
+        np.testing.assert_array_equal(mechanism.residual(q, u), F)
+        np.testing.assert_array_equal(mechanism.jacobian(q, u), mechanism._rate_terms(q, u)[0])
+        np.testing.assert_allclose(mechanism.jacobian(q, u), J, rtol=1e-14, atol=1e-15)
+        assert mechanism.residual(q[0], u[0]).shape == (n,) and mechanism.jacobian(q[0], u[0]).shape == (n, n)
+
+
 def test_simultaneous_3n_system_gives_the_staged_answer():
     u, u_rate, u_acc = [0.7], [10.0], [3.0]
     staged = WIPER.solve({th2: 0.7}, {th2: 10.0}, {th2: 3.0}, guess=GUESS)

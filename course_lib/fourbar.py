@@ -39,6 +39,7 @@ SI units: lengths in metres, angles in radians (from +x, counter-clockwise),
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cache, cached_property
 
@@ -79,6 +80,14 @@ DISCRIMINANT_TOL = 1e-12
 #: Crank angles per block of an array solve: one block's working arrays stay in cache, and the memory
 #: beyond the results does not grow with the number of angles.
 BLOCK = 1 << 16
+
+
+def _finite(name: str, value, unit: str):
+    """One finite Python float as it is (one instant, the common case, checked at no cost), anything
+    else through :func:`~course_lib.errors.require_finite` (a float array, or its named error)."""
+    if type(value) is float and math.isfinite(value):
+        return value
+    return require_finite(name, value, unit)
 
 
 @cache
@@ -375,6 +384,67 @@ class FourBar:
         coupler_y /= l3
         return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4)
 
+    def _one_position(self, theta2: float, branch: str):
+        """:meth:`_block_positions` for one crank angle, in Python numbers: the same operations in the
+        same order (math's cos, sin, atan2 and sqrt are numpy's), so the same bits, without the cost of
+        arrays.  Returns θ3, θ4, unreachable, undetermined and (cos, sin) of θ2, θ3, θ4."""
+        l1, l2, l3, l4 = self._unit_lengths()
+        k3 = l2**2 - l3**2 + l4**2 + l1**2
+        cos2, sin2 = math.cos(theta2), math.sin(theta2)
+        A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
+        B = -4 * l2 * l4 * sin2
+        C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
+        square = B * B
+        discriminant = square - 4 * A * C
+        unreachable = discriminant < -DISCRIMINANT_TOL * ((A - C) * (A - C) + square)
+        undetermined = False
+        if abs(l3 - l4) < SINGULAR_TOL**2:
+            distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
+            undetermined = bool(distance_AO4 < SINGULAR_TOL**2)
+            unreachable = unreachable and not undetermined
+        root = math.nan if unreachable or undetermined else math.sqrt(max(discriminant, 0.0))
+        minus_B = -B
+        y1, x2 = (minus_B - root, minus_B + root) if branch == "open" else (minus_B + root, minus_B - root)
+        x1, y2 = 2 * A, 2 * C
+        y, x = (y1, x1) if abs(y1) + abs(x1) >= abs(y2) + abs(x2) else (y2, x2)
+        xx, yy = x * x, y * y
+        norm = xx + yy
+        cos4, sin4 = ((xx - yy) / norm, 2 * x * y / norm) if norm != 0 else (math.nan, math.nan)  # as 0/0
+        theta4 = math.atan2(sin4, cos4)
+        coupler_x = l4 * cos4 + l1 - l2 * cos2
+        coupler_y = l4 * sin4 - l2 * sin2
+        theta3 = math.atan2(coupler_y, coupler_x)
+        trig = (cos2, sin2, coupler_x / l3, coupler_y / l3, cos4, sin4)
+        return theta3, theta4, unreachable, undetermined, trig
+
+    def _core_rates(self, q, u, u_rate, u_acceleration, trig, toggle):
+        """q̇ = (ω3, ω4) and q̈ = (α3, α4), each (n, 2), from :meth:`Mechanism.rates` of the declared loop
+        (:attr:`mechanism`) for q = (θ3, θ4) (n, 2), u = θ2, u̇ = ω2, ü = α2 (n or 1, 1), with the closed
+        form's sines and cosines ``trig`` (six arrays (n,)) and its toggle mask (n,)."""
+        cos2, sin2, cos3, sin3, cos4, sin4 = trig
+        q_rate, q_acc, _ = self._unit_mechanism.rates(
+            q, u, u_rate, u_acceleration, trig={"theta2": (cos2, sin2), "theta3": (cos3, sin3),
+                                                "theta4": (cos4, sin4)}, singular=toggle)
+        return q_rate, q_acc
+
+    def _solve_one(self, theta2: float, omega2: float, alpha2: float, branch: str):
+        """θ3, θ4, ω3, ω4, α3, α4 and the masks of :meth:`solve` for one instant, in Python numbers."""
+        theta3, theta4, unreachable, undetermined, trig = self._one_position(theta2, branch)
+        cos2, sin2, cos3, sin3, cos4, sin4 = trig
+        toggle = abs(sin3 * cos4 - cos3 * sin4) < SINGULAR_TOL  # det J = l3·l4·sin(θ3 − θ4)
+        moving = omega2 != 0 or alpha2 != 0
+        singular = toggle and moving and not (unreachable or undetermined)
+        if not moving:  # at rest: no rates to solve for
+            rates = [math.nan if math.isnan(cos3) else 0.0] * 4
+        elif singular:
+            rates = [math.nan] * 4
+        else:
+            q_rate, q_acc = self._core_rates(np.array([[theta3, theta4]]), np.array([[theta2]]),
+                                             np.array([[omega2]]), np.array([[alpha2]]),
+                                             [np.array([v]) for v in trig], np.array([toggle]))
+            rates = [*q_rate[0].tolist(), *q_acc[0].tolist()]
+        return [theta3, theta4, *rates], unreachable, singular or undetermined, undetermined
+
     def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, moving_any: bool, rates,
                      singular: np.ndarray) -> None:
         """ω3, ω4, α3, α4 of one block into ``rates`` (4 arrays) from the loop declared on the core
@@ -396,10 +466,9 @@ class FourBar:
                 if undefined.any():
                     values[undefined] = np.nan
             return
-        q_rate, q_acc, _ = self._unit_mechanism.rates(
-            np.stack([theta3, theta4], axis=-1), theta2[:, None], np.reshape(omega2, (-1, 1)),
-            np.reshape(alpha2, (-1, 1)),
-            trig={"theta2": (cos2, sin2), "theta3": (cos3, sin3), "theta4": (cos4, sin4)}, singular=toggle)
+        q_rate, q_acc = self._core_rates(np.stack([theta3, theta4], axis=-1), theta2[:, None],
+                                         np.reshape(omega2, (-1, 1)), np.reshape(alpha2, (-1, 1)), trig,
+                                         toggle)
         for values, solved in zip(rates, (q_rate[:, 0], q_rate[:, 1], q_acc[:, 0], q_acc[:, 1]), strict=True):
             values[...] = solved
         if toggle.any():  # a toggle at rest: b = 0, so the rates are 0; moving: NaN
@@ -442,51 +511,32 @@ class FourBar:
         """
         require_choice("branch", branch, BRANCHES)
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
-        theta2 = require_finite("theta2", theta2, "rad")
-        omega2 = require_finite("omega2", omega2, "rad/s")
-        alpha2 = require_finite("alpha2", alpha2, "rad/s^2")
+        theta2 = _finite("theta2", theta2, "rad")
+        omega2 = _finite("omega2", omega2, "rad/s")
+        alpha2 = _finite("alpha2", alpha2, "rad/s^2")
         try:
-            shape = np.broadcast_shapes(theta2.shape, omega2.shape, alpha2.shape)
+            shape = np.broadcast_shapes(*(np.shape(v) for v in (theta2, omega2, alpha2)))
         except ValueError:
             require_broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)  # raises, naming the shapes
             raise
-        # flat views (copies only where an input is broadcast); a number stays a number
-        angles = np.broadcast_to(theta2, shape).ravel()
-        speed, acceleration = (float(v) if v.ndim == 0 else np.broadcast_to(v, shape).ravel()
-                               for v in (omega2, alpha2))
-        size = angles.size
-        moving_any = size > 0 and bool(np.any(omega2 != 0) or np.any(alpha2 != 0))
-        values = [np.empty(size) for _ in range(6)]  # θ3, θ4, ω3, ω4, α3, α4
-        unreachable, singular = np.empty(size, bool), np.empty(size, bool)
-        any_unreachable = any_singular = False
-        first_undetermined = None
-        with np.errstate(invalid="ignore", divide="ignore"):
-            for start in range(0, size, BLOCK):
-                block = slice(start, start + BLOCK)
-                theta3, theta4 = values[0][block], values[1][block]
-                undetermined, bad, trig = self._block_positions(angles[block], branch, theta3, theta4,
-                                                                unreachable[block])
-                if bad is not None:
-                    any_unreachable = any_unreachable or bool(unreachable[block].any())
-                self._block_rates(
-                    angles[block], speed if np.ndim(speed) == 0 else speed[block],
-                    acceleration if np.ndim(acceleration) == 0 else acceleration[block], theta3, theta4,
-                    trig, bad, moving_any, [v[block] for v in values[2:]], singular[block])
-                if undetermined is not None and undetermined.any():
-                    singular[block] |= undetermined
-                    if first_undetermined is None:
-                        first_undetermined = start + int(np.flatnonzero(undetermined)[0])
-                any_singular = any_singular or bool(singular[block].any())
+        if shape:
+            values, unreachable, singular, first_undetermined = self._solve_blocks(
+                theta2, omega2, alpha2, shape, branch)
+            any_unreachable, any_singular = unreachable.any(), singular.any()
+        else:  # one instant: Python numbers throughout
+            values, unreachable, singular, undetermined = self._solve_one(
+                float(theta2), float(omega2), float(alpha2), branch)
+            any_unreachable, any_singular = unreachable, singular
+            first_undetermined = 0 if undetermined else None
         if any_unreachable:
             report_unreachable(
-                unreachable.reshape(shape),
+                np.reshape(unreachable, shape),
                 {"theta2": theta2},
                 f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle quadratic)",
                 on_unreachable,
             )
         if on_unreachable == "raise" and first_undetermined is not None:
-            first = np.unravel_index(first_undetermined, shape)
-            at = np.broadcast_to(theta2, shape)[first]
+            at = np.broadcast_to(theta2, shape)[np.unravel_index(first_undetermined, shape)]
             raise SingularJacobianError(
                 f"at theta2={at:.6g} the crank pin A lands on O4 and coupler = rocker, so B "
                 "may be anywhere on a circle of radius l3: the position is not determined (a change "
@@ -496,7 +546,8 @@ class FourBar:
         if on_unreachable == "raise" and any_singular:  # a toggle while moving (nothing else is left)
             first = int(np.flatnonzero(singular)[0])
             index = np.unravel_index(first, shape)
-            count = f" ({int(singular.sum())} of {size} inputs, first at index {first})" if shape else ""
+            count = f" ({int(singular.sum())} of {singular.size} inputs, first at index {first})" if shape \
+                else ""
             at = [np.broadcast_to(v, shape)[index] for v in (theta2, omega2, alpha2)]
             raise SingularJacobianError(
                 f"the loop Jacobian is singular at theta2={at[0]:.6g} (coupler and rocker "
@@ -504,18 +555,39 @@ class FourBar:
                 f"omega2={at[1]:.6g}, alpha2={at[2]:.6g}{count}",
                 x=float(at[0]),
             )
-        theta3, theta4, omega3, omega4, alpha3, alpha4 = (scalar_or_array(v.reshape(shape)) for v in values)
-        return FourBarSolution(
-            theta3=theta3,
-            theta4=theta4,
-            omega3=omega3,
-            omega4=omega4,
-            alpha3=alpha3,
-            alpha4=alpha4,
-            mask=scalar_or_array(unreachable.reshape(shape)),
-            singular=scalar_or_array(singular.reshape(shape)),
-            branch=branch,
-        )
+        if shape:
+            values = [v.reshape(shape) for v in values]
+            unreachable, singular = unreachable.reshape(shape), singular.reshape(shape)
+        return FourBarSolution(*values, mask=unreachable, singular=singular, branch=branch)
+
+    def _solve_blocks(self, theta2, omega2, alpha2, shape, branch: str):
+        """θ3, θ4, ω3, ω4, α3, α4 (flat arrays), the unreachable and singular masks and the flat index
+        of the first undetermined position (or None) for inputs broadcast to ``shape`` (not ()),
+        worked through in blocks of :data:`BLOCK` angles."""
+        # flat views (copies only where an input is broadcast); a number stays a number
+        angles = np.broadcast_to(theta2, shape).ravel()
+        speed, acceleration = (float(v) if np.ndim(v) == 0 else np.broadcast_to(v, shape).ravel()
+                               for v in (omega2, alpha2))
+        size = angles.size
+        moving_any = size > 0 and bool(np.any(omega2 != 0) or np.any(alpha2 != 0))
+        values = [np.empty(size) for _ in range(6)]  # θ3, θ4, ω3, ω4, α3, α4
+        unreachable, singular = np.empty(size, bool), np.empty(size, bool)
+        first_undetermined = None
+        with np.errstate(invalid="ignore", divide="ignore"):
+            for start in range(0, size, BLOCK):
+                block = slice(start, start + BLOCK)
+                theta3, theta4 = values[0][block], values[1][block]
+                undetermined, bad, trig = self._block_positions(angles[block], branch, theta3, theta4,
+                                                                unreachable[block])
+                self._block_rates(
+                    angles[block], speed if np.ndim(speed) == 0 else speed[block],
+                    acceleration if np.ndim(acceleration) == 0 else acceleration[block], theta3, theta4,
+                    trig, bad, moving_any, [v[block] for v in values[2:]], singular[block])
+                if undetermined is not None and undetermined.any():
+                    singular[block] |= undetermined
+                    if first_undetermined is None:
+                        first_undetermined = start + int(np.flatnonzero(undetermined)[0])
+        return values, unreachable, singular, first_undetermined
 
     # --------------------------------------------------------------- derived
     def joints(self, theta2, branch: str = "open", on_unreachable: str = "raise") -> np.ndarray:

@@ -8,6 +8,7 @@ Grashof cases.
 """
 
 import dataclasses
+import tracemalloc
 
 import numpy as np
 import pytest
@@ -15,8 +16,9 @@ from geometry import fourbar_pins
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
+from course_lib import fourbar
 from course_lib.errors import InvalidGeometryError, SingularJacobianError, UnreachableError
-from course_lib.fourbar import FourBar
+from course_lib.fourbar import BRANCHES, FourBar
 from course_lib.newton import newton
 
 DESK = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
@@ -456,3 +458,81 @@ def test_a_change_point_crank_turns_fully(lengths):
     # s + l = p + q: the crank passes the change point (coupler and rocker in line) and goes round
     linkage = FourBar(*lengths)
     assert linkage.grashof().name == "change-point" and linkage.input_range().full_rotation
+
+
+# ------------------------------------------------------------- one instant, blocks, memory
+LINKAGES = [DESK, FourBar(0.15, 0.10, 0.12, 0.20), FourBar(0.06, 0.18, 0.08, 0.20), FourBar(1, 1, 1, 1),
+            FourBar(0.12, 0.06, 0.18, 0.20)]
+
+
+@pytest.mark.parametrize("linkage", LINKAGES)
+def test_one_instant_gives_the_bits_of_the_array_solve(linkage):
+    # one angle is solved in Python numbers, an array in blocks: the same operations in the same order
+    toggles = linkage.input_range().toggle_angles
+    angles = np.r_[np.linspace(-4, 4, 81), 0.0, np.pi, toggles, np.add.outer(toggles, [-1e-9, 1e-9]).ravel()]
+    for branch in BRANCHES:
+        for omega2, alpha2 in ((0.0, 0.0), (10.0, -3.0), (0.0, 2.0)):
+            whole = linkage.solve(angles, omega2, alpha2, branch=branch, on_unreachable="nan")
+            for k, angle in enumerate(angles.tolist()):
+                one = linkage.solve(angle, omega2, alpha2, branch=branch, on_unreachable="nan")
+                assert np.array_equal(np.array(one), np.array(whole)[:, k], equal_nan=True), (branch, angle)
+                assert (one.mask, one.singular) == (whole.mask[k], whole.singular[k])
+                assert isinstance(one.theta4, float) and isinstance(one.mask, bool)
+
+
+def test_blocks_do_not_change_the_results(monkeypatch):
+    # toggles, unreachable angles and rates that differ from angle to angle, cut into blocks of 7
+    linkage = FourBar(0.15, 0.10, 0.12, 0.20)
+    angles = np.r_[np.linspace(-3, 3, 61), linkage.input_range().toggle_angles]
+    omega2 = np.where(np.arange(angles.size) % 3, 2.0, 0.0)
+    whole = linkage.solve(angles, omega2, 1.5, on_unreachable="nan")
+    monkeypatch.setattr(fourbar, "BLOCK", 7)
+    blocks = linkage.solve(angles, omega2, 1.5, on_unreachable="nan")
+    for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "mask", "singular"):
+        assert np.array_equal(getattr(blocks, name), getattr(whole, name), equal_nan=True), name
+    assert blocks.singular.sum() == 2 and blocks.mask.any() and not blocks.mask[-2:].any()
+
+
+def test_errors_name_the_first_bad_angle_of_any_block(monkeypatch):
+    monkeypatch.setattr(fourbar, "BLOCK", 4)
+    linkage = FourBar(0.15, 0.10, 0.12, 0.20)  # closes for |θ2| ≤ 1.3336
+    angles = np.zeros(30)
+    angles[[13, 22]] = 2.0
+    with pytest.raises(UnreachableError, match=r"theta2=2 \(2 of 30 inputs unreachable, first at index 13\)"):
+        linkage.solve(angles)
+    angles[[13, 22]] = linkage.input_range().toggle_angles[1]
+    with pytest.raises(SingularJacobianError, match=r"\(2 of 30 inputs, first at index 13\)"):
+        linkage.solve(angles, 1.0)
+    assert linkage.solve(angles).omega4[13] == 0.0  # at rest a toggle is fine
+    undetermined = np.r_[np.full(9, 1.0), 0.0]
+    with pytest.raises(SingularJacobianError, match=r"theta2=0\b.*not determined"):
+        FourBar(1, 1, 1, 1).solve(undetermined)
+
+
+def test_rates_are_those_of_the_declared_loop():
+    solution = DESK.solve(SWEEP, 10.0, -4.0)
+    q = np.stack([solution.theta3, solution.theta4], axis=-1)
+    q_rate, q_acc, singular = DESK.mechanism.rates(q, SWEEP[:, None], [10.0], [-4.0])
+    assert not singular.any()
+    np.testing.assert_allclose(q_rate, np.stack([solution.omega3, solution.omega4], -1), rtol=1e-12)
+    accelerations = np.stack([solution.alpha3, solution.alpha4], -1)
+    np.testing.assert_allclose(q_acc, accelerations, rtol=1e-12, atol=1e-12)
+
+
+def peak_bytes(function):
+    tracemalloc.start()
+    try:
+        function()
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+@pytest.mark.parametrize("size", [40_000, 160_000])
+def test_memory_beyond_the_results_does_not_grow_with_the_angles(monkeypatch, size):
+    # the results take 50 bytes per angle (six float64 and two bool arrays); the work is done per block
+    monkeypatch.setattr(fourbar, "BLOCK", 2000)
+    angles = np.linspace(0, 2 * np.pi, size)
+    DESK.solve(angles[:2], 10.0, 5.0)  # the rates' derivation, once
+    beyond = peak_bytes(lambda: DESK.solve(angles, 10.0, 5.0)) - 50 * size
+    assert beyond < 8 * 2000 * 60  # sixty block-sized float arrays, whatever the number of angles

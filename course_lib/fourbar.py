@@ -386,11 +386,12 @@ class FourBar:
 
     def _one_position(self, theta2: float, branch: str):
         """:meth:`_block_positions` for one crank angle, in Python numbers: the same operations in the
-        same order (math's cos, sin, atan2 and sqrt are numpy's), so the same bits, without the cost of
-        arrays.  Returns θ3, θ4, unreachable, undetermined and (cos, sin) of θ2, θ3, θ4."""
+        same order (cos, sin and arctan2 are numpy's, whose kernels differ from CPU to CPU), so the same
+        bits, without the cost of arrays.  Returns θ3, θ4, unreachable, undetermined and (cos, sin) of
+        θ2, θ3, θ4."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
-        cos2, sin2 = math.cos(theta2), math.sin(theta2)
+        cos2, sin2 = float(np.cos(theta2)), float(np.sin(theta2))
         A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
         B = -4 * l2 * l4 * sin2
         C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
@@ -410,10 +411,10 @@ class FourBar:
         xx, yy = x * x, y * y
         norm = xx + yy
         cos4, sin4 = ((xx - yy) / norm, 2 * x * y / norm) if norm != 0 else (math.nan, math.nan)  # as 0/0
-        theta4 = math.atan2(sin4, cos4)
+        theta4 = float(np.arctan2(sin4, cos4))
         coupler_x = l4 * cos4 + l1 - l2 * cos2
         coupler_y = l4 * sin4 - l2 * sin2
-        theta3 = math.atan2(coupler_y, coupler_x)
+        theta3 = float(np.arctan2(coupler_y, coupler_x))
         trig = (cos2, sin2, coupler_x / l3, coupler_y / l3, cos4, sin4)
         return theta3, theta4, unreachable, undetermined, trig
 

@@ -237,6 +237,8 @@ def _half_angle_root(a, b, c, sigma, scratch: _Scratch):
     bound += b_squared
     bound *= -_DISCRIMINANT_SLACK
     far = np.less(discriminant, bound, out=scratch.take(bool))
+    # a point so far away (|x3| or |y3| above about 1e150 m) that b² or 4ac overflow is out of reach too
+    far |= np.logical_not(np.isfinite(discriminant, out=scratch.take(bool)), out=scratch.take(bool))
     root = np.sqrt(np.clip(discriminant, 0.0, None, out=b_squared), out=b_squared)
     if sigma < 0:
         np.negative(root, out=root)                                        # σ√Δ
@@ -501,8 +503,9 @@ class FiveBar:
         with _in_blocks((X, Y), (float, float, bool, bool, bool)) as blocks:
             for x, y, *results in blocks:
                 scratch.start(len(x))
-                for result, value in zip(results, self._inverse_block(x, y, sigma1, sigma2, scratch),
-                                         strict=True):
+                with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
+                    solution = self._inverse_block(x, y, sigma1, sigma2, scratch)
+                for result, value in zip(results, solution, strict=True):
                     result[...] = value
             theta1, theta4, far1, far4, free = blocks.operands[2:]
         inputs = {"x3": x3, "y3": y3}
@@ -751,7 +754,8 @@ class FiveBar:
         with _in_blocks((X, Y), (bool,) + (float,) * 5) as blocks:
             for x3, y3, reachable, *angles, leg1, leg4, parallel in blocks:
                 scratch.start(len(x3))
-                theta1, theta4, far1, far4, free = self._inverse_block(x3, y3, sigma1, sigma2, scratch)
+                with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
+                    theta1, theta4, far1, far4, free = self._inverse_block(x3, y3, sigma1, sigma2, scratch)
                 np.logical_not(np.logical_or(np.logical_or(far1, far4, out=far1), free, out=far1),
                                out=reachable)
                 angles[0][...], angles[1][...] = theta1, theta4

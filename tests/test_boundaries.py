@@ -103,6 +103,20 @@ def test_a_point_just_outside_a_workspace_edge_is_refused_or_masked(l1, l2, l3, 
     assert not grid.reachable.any() and np.isnan(grid.parallel).all()
 
 
+@SETTINGS
+@given(exponent=st.floats(0.0, 308.0), phi=TURN, modes=st.sampled_from(WORKING_MODES))
+def test_a_point_far_outside_the_workspace_is_refused_by_name(exponent, phi, modes):
+    robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)          # reaches 0.29 m from the middle at most
+    point = (10.0**exponent * math.cos(phi), 10.0**exponent * math.sin(phi))   # 1 m … 1e308 m away
+    with strict():
+        with pytest.raises(UnreachableError, match="cannot reach the point"):
+            robot.inverse(*point, modes=modes)
+        masked = robot.inverse(*point, modes=modes, on_unreachable="nan")
+        grid = robot.workspace([point[0]], [point[1]], modes)
+    assert not masked.reachable and math.isnan(masked.theta1) and math.isnan(masked.theta4)
+    assert not grid.reachable.any() and np.isnan(grid.theta1).all()
+
+
 # ------------------------------------------------------------------ slider-crank dead centres
 def slider_dead_centres(crank, rod, offset, branch):
     """(θ2, slider x) where crank and rod lie in line, B on the line y = offset: stretched,

@@ -521,28 +521,38 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
         updates, steps, residuals = 0, None, None  # made by every row still iterating; its last norms
         while rows.size and updates < max_iter:
             whole = rows.size == N  # while every row iterates, slices avoid fancy-indexed copies
+            spread = not whole and 2 * rows.size >= N  # most do: solve every row, update those iterating
             if fixed is not None:
-                stack = fixed if whole else fixed.take(rows)
+                stack = fixed if whole or spread else fixed.take(rows)
             else:
-                stack = LinearStack(J(), None if whole else rows)
-            bad = stack.singular
+                stack = LinearStack(J(), None if whole or spread else rows)
+            bad = stack.singular[rows] if spread else stack.singular
             if bad.any():
-                singular[rows[bad & stack.finite]] = True
+                singular[rows[bad & (stack.finite[rows] if spread else stack.finite)]] = True
                 keep = ~bad
-                stack, whole = stack.take(keep), False
+                stack, whole, spread = stack.take(rows[keep] if spread else keep), False, False
                 rows, steps, residuals = record(bad, keep)
                 if rows.size == 0:
                     break
             sel = slice(None) if whole else rows
-            step = stack.solve(-fx[sel])
-            x[sel] += step
+            if spread:
+                step, iterating = stack.solve(fx), np.zeros((N, 1), dtype=bool)
+                iterating[rows] = True
+                np.subtract(x, step, out=x, where=iterating)
+                steps = _row_norms(step)[rows]
+            else:
+                step = stack.solve(fx[sel])  # −(the step): Cramer's rule is odd in b, to the bit
+                x[sel] -= step
+                steps = _row_norms(step)
             updates += 1
-            steps = _row_norms(step)
             fx, J = evaluate(x)
             residuals = _row_norms(fx[sel])
             done = (steps < tol) & (residuals <= residual_tol)
             stop = done | ~np.isfinite(steps + residuals)
-            if stop.any():
+            if stop.all():  # every row left stops: no rows to pick out
+                converged[sel], iterations[sel] = done, updates
+                step_norms[sel], residual_norms[sel], rows = steps, residuals, rows[:0]
+            elif stop.any():
                 converged[rows[stop]] = done[stop]
                 rows, steps, residuals = record(stop, ~stop)
         if rows.size:  # max_iter updates without stopping

@@ -354,3 +354,20 @@ def test_batch_with_a_constant_jacobian_is_the_run_with_that_jacobian_as_a_calla
                                atol=1e-14)
     with pytest.raises(InvalidGeometryError, match=r"a constant jac must be a stack of shape \(30, 3, 3\)"):
         newton_batch(F, np.zeros((30, 3)), jac=J[:2])
+
+
+def test_batch_rows_stopping_at_different_updates_are_each_the_single_run():
+    # rows 0–1 start on their root (stop after one update), rows 2–3 step onto x = 0 where J is singular
+    # while most rows still iterate, rows 8–9 have no real root: each row as newton() alone would run it
+    x0 = np.array([2.0, 3.0, 1.0, 2.0, 1.0, 5.0, 0.5, 9.0, 1.0, 2.0])
+    targets = np.array([4.0, 9.0, -1.0, -4.0, 2.0, 3.0, 7.0, 0.1, -1.5, -3.0])
+    batch = newton_batch(lambda x: x**2 - targets[:, None], x0[:, None], jac=lambda x: 2 * x[:, :, None],
+                         tol=1e-12, max_iter=30)
+    for k in range(10):
+        single = newton(lambda x, k=k: x**2 - targets[k], x0[k], jac=lambda x: 2 * x, tol=1e-12, max_iter=30,
+                        on_failure="report")
+        assert (batch.iterations[k], batch.converged[k], batch.singular[k]) == (
+            single.iterations, single.converged, single.singular), k
+        assert batch.x[k, 0] == single.x, k
+    assert batch.iterations[:2].tolist() == [1, 1]
+    assert batch.singular.tolist() == [False] * 2 + [True] * 2 + [False] * 6

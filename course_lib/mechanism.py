@@ -428,6 +428,19 @@ class Mechanism:
         terms = self._acceleration_fn(self._values, q, q_rate, u, u_rate, u_acceleration, known=known)
         return _vector(terms, 0, len(self.unknowns))
 
+    def newton_function(self, u) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+        """q ↦ (F(q, u), J(q, u)) at the fixed inputs ``u`` (N, m), for ``newton_batch(..., jac=True)``:
+        F and J from one evaluation, sharing the cos and sin of q, those of ``u`` computed once for
+        every call.
+
+        >>> th, x = sp.symbols("theta x")
+        >>> F = Mechanism([x**2 - th], [x], [th]).newton_function(np.array([[4.0], [9.0]]))
+        >>> newton_batch(F, np.ones((2, 1)), jac=True).x[:, 0].tolist()
+        [2.0, 3.0]
+        """
+        u, known = np.asarray(u, dtype=float), {}
+        return lambda q: self._newton_terms(q, u, known)
+
     def residual(self, q, u) -> np.ndarray:
         """F(q, u), shape (..., n): ``q`` (..., n) ordered as ``unknowns``, ``u`` (..., m) as ``inputs``.
 

@@ -277,6 +277,21 @@ def test_residual_and_jacobian_alone_are_the_bits_newton_and_the_rates_use():
         assert mechanism.residual(q[0], u[0]).shape == (n,) and mechanism.jacobian(q[0], u[0]).shape == (n, n)
 
 
+def test_newton_function_solves_the_loop_as_the_closed_form_does():
+    from course_lib.newton import newton_batch
+
+    theta2 = np.linspace(0.0, 2 * np.pi, 50, endpoint=False)[:, None]
+    function = WIPER.newton_function(theta2)
+    q = np.column_stack([np.full(50, 0.5), np.full(50, 1.5)])
+    F, J = function(q)
+    np.testing.assert_array_equal(F, WIPER.residual(q, theta2))
+    np.testing.assert_allclose(J, WIPER.jacobian(q, theta2), rtol=1e-14, atol=1e-15)
+    result = newton_batch(function, np.tile([0.6, 2.0], (50, 1)), jac=True, tol=1e-12)
+    closed = DESK.solve(theta2[:, 0])
+    assert result.converged.all()
+    assert angle_gap(result.x, np.column_stack([closed.theta3, closed.theta4])) < 1e-12
+
+
 def test_simultaneous_3n_system_gives_the_staged_answer():
     u, u_rate, u_acc = [0.7], [10.0], [3.0]
     staged = WIPER.solve({th2: 0.7}, {th2: 10.0}, {th2: 3.0}, guess=GUESS)

@@ -45,7 +45,7 @@ from .errors import (
     require_positive,
 )
 from .newton import linear_solver
-from .planar import Unpacks, scalar_or_array
+from .planar import Unpacks, scalar_or_array, wrap_angle
 
 __all__ = [
     "FiveBar",
@@ -72,6 +72,10 @@ _DISCRIMINANT_SLACK = 1e-12
 #: Points per block of the closed forms over large arrays: the temporaries of one block stay in the
 #: processor's cache and the memory beyond the results stays flat in the number of points.
 _BLOCK = 65_536
+
+#: Up to this many points the closed forms run on the whole arrays at once, the plain way (their
+#: temporaries are small and a few calls cost less than the blocks' bookkeeping); beyond, in blocks.
+_SMALL = 4096
 
 
 @dataclass(frozen=True)
@@ -196,9 +200,10 @@ def _in_blocks(inputs, outputs) -> np.nditer:
 class _Scratch:
     """Arrays of one block's length for the temporaries of the block kernels, allocated at the first
     block and handed out again at every later one (a fresh array of 64K doubles costs the operating
-    system's page faults, more than the arithmetic on it)."""
+    system's page faults, more than the arithmetic on it).  ``points``: how many the call has."""
 
-    def __init__(self) -> None:
+    def __init__(self, points: int) -> None:
+        self._length = max(1, min(points, _BLOCK))
         self._arrays: dict = {}
         self._taken: dict = {}
         self._size = 0
@@ -212,20 +217,39 @@ class _Scratch:
         index = self._taken.get(dtype, 0)
         self._taken[dtype] = index + 1
         if (dtype, index) not in self._arrays:
-            self._arrays[dtype, index] = np.empty(_BLOCK, dtype=dtype)
+            self._arrays[dtype, index] = np.empty(self._length, dtype=dtype)
         return self._arrays[dtype, index][: self._size]
 
 
-def _half_angle_root(a, b, c, sigma, scratch: _Scratch):
-    """θ = 2·atan((−b + σ√Δ)/2a) without dividing by a small number, for the arrays a, b, c of one block.
+def _half_angle_root(a, b, c, sigma):
+    """θ = 2·atan((−b + σ√Δ)/2a) without dividing by a small number.
 
     The root α = (−b + σ√Δ)/(2a) equals 2c/(−b − σ√Δ) (same σ).  Of the two
     fractions the one with the larger numerator/denominator pair is used, as
     2·atan2(numerator, denominator), which equals 2·atan(α) modulo 2π and stays
     right when a → 0 (θ = ±π).  Returns θ in (−π, π] and two masks: the discriminant is
     negative beyond rounding (out of reach; √Δ is taken as 0 there) and the angle is
-    undetermined (a = b = c = 0).  Worked in place, in arrays from ``scratch``.
+    undetermined (a = b = c = 0).  A point so far away (|x3| or |y3| above about 1e150 m)
+    that b² or 4ac overflow is out of reach too.
     """
+    discriminant = b * b - 4 * a * c
+    slack = _DISCRIMINANT_SLACK * (b * b + 4 * np.abs(a * c))
+    root = np.sqrt(np.clip(discriminant, 0.0, None))
+    numerator_1, denominator_1 = -b + sigma * root, 2 * a
+    numerator_2, denominator_2 = 2 * c, -b - sigma * root
+    size_1 = np.maximum(np.abs(numerator_1), np.abs(denominator_1))
+    size_2 = np.maximum(np.abs(numerator_2), np.abs(denominator_2))
+    use_first = size_1 >= size_2
+    numerator = np.where(use_first, numerator_1, numerator_2)
+    denominator = np.where(use_first, denominator_1, denominator_2)
+    theta = wrap_angle(2 * np.arctan2(numerator, denominator), nan_ok=True)
+    undetermined = np.maximum(size_1, size_2) <= 1e-14 * (np.abs(a) + np.abs(b) + np.abs(c) + 1e-300)
+    return theta, (discriminant < -slack) | ~np.isfinite(discriminant), undetermined
+
+
+def _half_angle_root_in_place(a, b, c, sigma, scratch: _Scratch):
+    """``_half_angle_root`` for the arrays a, b, c of one block, operation for operation (the same
+    numbers), worked in place in arrays from ``scratch``."""
     b_squared = np.multiply(b, b, out=scratch.take())
     discriminant = np.multiply(4, a, out=scratch.take())
     discriminant *= c
@@ -497,24 +521,41 @@ class FiveBar:
         """
         sigma1, sigma2 = _working_mode(modes)
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
-        X, Y = require_finite("x3", x3, "m"), require_finite("y3", y3, "m")
-        require_broadcast(x3=X, y3=Y)
-        scratch = _Scratch()
-        with _in_blocks((X, Y), (float, float, bool, bool, bool)) as blocks:
-            for x, y, *results in blocks:
-                scratch.start(len(x))
-                with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
-                    solution = self._inverse_block(x, y, sigma1, sigma2, scratch)
-                for result, value in zip(results, solution, strict=True):
-                    result[...] = value
-            theta1, theta4, far1, far4, free = blocks.operands[2:]
+        X, Y = require_broadcast(x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
+        with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
+            if X.size <= _SMALL:
+                theta1, theta4, far1, far4, free = self._inverse_whole(X, Y, sigma1, sigma2)
+            else:
+                theta1, theta4, far1, far4, free = self._inverse_blocks(X, Y, sigma1, sigma2)
         inputs = {"x3": x3, "y3": y3}
         report_unreachable(far1, inputs, "leg 1 (l1, l2) cannot reach the point", on_unreachable)
         report_unreachable(far4, inputs, "leg 4 (l4, l3) cannot reach the point", on_unreachable)
         report_unreachable(free, inputs, "a crank angle is undetermined (P3 on a base pivot)", on_unreachable)
-        reachable = np.logical_or(far1, far4, out=far1)
+        reachable = np.logical_or(far1, far4, out=np.asarray(far1))
         reachable = np.logical_not(np.logical_or(reachable, free, out=reachable), out=reachable)
         return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(reachable))
+
+    def _inverse_whole(self, X, Y, sigma1: int, sigma2: int):
+        """The closed-form inverse kinematics on whole arrays (or numbers) X, Y at once: θ1, θ4 (NaN
+        where out of reach) and the masks: leg 1 cannot reach, leg 4 cannot reach, a crank angle is
+        undetermined."""
+        k = self._inverse_coefficients(X, Y)
+        theta1, far1, free1 = _half_angle_root(k["a1"], k["b1"], k["c1"], sigma1)
+        theta4, far4, free4 = _half_angle_root(k["a2"], k["b2"], k["c2"], sigma2)
+        free = (free1 | free4) & ~(far1 | far4)
+        bad = far1 | far4 | free
+        return np.where(bad, np.nan, theta1), np.where(bad, np.nan, theta4), far1, far4, free
+
+    def _inverse_blocks(self, X, Y, sigma1: int, sigma2: int):
+        """``_inverse_whole``, the same numbers, for large arrays: block by block, in place."""
+        with _in_blocks((X, Y), (float, float, bool, bool, bool)) as blocks:
+            scratch = _Scratch(blocks.itersize)
+            for x, y, *results in blocks:
+                scratch.start(len(x))
+                for result, value in zip(results, self._inverse_block(x, y, sigma1, sigma2, scratch),
+                                         strict=True):
+                    result[...] = value
+            return blocks.operands[2:]
 
     def _inverse_block(self, x, y, sigma1: int, sigma2: int, scratch: _Scratch):
         """The closed-form inverse kinematics on one block of points: θ1, θ4 (NaN where out of reach)
@@ -548,7 +589,7 @@ class FiveBar:
             c += common
             b = np.multiply(-4 * crank, y, out=scratch.take())
             b += zero_x
-            roots.append(_half_angle_root(a, b, c, sigma, scratch))
+            roots.append(_half_angle_root_in_place(a, b, c, sigma, scratch))
         (theta1, far1, free1), (theta4, far4, free4) = roots
         bad = np.logical_or(far1, far4, out=scratch.take(bool))
         free = np.logical_or(free1, free4, out=free1)
@@ -750,19 +791,28 @@ class FiveBar:
             raise InvalidGeometryError(f"x and y must be 1-D grid vectors; got shapes {x.shape}, {y.shape}")
         X, Y = np.meshgrid(x, y)
         sigma1, sigma2 = _working_mode(modes)
-        scratch = _Scratch()
+        with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
+            if X.size <= _SMALL:
+                theta1, theta4, far1, far4, free = self._inverse_whole(X, Y, sigma1, sigma2)
+                # NaN angles where out of reach give NaN measures there
+                maps = (~(far1 | far4 | free), theta1, theta4, *self._measures(theta1, theta4, X, Y))
+            else:
+                maps = self._workspace_blocks(X, Y, sigma1, sigma2)
+        return WorkspaceMap(X, Y, *maps, tuple(modes))
+
+    def _workspace_blocks(self, X, Y, sigma1: int, sigma2: int):
+        """Reachable mask, θ1, θ4 and the three measures over the grid X, Y, block by block in place
+        (the same numbers as ``_inverse_whole`` and ``_measures``)."""
         with _in_blocks((X, Y), (bool,) + (float,) * 5) as blocks:
+            scratch = _Scratch(blocks.itersize)
             for x3, y3, reachable, *angles, leg1, leg4, parallel in blocks:
                 scratch.start(len(x3))
-                with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
-                    theta1, theta4, far1, far4, free = self._inverse_block(x3, y3, sigma1, sigma2, scratch)
+                theta1, theta4, far1, far4, free = self._inverse_block(x3, y3, sigma1, sigma2, scratch)
                 np.logical_not(np.logical_or(np.logical_or(far1, far4, out=far1), free, out=far1),
                                out=reachable)
                 angles[0][...], angles[1][...] = theta1, theta4
-                # NaN angles where out of reach give NaN measures there
                 self._measures_block(theta1, theta4, x3, y3, scratch, leg1, leg4, parallel)
-            maps = blocks.operands[2:]
-        return WorkspaceMap(X, Y, *maps, tuple(modes))
+            return blocks.operands[2:]
 
     def draw(self, theta1: float, theta4: float, x3: float, y3: float, ax=None, title: str | None = None,
              **style):

@@ -77,6 +77,10 @@ TOGGLE_TOL = 1e-7  # the square root of rounding in |AO4|² at a change point
 #: smaller negative values are rounding at a toggle and are taken as zero.
 DISCRIMINANT_TOL = 1e-12
 
+#: |sin(θ3 − θ4)| that a whole block provably stays above (read off its smallest discriminant, with
+#: room for rounding) lets it skip the toggle test: far from SINGULAR_TOL, as a working linkage is.
+TOGGLE_FREE = 1e-3
+
 #: Crank angles per block of an array solve: one block's working arrays stay in cache, and the memory
 #: beyond the results does not grow with the number of angles.
 BLOCK = 1 << 16
@@ -300,7 +304,8 @@ class FourBar:
         ``theta4`` (NaN where unreachable or undetermined) and the unreachable mask into ``unreachable``.
 
         Returns the undetermined mask (None when coupler ≠ rocker: it cannot occur), the mask of NaN
-        positions (None when there is none) and (cos, sin) of θ2, θ3, θ4.
+        positions (None when there is none), (cos, sin) of θ2, θ3, θ4, and whether every angle of the
+        block is so far from a toggle that the toggle test cannot find one (see :data:`TOGGLE_FREE`).
 
         Norton's A, B, C of A·t² + B·t + C = 0, t = tan(θ4/2), are used times 2·l2·l4 (> 0: same
         roots): with K1 = l1/l2, K2 = l1/l4, K3 = (l2² − l3² + l4² + l1²)/(2 l2 l4) Norton writes
@@ -325,7 +330,10 @@ class FourBar:
         discriminant = np.multiply(A, 4)
         discriminant *= C
         np.subtract(square, discriminant, out=discriminant)  # B² − 4AC (B² ≥ +0: never −0)
-        clean = discriminant.size == 0 or discriminant.min() >= 0  # the usual case: every loop closes
+        smallest = discriminant.min()
+        clean = smallest >= 0  # the usual case: every loop closes
+        # B² − 4AC = 16 l3² l4² sin²(θ3 − θ4), with a rounding error below 1e-12 (|A|, |B|, |C| < 10)
+        toggle_free = smallest >= max(16 * l3**2 * l4**2 * TOGGLE_FREE**2, 1e-9)
         if clean:
             unreachable[...] = False
         else:
@@ -382,7 +390,7 @@ class FourBar:
         np.arctan2(coupler_y, coupler_x, out=theta3)
         coupler_x /= l3
         coupler_y /= l3
-        return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4)
+        return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4), toggle_free
 
     def _one_position(self, theta2: float, branch: str):
         """:meth:`_block_positions` for one crank angle, in Python numbers: the same operations in the
@@ -446,37 +454,38 @@ class FourBar:
             rates = [*q_rate[0].tolist(), *q_acc[0].tolist()]
         return [theta3, theta4, *rates], unreachable, singular or undetermined, undetermined
 
-    def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, moving_any: bool, rates,
-                     singular: np.ndarray) -> None:
-        """ω3, ω4, α3, α4 of one block into ``rates`` (4 arrays) from the loop declared on the core
-        (:attr:`mechanism`): J·[ω3, ω4] = b and J·[α3, α4] = b' with the closed form's sines and
-        cosines; NaN at a toggle while moving (flagged in ``singular``), and where ``bad`` (a mask or
-        None) marks a position that is NaN.  ``omega2``, ``alpha2``: numbers or arrays like ``theta2``."""
+    def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, toggle_free: bool,
+                     moving_any: bool, omegas: np.ndarray, alphas: np.ndarray, singular: np.ndarray) -> None:
+        """(ω3, ω4) and (α3, α4) of one block into ``omegas`` and ``alphas`` (n, 2) from the loop declared
+        on the core (:attr:`mechanism`): J·[ω3, ω4] = b and J·[α3, α4] = b' with the closed form's sines
+        and cosines; NaN at a toggle while moving (flagged in ``singular``), and where ``bad`` (a mask
+        or None) marks a position that is NaN.  ``omega2``, ``alpha2``: numbers or arrays like ``theta2``."""
         cos2, sin2, cos3, sin3, cos4, sin4 = trig
-        toggle = np.multiply(sin3, cos4)
-        toggle -= cos3 * sin4
-        toggle = np.abs(toggle, out=toggle) < SINGULAR_TOL  # det J = l3·l4·sin(θ3 − θ4)
-        moving = np.logical_or(np.not_equal(omega2, 0), np.not_equal(alpha2, 0))  # a numpy bool or array
-        np.logical_and(toggle, moving, out=singular)
-        if bad is not None:
-            singular &= ~bad
-        if not moving_any:  # at rest: no rates to solve for
+        if not moving_any:  # at rest: no rates to solve for, nothing singular
+            singular[...] = False
+            omegas[...], alphas[...] = 0.0, 0.0
             undefined = np.isnan(cos3)
-            for values in rates:
-                values[...] = 0.0
-                if undefined.any():
-                    values[undefined] = np.nan
+            if undefined.any():
+                omegas[undefined], alphas[undefined] = np.nan, np.nan
             return
-        q_rate, q_acc = self._core_rates(np.stack([theta3, theta4], axis=-1), theta2[:, None],
-                                         np.reshape(omega2, (-1, 1)), np.reshape(alpha2, (-1, 1)), trig,
-                                         toggle)
-        for values, solved in zip(rates, (q_rate[:, 0], q_rate[:, 1], q_acc[:, 0], q_acc[:, 1]), strict=True):
-            values[...] = solved
-        if toggle.any():  # a toggle at rest: b = 0, so the rates are 0; moving: NaN
+        if toggle_free:
+            toggle = np.zeros(theta2.shape, bool)
+            singular[...] = False
+        else:
+            toggle = np.multiply(sin3, cos4)
+            toggle -= cos3 * sin4
+            toggle = np.abs(toggle, out=toggle) < SINGULAR_TOL  # det J = l3·l4·sin(θ3 − θ4)
+            moving = np.logical_or(np.not_equal(omega2, 0), np.not_equal(alpha2, 0))  # numpy bool or array
+            np.logical_and(toggle, moving, out=singular)
+            if bad is not None:
+                singular &= ~bad
+        omegas[...], alphas[...] = self._core_rates(
+            np.stack([theta3, theta4], axis=-1), theta2[:, None], np.reshape(omega2, (-1, 1)),
+            np.reshape(alpha2, (-1, 1)), trig, toggle)
+        if not toggle_free and toggle.any():  # a toggle at rest: b = 0, so the rates are 0; moving: NaN
             at_rest = toggle & ~moving
-            for values in rates:
-                values[at_rest] = 0.0
-                values[singular] = np.nan
+            omegas[at_rest], alphas[at_rest] = 0.0, 0.0
+            omegas[singular], alphas[singular] = np.nan, np.nan
 
     # ---------------------------------------------------------------- solve
     def solve(
@@ -571,23 +580,25 @@ class FourBar:
                                for v in (omega2, alpha2))
         size = angles.size
         moving_any = size > 0 and bool(np.any(omega2 != 0) or np.any(alpha2 != 0))
-        values = [np.empty(size) for _ in range(6)]  # θ3, θ4, ω3, ω4, α3, α4
+        angles3, angles4 = np.empty(size), np.empty(size)
+        omegas, alphas = np.empty((size, 2)), np.empty((size, 2))  # (ω3, ω4) and (α3, α4), as the core's
         unreachable, singular = np.empty(size, bool), np.empty(size, bool)
         first_undetermined = None
         with np.errstate(invalid="ignore", divide="ignore"):
             for start in range(0, size, BLOCK):
                 block = slice(start, start + BLOCK)
-                theta3, theta4 = values[0][block], values[1][block]
-                undetermined, bad, trig = self._block_positions(angles[block], branch, theta3, theta4,
-                                                                unreachable[block])
+                theta3, theta4 = angles3[block], angles4[block]
+                undetermined, bad, trig, toggle_free = self._block_positions(
+                    angles[block], branch, theta3, theta4, unreachable[block])
                 self._block_rates(
                     angles[block], speed if np.ndim(speed) == 0 else speed[block],
                     acceleration if np.ndim(acceleration) == 0 else acceleration[block], theta3, theta4,
-                    trig, bad, moving_any, [v[block] for v in values[2:]], singular[block])
+                    trig, bad, toggle_free, moving_any, omegas[block], alphas[block], singular[block])
                 if undetermined is not None and undetermined.any():
                     singular[block] |= undetermined
                     if first_undetermined is None:
                         first_undetermined = start + int(np.flatnonzero(undetermined)[0])
+        values = [angles3, angles4, omegas[:, 0], omegas[:, 1], alphas[:, 0], alphas[:, 1]]
         return values, unreachable, singular, first_undetermined
 
     # --------------------------------------------------------------- derived

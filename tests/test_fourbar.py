@@ -536,3 +536,23 @@ def test_memory_beyond_the_results_does_not_grow_with_the_angles(monkeypatch, si
     DESK.solve(angles[:2], 10.0, 5.0)  # the rates' derivation, once
     beyond = peak_bytes(lambda: DESK.solve(angles, 10.0, 5.0)) - 50 * size
     assert beyond < 8 * 2000 * 60  # sixty block-sized float arrays, whatever the number of angles
+
+
+def test_the_toggle_test_is_skipped_only_where_it_cannot_fire():
+    # a block whose smallest discriminant proves |sin(θ3 − θ4)| ≥ TOGGLE_FREE skips the test for < 1e-7
+    rng = np.random.default_rng(7)
+    steps = np.logspace(-12, -1, 12)
+    skipped = 0
+    for lengths in np.exp(rng.uniform(np.log(1e-3), 0, (300, 4))):
+        linkage = FourBar(*lengths)
+        toggles = np.array(linkage.input_range().toggle_angles)
+        for angle in np.r_[rng.uniform(-4, 4, 5), np.add.outer(toggles, np.r_[-steps, steps]).ravel()]:
+            theta3, theta4, unreachable = np.empty(1), np.empty(1), np.empty(1, bool)
+            with np.errstate(all="ignore"):
+                *_, trig, toggle_free = linkage._block_positions(np.array([angle]), "open", theta3, theta4,
+                                                                 unreachable)
+            _, _, cos3, sin3, cos4, sin4 = trig
+            if toggle_free:
+                skipped += 1
+                assert abs(sin3 * cos4 - cos3 * sin4)[0] >= fourbar.TOGGLE_FREE / 2  # ≫ SINGULAR_TOL
+    assert skipped > 500

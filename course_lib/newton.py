@@ -135,9 +135,10 @@ def _rows_product(a: list, n: int):
     return product
 
 
-#: Cofactors of a 3×3 matrix, entries numbered row by row: C[k] = a[i]·a[j] − a[p]·a[q] for the four rows
-#: (i, j, p, q) of this table; C[i, j] = A[i+1, j+1]·A[i+2, j+2] − A[i+1, j+2]·A[i+2, j+1] (indices mod 3),
-#: the products of :func:`_adjugate` (adj J = Cᵀ), so that a stack costs four gathers, not 27 products.
+#: Cofactors of a 3×3 matrix, entries a numbered row by row, from this table T:
+#: C[k] = a[T[0, k]]·a[T[1, k]] − a[T[2, k]]·a[T[3, k]], i.e. C[i, j] = A[i+1, j+1]·A[i+2, j+2] −
+#: A[i+1, j+2]·A[i+2, j+1] (indices mod 3): the products of :func:`_adjugate` (adj J = Cᵀ), so that a
+#: stack costs four gathers, not 27 products.
 _COFACTORS_3 = np.array([[4, 5, 3, 7, 8, 6, 1, 2, 0], [8, 6, 7, 2, 0, 1, 5, 3, 4],
                          [5, 3, 4, 8, 6, 7, 2, 0, 1], [7, 8, 6, 1, 2, 0, 4, 5, 3]])
 

@@ -511,7 +511,9 @@ class FiveBar:
 
         Raises ``UnreachableError`` where a leg cannot reach (x3, y3) (negative
         discriminant) or its crank angle is undetermined (P3 on P1 with l1 = l2, or on P5
-        with l4 = l3), unless ``on_unreachable="nan"``; ``InvalidGeometryError`` for a bad mode.
+        with l4 = l3), unless ``on_unreachable="nan"``; ``InvalidGeometryError`` for a bad mode
+        or a non-finite x3, y3.  Arrays of more than 4096 points are worked through in blocks
+        of 65,536, so the memory beyond the results does not grow with their size.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(+1, -1))
@@ -778,7 +780,8 @@ class FiveBar:
     def workspace(self, x, y, modes: tuple[int, int] = (1, 1)) -> WorkspaceMap:
         """Inverse kinematics of working mode ``modes`` = (σ1, σ2) over the grid spanned by the
         1-D coordinate vectors ``x``, ``y`` (metres): reachable mask, crank angles and the three
-        singularity measures (see ``WorkspaceMap``).
+        singularity measures (see ``WorkspaceMap``).  Points out of reach get NaN angles and
+        measures; large grids are worked through in blocks, as in ``inverse``.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> w = robot.workspace(np.linspace(-0.3, 0.3, 61), np.linspace(-0.3, 0.3, 61))

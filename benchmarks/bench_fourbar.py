@@ -2,7 +2,9 @@
 
 1. ``FourBar.solve``: the vectorized closed form (half-angle quadratic, Cramer's rule for the rates).
 2. ``newton_batch`` on the two loop equations for all points at once (seed: the middle of the open
-   branch's range), then the rates from stacked 2×2 ``numpy.linalg.solve`` with the same Jacobian.
+   branch's range), F and J from one evaluation of the declared loop with θ2's cos and sin computed
+   once (``Mechanism.newton_function``), each step a 2×2 Cramer solve; then the rates in one linear
+   solve each with the same Jacobian (``Mechanism.rates``).
 3. A Python loop calling ``scipy.optimize.root`` per crank angle (plus two 2×2 solves per point):
    too slow for 10⁶ points, so it is timed on an evenly spread sample and scaled per point.
 4. The generic core: the loop declared once on ``course_lib.mechanism.Mechanism`` (sympy, lambdified),
@@ -75,17 +77,11 @@ def rates(theta2, angles, omega2, alpha2):
 
 
 def batched_newton(theta2):
-    column = theta2[:, None]
-
-    def residual(x):
-        return LINKAGE.loop_residual(column[:, 0], x[:, 0], x[:, 1])
-
-    def jacobian(x):
-        return LINKAGE.loop_jacobian(x[:, 0], x[:, 1])
-
-    result = newton_batch(residual, np.tile(SEED, (theta2.size, 1)), jacobian, tol=1e-12, max_iter=30)
-    angles = result.x
-    return np.concatenate([angles, rates(theta2, angles, OMEGA2, ALPHA2)], axis=-1), result
+    column, loop = theta2[:, None], LINKAGE.mechanism
+    result = newton_batch(loop.newton_function(column), np.tile(SEED, (theta2.size, 1)), jac=True, tol=1e-12,
+                          max_iter=30)
+    velocity, acceleration, _ = loop.rates(result.x, column, [OMEGA2], [ALPHA2])
+    return np.concatenate([result.x, velocity, acceleration], axis=-1), result
 
 
 def core_sweep(theta2):

@@ -1157,6 +1157,7 @@ def mechanism_explorer(
     ground=(),
     trace=(),
     blocks=(),
+    styles: Mapping | None = None,
     rates: Mapping | None = None,
     readout: Callable[[object], Sequence[str]] | None = None,
     title: str = "mechanism",
@@ -1170,7 +1171,8 @@ def mechanism_explorer(
     An angle input (a name starting with "theta") gets a slider in degrees over [−180°, 180°];
     any other input a slider over the sweep's values.  The linkage is drawn from the declared
     points and links through :class:`~course_lib.plotting.LinkageArtist`, with the fixed-pivot
-    symbol at the ``ground`` points and slider blocks at the ``blocks`` points.  ``rates`` (input → rate) go
+    symbol at the ``ground`` points and slider blocks at the ``blocks`` points (``styles``: line
+    properties by link name, "link 1", "link 2", … in the declared order).  ``rates`` (input → rate) go
     to each solve, so ``readout(instant)`` (the :class:`~course_lib.mechanism.Motion` at the
     slider's value → lines of text) can show velocities; by default each unknown is listed.
     A value where the loops cannot be closed is reported in the readout; nothing raises.
@@ -1206,7 +1208,8 @@ def mechanism_explorer(
     label = f"{name.replace('theta', 'θ')} ({'°' if angle else 'm'})"
     controls = {key: _slider(label, first, low, high, step, ".0f" if angle else ".4f")}
     figure = _figure(*size)
-    ax = figure.add_axes((0.17, 0.13, 0.78, 0.8))
+    width, height = figure.get_size_inches()  # margins in inches, for the labels and the title
+    ax = figure.add_axes((0.75 / width, 0.5 / height, 1 - 0.9 / width, 1 - 0.8 / height))
     ax.set(xlabel="x (m)", ylabel="y (m)", title=title)
     ax.grid(True, linestyle="--", alpha=0.5)
     paths = mechanism.joints(motion)
@@ -1219,7 +1222,7 @@ def mechanism_explorer(
     for point in ground:
         ax.add_patch(Polygon(_ground_triangle(0.03 * span) + paths[point][0], closed=True,
                              facecolor="none", edgecolor="0.3", hatch="///"))
-    drawing = LinkageArtist(ax, mechanism.links, blocks=blocks, animated=True)
+    drawing = LinkageArtist(ax, mechanism.links, blocks=blocks, styles=styles, animated=True)
     artists = {**drawing.artists,
                "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
                                   fontsize=10, fontweight="bold", animated=True)}

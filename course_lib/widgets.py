@@ -55,9 +55,15 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon
 from PIL import Image as PILImage
 
-from .errors import CourseLibError, InvalidGeometryError
+from .errors import (
+    ConvergenceError,
+    CourseLibError,
+    InvalidGeometryError,
+    SingularJacobianError,
+    UnreachableError,
+)
 from .fourbar import BRANCHES, FourBar
-from .plotting import LINK_COLORS, LinkageArtist, _Quantizer
+from .plotting import LINK_COLORS, LinkageArtist, _pair, _positive_number, _Quantizer, _sequence
 
 __all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer",
            "mechanism_explorer"]
@@ -1195,6 +1201,16 @@ def mechanism_explorer(
     if not isinstance(motion, Motion) or np.ndim(next(iter(motion.inputs.values()))) != 1:
         raise InvalidGeometryError(f"motion must be a sweep solved by mechanism.solve (one input array); "
                                    f"got {type(motion).__name__}")
+    if not np.any(motion.converged):
+        raise InvalidGeometryError("motion must have a solved instant to start from; none converged")
+    if readout is not None and not callable(readout):
+        raise InvalidGeometryError(f"readout must be a function of the instant, or None; got {readout!r}")
+    width, height = (_positive_number(f"size[{k}]", value) for k, value in enumerate(_pair("size", size)))
+    for argument, keys in (("ground", ground), ("trace", trace)):
+        unknown = [key for key in _sequence(argument, keys) if key not in mechanism.points]
+        if unknown:
+            raise InvalidGeometryError(f"{argument} names {unknown[0]!r}, not a declared point; points: "
+                                       f"{list(mechanism.points)}")
     if len(mechanism.inputs) != 1 or not mechanism.links:
         raise InvalidGeometryError(f"mechanism must have one input and declared links; got inputs "
                                    f"{[s.name for s in mechanism.inputs]} and links {list(mechanism.links)}")
@@ -1207,7 +1223,7 @@ def mechanism_explorer(
     step = 1.0 if angle else (high - low) / 200 or 1.0
     label = f"{name.replace('theta', 'θ')} ({'°' if angle else 'm'})"
     controls = {key: _slider(label, first, low, high, step, ".0f" if angle else ".4f")}
-    figure = _figure(*size)
+    figure = _figure(min(width, 20.0), min(height, 20.0))
     width, height = figure.get_size_inches()  # margins in inches, for the labels and the title
     ax = figure.add_axes((0.75 / width, 0.5 / height, 1 - 0.9 / width, 1 - 0.8 / height))
     ax.set(xlabel="x (m)", ylabel="y (m)", title=title)
@@ -1227,6 +1243,9 @@ def mechanism_explorer(
                "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
                                   fontsize=10, fontweight="bold", animated=True)}
     converged = np.flatnonzero(np.asarray(motion.converged, dtype=bool))
+    start = converged[0]  # a bad ``rates`` is refused here, by name, rather than at the first event
+    mechanism.solve({name: sweep[start]}, rates=rates,
+                    guess={unknown: float(values[start]) for unknown, values in motion.position.items()})
 
     def draw(state, geometry_changed: bool) -> Readout:
         value = math.radians(state[key]) if angle else float(state[key])
@@ -1236,7 +1255,7 @@ def mechanism_explorer(
         guess = {unknown: float(values[nearest]) for unknown, values in motion.position.items()}
         try:
             now = mechanism.solve({name: value}, rates=rates, guess=guess)
-        except CourseLibError as err:
+        except (ConvergenceError, UnreachableError, SingularJacobianError) as err:
             drawing.move({})
             artists["failure"].set_text(f"no assembly at {name} = {state[key]:g}")
             return Readout("unreachable", (f"{name} = {state[key]:g}: the loops cannot be closed here "

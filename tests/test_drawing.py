@@ -133,6 +133,18 @@ MISUSES = {
         "size": [(0, 1), "big", (1, 2, 3), (100, 3)],
         "dpi": [-1, 1e5],
     }),
+    "mechanism_explorer": (lambda **kw: mechanism_explorer(**{"mechanism": SLIDER_CRANK, "motion": TURN,
+                                                              **kw}), {
+        "mechanism": [None, "crank", TURN],
+        "motion": [None, SLIDER_CRANK, SLIDER_CRANK.solve({TH: 0.5}, guess={"phi": 0.0, X: 0.17})],
+        "ground": [["Q"], "O"],
+        "trace": [["Q"]],
+        "blocks": ["B"],
+        "styles": [{"link 9": {}}, {"link 1": {"zz": 1}}],
+        "rates": [{TH: "10"}, {TH: math.nan}, {"psi": 1.0}],
+        "readout": ["text", 3],
+        "size": [(0, 1), "big", (math.inf, 2)],
+    }),
 }
 CASES = [(function, argument, value) for function, (_, table) in MISUSES.items()
          for argument, values in table.items() for value in values]

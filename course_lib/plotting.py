@@ -334,34 +334,16 @@ def animate_linkage(
     for argument, function in (("caption", caption), ("background", background)):
         if function is not None and not callable(function):
             raise InvalidGeometryError(f"{argument} must be a function or None; got {function!r}")
-    width, height = (_positive_number(f"size[{k}]", value) for k, value in enumerate(_pair("size", size)))
-    if width > 20 or height > 20:
-        raise InvalidGeometryError(f"size must be at most 20 × 20 inches; got {size!r}")
-    for argument, keys in (("ground", ground), ("trace", trace)):
-        for key in _sequence(argument, keys):
-            if key not in paths:
-                raise InvalidGeometryError(f"{argument} names {key!r}, not a point; points: {list(paths)}")
-    figure = Figure(figsize=(width, height), dpi=_dpi(dpi), layout="constrained")
+    figure = Figure(figsize=_figure_size(size), dpi=_dpi(dpi), layout="constrained")
     ax = figure.add_subplot()
     artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels)
     for name, ends in artist.links.items():
         if not set(ends) <= set(paths):
             raise InvalidGeometryError(f"links: {name} joins {ends}, not all points; points: {list(paths)}")
-    everything = np.concatenate(list(paths.values()))
-    everything = everything[np.isfinite(everything).all(axis=1)]
-    if not len(everything):
-        raise InvalidGeometryError("points must have a finite (x, y) in some frame; all are nan or inf")
-    low, high = everything.min(axis=0), everything.max(axis=0)
-    span = float((high - low).max()) or 1.0
-    margin = 0.08 * span
-    ax.set(xlim=(low[0] - margin, high[0] + margin), ylim=(low[1] - 2 * margin, high[1] + margin),
-           aspect="equal", xlabel="x (m)", ylabel="y (m)")
+    (xmin, xmax, ymin, ymax), span = _motion_background(ax, paths, ground, trace)
+    ax.set(xlim=(xmin, xmax), ylim=(ymin, ymax), aspect="equal", xlabel="x (m)", ylabel="y (m)")
     if title is not None:
         ax.set_title(title)
-    for key in trace:
-        ax.plot(*paths[key].T, ":", color="0.55", lw=1)
-    for key in ground:
-        _ground_symbol(ax, paths[key][0], 0.03 * span)
     if background is not None:
         _callback("background", lambda _: background(ax), 0)
     artist.label_offset = 0.03 * span
@@ -374,6 +356,38 @@ def animate_linkage(
 
     return animation_html(figure, update, frames=len(next(iter(paths.values()))),
                           interval_ms=interval_ms, max_frames=max_frames)
+
+
+def _figure_size(size) -> tuple[float, float]:
+    """``size`` as (width, height) in inches: two positive numbers of at most 20, else a named error."""
+    width, height = (_positive_number(f"size[{k}]", value) for k, value in enumerate(_pair("size", size)))
+    if width > 20 or height > 20:
+        raise InvalidGeometryError(f"size must be at most 20 × 20 inches; got {size!r}")
+    return width, height
+
+
+def _motion_background(ax: Axes, paths: Mapping, ground: Sequence = (), trace: Sequence = ()):
+    """What stays still while a linkage moves through ``paths`` (point key → (frames, 2)): the dotted
+    paths of the ``trace`` points and the fixed-pivot symbol at the ``ground`` points (their first
+    position).  Returns the box (xmin, xmax, ymin, ymax) holding every finite point with a margin
+    (twice as deep below, for the pivot symbols) and the motion's span (m).
+    """
+    for argument, keys in (("ground", ground), ("trace", trace)):
+        for key in _sequence(argument, keys):
+            if key not in paths:
+                raise InvalidGeometryError(f"{argument} names {key!r}, not a point; points: {list(paths)}")
+    everything = np.concatenate([np.reshape(path, (-1, 2)) for path in paths.values()])
+    everything = everything[np.isfinite(everything).all(axis=1)]
+    if not len(everything):
+        raise InvalidGeometryError("points must have a finite (x, y) in some frame; all are nan or inf")
+    (xmin, ymin), (xmax, ymax) = everything.min(axis=0), everything.max(axis=0)
+    span = float(max(xmax - xmin, ymax - ymin)) or 1.0
+    for key in trace:
+        ax.plot(*np.reshape(paths[key], (-1, 2)).T, ":", color="0.55", lw=1)
+    for key in ground:
+        _ground_symbol(ax, np.reshape(paths[key], (-1, 2))[0], 0.03 * span)
+    margin = 0.08 * span
+    return (xmin - margin, xmax + margin, ymin - 2 * margin, ymax + margin), span
 
 
 def plot_convergence(

@@ -63,7 +63,7 @@ from .errors import (
     UnreachableError,
 )
 from .fourbar import BRANCHES, FourBar
-from .plotting import LINK_COLORS, LinkageArtist, _pair, _positive_number, _Quantizer, _sequence
+from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _motion_background, _Quantizer
 
 __all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer",
            "mechanism_explorer"]
@@ -1205,12 +1205,7 @@ def mechanism_explorer(
         raise InvalidGeometryError("motion must have a solved instant to start from; none converged")
     if readout is not None and not callable(readout):
         raise InvalidGeometryError(f"readout must be a function of the instant, or None; got {readout!r}")
-    width, height = (_positive_number(f"size[{k}]", value) for k, value in enumerate(_pair("size", size)))
-    for argument, keys in (("ground", ground), ("trace", trace)):
-        unknown = [key for key in _sequence(argument, keys) if key not in mechanism.points]
-        if unknown:
-            raise InvalidGeometryError(f"{argument} names {unknown[0]!r}, not a declared point; points: "
-                                       f"{list(mechanism.points)}")
+    width, height = _figure_size(size)
     if len(mechanism.inputs) != 1 or not mechanism.links:
         raise InvalidGeometryError(f"mechanism must have one input and declared links; got inputs "
                                    f"{[s.name for s in mechanism.inputs]} and links {list(mechanism.links)}")
@@ -1223,21 +1218,12 @@ def mechanism_explorer(
     step = 1.0 if angle else (high - low) / 200 or 1.0
     label = f"{name.replace('theta', 'θ')} ({'°' if angle else 'm'})"
     controls = {key: _slider(label, first, low, high, step, ".0f" if angle else ".4f")}
-    figure = _figure(min(width, 20.0), min(height, 20.0))
-    width, height = figure.get_size_inches()  # margins in inches, for the labels and the title
+    figure = _figure(width, height)  # margins in inches, for the labels and the title:
     ax = figure.add_axes((0.75 / width, 0.5 / height, 1 - 0.9 / width, 1 - 0.8 / height))
     ax.set(xlabel="x (m)", ylabel="y (m)", title=title)
     ax.grid(True, linestyle="--", alpha=0.5)
-    paths = mechanism.joints(motion)
-    everything = np.concatenate([path[np.isfinite(path).all(axis=1)] for path in paths.values()])
-    span = float(np.ptp(everything, axis=0).max()) or 1.0
-    (xmin, ymin), (xmax, ymax) = everything.min(axis=0), everything.max(axis=0)
-    _set_equal_limits(ax, xmin - 0.08 * span, xmax + 0.08 * span, ymin - 0.15 * span, ymax + 0.08 * span)
-    for point in trace:
-        ax.plot(*paths[point].T, ":", color="0.55", lw=1)
-    for point in ground:
-        ax.add_patch(Polygon(_ground_triangle(0.03 * span) + paths[point][0], closed=True,
-                             facecolor="none", edgecolor="0.3", hatch="///"))
+    box, _ = _motion_background(ax, mechanism.joints(motion), ground, trace)
+    _set_equal_limits(ax, *box)
     drawing = LinkageArtist(ax, mechanism.links, blocks=blocks, styles=styles, animated=True)
     artists = {**drawing.artists,
                "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,

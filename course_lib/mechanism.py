@@ -28,6 +28,7 @@ and :meth:`~Mechanism.simultaneous` are the course's two Newton routes.  SI unit
 from __future__ import annotations
 
 import copy
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import wraps
@@ -164,6 +165,31 @@ def _matrix(terms, start: int, rows: int, columns: int) -> np.ndarray:
     """Rows of compiled terms (k, ...) as matrices (..., rows, columns), row by row (a view)."""
     block = terms[start:start + rows * columns].reshape((rows, columns) + terms.shape[1:])
     return block.transpose(*range(2, block.ndim), 0, 1)
+
+
+_BLOCK = 65_536  # points per block of a long sweep's evaluation
+
+
+def _one_instant(function, values, arrays, where, angles_of, known, same_point, seen) -> np.ndarray | None:
+    """A compiled function's terms (k,) at one instant in Python numbers (math's cos and sin give
+    numpy's bits), sharing ``known`` and ``seen`` as the array path does; None where math refuses
+    a value (a domain error, an overflow, a division by zero): the array path then gives inf or NaN."""
+    columns = [float(arrays[k][j]) for k, j in where]
+    angles = []
+    for key, func, index, is_input in angles_of:
+        value = None if known is None else known.get(key)
+        if value is None:
+            value = (math.cos if func is np.cos else math.sin)(columns[index]) if math.isfinite(
+                columns[index]) else func(columns[index])
+            if known is not None and (is_input or same_point):
+                known[key] = value
+        angles.append(value)
+        if seen is not None:
+            seen[key] = value
+    try:
+        return np.array(function(*columns, *angles, *values), dtype=float)
+    except (ArithmeticError, ValueError, TypeError):
+        return None
 
 
 def _rows(*arrays) -> tuple[tuple, list[np.ndarray]]:
@@ -341,6 +367,10 @@ class Mechanism:
 
         arguments = [*symbols, *(dummies[getattr(sp, func)(s)] for func, s in trig), *self.parameters]
         function = sp.lambdify(arguments, replaced[:len(expressions)], "numpy", cse=cse)
+        try:  # one instant in Python numbers: numpy's per-call cost dominates a single small system
+            one = sp.lambdify(arguments, replaced[:len(expressions)], "math", cse=cse)
+        except Exception:  # a function math lacks: the array path serves one instant too
+            one = None
         inputs = {s.name for s in self.inputs}
         where = [(k, j) for k, group in enumerate(groups) for j in range(len(group))]
         angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
@@ -348,22 +378,35 @@ class Mechanism:
 
         def evaluate(values, *arrays, known=None, same_point=False, seen=None):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
+            if one is not None and all(a.ndim == 1 for a in arrays):
+                terms = _one_instant(one, values, arrays, where, angles_of, known, same_point, seen)
+                if terms is not None:
+                    return terms
             columns = [arrays[k][..., j] for k, j in where]
-            angles = []
+            shapes = {a.shape[:-1] for a in arrays}
+            shape = shapes.pop() if len(shapes) == 1 else np.broadcast_shapes(*shapes)
+            if shapes or len(shape) != 1 or shape[0] <= 2 * _BLOCK:
+                blocks = [...]
+            else:  # a long sweep in blocks: the temporaries stay in the cache and are reused
+                blocks = [slice(start, start + _BLOCK) for start in range(0, shape[0], _BLOCK)]
+            angles, missing = [], []
             for key, func, index, is_input in angles_of:
                 value = None if known is None else known.get(key)
                 if value is None:
-                    value = func(columns[index])
+                    value = np.empty(columns[index].shape)
+                    missing.append((func, columns[index], value))
                     if known is not None and (is_input or same_point):
                         known[key] = value
                 angles.append(value)
                 if seen is not None:
                     seen[key] = value
-            shapes = {a.shape[:-1] for a in arrays}
-            out = np.empty((len(expressions),) + (shapes.pop() if len(shapes) == 1 else
-                                                  np.broadcast_shapes(*shapes)))
-            for k, value in enumerate(function(*columns, *angles, *values)):
-                out[k] = value
+            out = np.empty((len(expressions),) + shape)
+            for block in blocks:
+                for func, column, value in missing:
+                    func(column[block], out=value[block])
+                inputs = [np.asarray(c)[block] if np.ndim(c) else c for c in (*columns, *angles)]
+                for k, value in enumerate(function(*inputs, *values)):
+                    out[k, block] = value
             return out
 
         return evaluate

@@ -387,49 +387,49 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
         def J_mat(v):
             return _real("jac", jac(v[0] if scalar else v.copy()), (n, n), v)
 
-    history, steps = [x.copy()], []
-    with np.errstate(all="ignore"):  # a failure is reported below, not as a numpy warning
-        fx = F_vec(x)
-    residuals = [float(np.sqrt(fx @ fx))]
+    history, steps, residuals, failure = [x], [], [], None
 
     def result(converged: bool, message: str, singular: bool = False) -> NewtonResult:
         path, step_array = np.array(history), np.array(steps).reshape(-1, n)
         return NewtonResult(
             x=float(path[-1, 0]) if scalar else path[-1].copy(), converged=converged, iterations=len(steps),
-            history=path[:, 0] if scalar else path, step_norms=np.linalg.norm(step_array, axis=1),
+            history=path[:, 0] if scalar else path, step_norms=np.sqrt((step_array * step_array).sum(axis=1)),
             step_components=np.abs(step_array[:, 0] if scalar else step_array),
             residual_norms=np.array(residuals), message=message, singular=singular)
 
     def here():
         return float(x[0]) if scalar else x.tolist()
 
-    failure = None if np.all(np.isfinite(fx)) else f"F returned {fx.tolist()} at x={here()}"
-    while failure is None:
-        J = J_mat(x)
-        if not np.isfinite(J).all():
-            failure = f"jac returned {J.tolist()} at x={here()}, after {len(steps)} iterations"
-            break
-        with np.errstate(all="ignore"):
-            step = _solve_one(J, -fx)
-        if step is None:
-            message = f"the Jacobian is {singular_jacobian_text(n)} at x={here()}; Newton cannot take a " \
-                      "step from here: try another seed"
-            if on_failure == "raise":
-                raise SingularJacobianError(message, x=here(), condition_number=float(np.linalg.cond(J)))
-            return result(False, message, singular=True)
-        with np.errstate(all="ignore"):
-            x = x + step
-            fx = F_vec(x)
-        history.append(x.copy())
-        steps.append(step)
+    with np.errstate(all="ignore"):  # a failure is reported below, not as a numpy warning
+        fx = F_vec(x)
         residuals.append(float(np.sqrt(fx @ fx)))
-        if not (np.isfinite(x).all() and np.isfinite(fx).all()):
-            failure = f"Newton diverged: a non-finite value appeared after {len(steps)} iterations"
-        elif np.sqrt(step @ step) < tol and residuals[-1] <= residual_tol:
-            return result(True, f"converged in {len(steps)} iterations")
-        elif len(steps) == max_iter:
-            failure = (f"Newton did not converge in max_iter={max_iter} iterations "
-                       f"(last step {np.linalg.norm(step):.3g}, residual {residuals[-1]:.3g})")
+        if not np.isfinite(fx).all():
+            failure = f"F returned {fx.tolist()} at x={here()}"
+        while failure is None:
+            J = J_mat(x)
+            if not np.isfinite(J).all():
+                failure = f"jac returned {J.tolist()} at x={here()}, after {len(steps)} iterations"
+                break
+            step = _solve_one(J, -fx)
+            if step is None:
+                message = f"the Jacobian is {singular_jacobian_text(n)} at x={here()}; Newton cannot take " \
+                          "a step from here: try another seed"
+                if on_failure == "raise":
+                    raise SingularJacobianError(message, x=here(), condition_number=float(np.linalg.cond(J)))
+                return result(False, message, singular=True)
+            x = x + step  # a new array: the history keeps every iterate
+            fx = F_vec(x)
+            history.append(x)
+            steps.append(step)
+            residual = float(np.sqrt(fx @ fx))
+            residuals.append(residual)
+            if not (np.isfinite(x).all() and np.isfinite(fx).all()):
+                failure = f"Newton diverged: a non-finite value appeared after {len(steps)} iterations"
+            elif float(np.sqrt(step @ step)) < tol and residual <= residual_tol:
+                return result(True, f"converged in {len(steps)} iterations")
+            elif len(steps) == max_iter:
+                failure = (f"Newton did not converge in max_iter={max_iter} iterations "
+                           f"(last step {np.linalg.norm(step):.3g}, residual {residual:.3g})")
     last = result(False, failure)
     if on_failure == "raise":
         raise ConvergenceError(failure, result=last)

@@ -277,6 +277,37 @@ def test_residual_and_jacobian_alone_are_the_bits_newton_and_the_rates_use():
         assert mechanism.residual(q[0], u[0]).shape == (n,) and mechanism.jacobian(q[0], u[0]).shape == (n, n)
 
 
+def test_one_instant_and_a_long_sweep_give_the_rows_of_a_short_batch():
+    # one instant is evaluated in Python numbers and a sweep of over 131,072 points in blocks: both
+    # are other routes through the same arithmetic, so each must give a short batch's rows to the bit
+    rng = np.random.default_rng(3)
+    count = 2 * 65_536 + 17
+    q, u = rng.uniform(-3, 3, (count, 2)), rng.uniform(-3, 3, (count, 1))
+    rows = np.concatenate([rng.choice(count, 30), [0, 65_535, 65_536, count - 1]])
+    F_long, J_long = WIPER._newton_terms(q, u)
+    F_short, J_short = WIPER._newton_terms(q[rows], u[rows])
+    np.testing.assert_array_equal(F_long[rows], F_short)
+    np.testing.assert_array_equal(J_long[rows], J_short)
+    for k, row in enumerate(rows[:8]):
+        F_one, J_one = WIPER._newton_terms(q[row], u[row])
+        np.testing.assert_array_equal(F_one, F_short[k])
+        np.testing.assert_array_equal(J_one, J_short[k])
+        np.testing.assert_array_equal(WIPER.residual(q[row], u[row]), F_short[k])
+
+
+def test_one_instant_outside_the_domain_of_math_is_nan_as_in_an_array():
+    # math.sqrt(-1) raises where numpy gives NaN: one instant must answer as a one-row batch does
+    x, s = sp.symbols("x s")
+    root = Mechanism([x - sp.sqrt(s)], [x], [s])
+    with np.errstate(invalid="ignore"):
+        one, batch = root.residual([1.0], [-4.0]), root.residual([[1.0]], [[-4.0]])
+        assert np.isnan(one[0]) and np.isnan(batch[0, 0])
+        assert root.residual([1.0], [4.0]).tolist() == [-1.0]
+    huge = Mechanism([x**2 - s], [x], [s])  # 1e200**2 overflows: OverflowError in math, inf in numpy
+    with np.errstate(over="ignore"):
+        assert huge.residual([1e200], [0.0]).tolist() == [np.inf]
+
+
 def test_newton_function_solves_the_loop_as_the_closed_form_does():
     from course_lib.newton import newton_batch
 

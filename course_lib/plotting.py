@@ -425,8 +425,12 @@ def plot_convergence(
         errors = errors[:-1]
     steps = np.arange(len(history))
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import LogLocator
 
-    fig, axes = plt.subplots(1, 3, figsize=(12, 3.4), layout="constrained")
+    # fixed margins and at most six labelled decades: a layout engine and a label per decade would
+    # render every 10⁻ⁿ label several times, the most of this figure's cost
+    fig, axes = plt.subplots(1, 3, figsize=(12, 3.4))
+    fig.subplots_adjust(left=0.055, right=0.99, bottom=0.15, top=0.83 if title else 0.9, wspace=0.26)
     for k in range(n):
         axes[0].plot(steps, history[:, k], "o-", label=names[k])
         axes[1].semilogy(
@@ -436,6 +440,8 @@ def plot_convergence(
     axes[0].set_title("iterates")
     axes[1].set_title("error per variable")
     axes[2].set_title("error norm")
+    for ax in axes[1:]:
+        ax.yaxis.set_major_locator(LogLocator(numticks=6))
     for ax in axes:
         ax.set_xlabel("iteration n")
         ax.grid(True, linestyle="--", alpha=0.5)

@@ -23,6 +23,10 @@ import numpy as np
 
 from ..planar import wrap_angle
 
+__all__ = ["ANGLE_TOL", "RELATIVE_TOL", "Feedback", "reads", "right", "wrong", "vector", "number", "integer",
+           "word", "fields", "choice", "close", "near", "angles_close", "in_degrees", "diagnose", "first",
+           "angle_verdict", "plain", "judge_expression"]
+
 #: Absolute tolerance on angles (rad) and relative tolerance on other numbers.
 ANGLE_TOL = 1e-6
 RELATIVE_TOL = 1e-6

@@ -1,24 +1,11 @@
 """Checkers of exercise set 02 (Newton–Raphson)."""
+# ruff: noqa: F403, F405
 
 import numpy as np
 
 from ..fourbar import BRANCHES, FourBar
 from ..newton import newton
-from .engine import (
-    Feedback,
-    angles_close,
-    choice,
-    diagnose,
-    fields,
-    first,
-    integer,
-    judge_expression,
-    near,
-    number,
-    reads,
-    vector,
-    word,
-)
+from .engine import *  # the feedback engine's helpers (engine.__all__)
 
 __all__ = ["check_newton_update", "check_newton_iterations", "check_newton_cycle",
            "check_fourbar_newton_step", "check_seed_branch"]

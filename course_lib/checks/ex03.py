@@ -1,22 +1,10 @@
 """Checkers of exercise set 03 (the four-bar); lesson 03's Try it uses check_fourbar_theta4."""
+# ruff: noqa: F403, F405
 
 import numpy as np
 
 from ..fourbar import FourBar
-from .engine import (
-    Feedback,
-    angle_verdict,
-    diagnose,
-    fields,
-    first,
-    in_degrees,
-    judge_expression,
-    near,
-    number,
-    reads,
-    vector,
-    word,
-)
+from .engine import *  # the feedback engine's helpers (engine.__all__)
 
 __all__ = ["check_fourbar_theta4", "check_omega4_expression", "check_fourbar_rates", "check_toggle_angle"]
 

@@ -6,71 +6,50 @@ distance d straight above the lever's pivot O4 = (0, 0); the block pinned at A s
 slotted lever O4B (length l4), so the block's distance from O4, r4, is an unknown length; the
 link BC (l5) drives the ram, whose pin C runs on the horizontal line y = h, at x.  Unknowns
 θ4, r4, θ5, x; input θ2.  Lengths in m, angles in rad, from +x counter-clockwise.
-
-Loop equations are judged by evaluating them, not by their form: at configurations of the drawn
-shaper found by geometry alone every equation must vanish, and together the equations must fix
-the four unknowns there (their Jacobian has full rank), so any sign, scaling, order or combination
-of the components is accepted.
-
->>> import sympy as sp
->>> th2, th4, r4, th5, x = sp.symbols("theta2 theta4 r4 theta5 x")
->>> r2, d, l4, l5, h = sp.symbols("r2 d l4 l5 h")
->>> lever_loop = sp.Matrix([r2 * sp.cos(th2) - r4 * sp.cos(th4), d + r2 * sp.sin(th2) - r4 * sp.sin(th4)])
->>> ram_loop = sp.Matrix([l4 * sp.cos(th4) + l5 * sp.cos(th5) - x, l4 * sp.sin(th4) + l5 * sp.sin(th5) - h])
->>> check_shaper_loops([lever_loop, ram_loop]).ok, check_shaper_loops([ram_loop, -3 * lever_loop]).ok
-(True, True)
->>> check_shaper_loops([lever_loop]).message[-27:]
-'you gave 2 — only one loop?'
 """
+# ruff: noqa: F403, F405
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 from functools import cached_property
+from itertools import permutations
 from typing import Any
 
 import numpy as np
 
 from ..errors import InvalidGeometryError, require_positive
-from .engine import (
-    Feedback,
-    angles_close,
-    diagnose,
-    fields,
-    near,
-    number,
-    plain,
-    reads,
-    right,
-    vector,
-    wrong,
-)
+from .engine import *  # the feedback engine's helpers (engine.__all__)
 
-__all__ = [
-    "ShaperDrawing",
-    "SHAPER",
-    "quick_return_time_ratio",
-    "check_shaper_loops",
-    "check_shaper_position",
-    "check_ram_motion",
-    "check_ram_stroke",
-    "check_quick_return_time_ratio",
-]
+__all__ = ["ShaperDrawing", "SHAPER", "quick_return_time_ratio", "check_shaper_loops",
+           "check_shaper_position", "check_ram_motion", "check_ram_stroke", "check_quick_return_time_ratio"]
 
-#: The unknowns of the shaper, in the order the exercises ask for them; its input; its lengths.
-UNKNOWNS = ("theta4", "r4", "theta5", "x")
-INPUT = "theta2"
-PARAMETERS = ("r2", "d", "l4", "l5", "h")
-NAMES = (INPUT, *UNKNOWNS, *PARAMETERS)
+#: The symbols of the loops: the input θ2, the unknowns in the order the exercises ask for them, the lengths.
+NAMES = ("theta2", "theta4", "r4", "theta5", "x", "r2", "d", "l4", "l5", "h")
+UNKNOWNS = NAMES[1:5]
 #: Crank angles (deg) at which the loop equations are evaluated: none is special.
 _PROBE_DEGREES = (10.0, 55.0, 100.0, 145.0, 190.0, 235.0, 280.0, 325.0)
 #: How far the unknowns are moved off the drawn configuration to see an equation respond.
 _NUDGE = np.array([0.05, 0.02, -0.04, 0.03])
 #: Time ratios and strokes found on a grid of crank angles are accepted to this relative error.
 SWEEP_TOL = 5e-3
+
+
+def quick_return_time_ratio(crank: float, pivot_distance: float) -> float:
+    """Time ratio of a slotted-lever quick return with the crank pivot a distance d from the lever's:
+    the lever stops where it is tangent to the crank circle, sin β = r2/d, so the crank turns
+    π + 2β one way and π − 2β back.
+
+    >>> quick_return_time_ratio(0.05, 0.10)
+    2.0
+    """
+    if not require_positive("crank", crank) < require_positive("pivot_distance", pivot_distance):
+        raise InvalidGeometryError("a quick return needs crank < pivot_distance (else the lever turns "
+                                   f"fully); got crank={crank}, pivot_distance={pivot_distance}")
+    beta = math.asin(crank / pivot_distance)
+    return (math.pi + 2 * beta) / (math.pi - 2 * beta)
 
 
 @dataclass(frozen=True)
@@ -94,21 +73,12 @@ class ShaperDrawing:
     ram_height: float = 0.30
 
     def __post_init__(self) -> None:
-        for name in ("crank", "pivot_distance", "lever", "link"):
+        quick_return_time_ratio(self.crank, self.pivot_distance)  # positive, and the lever swings
+        for name in ("lever", "link"):
             require_positive(name, getattr(self, name))
-        if not self.crank < self.pivot_distance:
-            raise InvalidGeometryError(f"the crank must be shorter than the pivot distance for the lever to "
-                                       f"swing (a quick return); got crank={self.crank}, "
-                                       f"pivot_distance={self.pivot_distance}")
         if not abs(self.ram_height - self.lever) < self.link:
             raise InvalidGeometryError(f"the link cannot reach the ram line from the lever's top; got "
                                        f"lever={self.lever}, link={self.link}, ram_height={self.ram_height}")
-
-    @property
-    def values(self) -> dict[str, float]:
-        """The lengths by the names the exercise uses (r2, d, l4, l5, h)."""
-        return dict(zip(PARAMETERS, (self.crank, self.pivot_distance, self.lever, self.link,
-                                     self.ram_height), strict=True))
 
     def configuration(self, theta2, assembly: int = +1) -> tuple[np.ndarray, ...]:
         """(θ4, r4, θ5, x) at crank angle(s) ``theta2``: the lever points from O4 at the block A,
@@ -119,22 +89,20 @@ class ShaperDrawing:
         theta4, r4 = np.arctan2(A[1], A[0]), np.hypot(A[0], A[1])
         rise = (self.ram_height - self.lever * np.sin(theta4)) / self.link
         theta5 = np.arcsin(rise) if assembly > 0 else np.pi - np.arcsin(rise)
-        x = self.lever * np.cos(theta4) + self.link * np.cos(theta5)
-        return theta4, r4, theta5, x
+        return theta4, r4, theta5, self.lever * np.cos(theta4) + self.link * np.cos(theta5)
 
     @cached_property
     def _derivatives(self):
         """θ2 ↦ (q, dq/dθ2, d²q/dθ2²) for q = θ4, r4, θ5, x, from the closed form differentiated in sympy."""
         import sympy as sp
 
-        th2 = sp.Symbol(INPUT, real=True)
-        r2, d, l4, l5, h = (sp.Float(value) for value in self.values.values())
+        th2 = sp.Symbol("theta2", real=True)
+        r2, d, l4, l5, h = map(sp.Float, astuple(self))
         Ax, Ay = r2 * sp.cos(th2), d + r2 * sp.sin(th2)
         r4 = sp.sqrt(Ax**2 + Ay**2)
         sin5 = (h - l4 * Ay / r4) / l5
         closed = [sp.atan2(Ay, Ax), r4, sp.asin(sin5), l4 * Ax / r4 + l5 * sp.sqrt(1 - sin5**2)]
-        rows = [[q, q.diff(th2), q.diff(th2, 2)] for q in closed]
-        return sp.lambdify(th2, rows, modules="numpy", cse=True)
+        return sp.lambdify(th2, [[q, q.diff(th2), q.diff(th2, 2)] for q in closed], modules="numpy", cse=True)
 
     def rates(self, theta2, omega2: float, alpha2: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """Velocities and accelerations of (θ4, r4, θ5, x) on the drawn assembly, each shape (4, ...):
@@ -162,24 +130,142 @@ class ShaperDrawing:
 SHAPER = ShaperDrawing()
 
 
-def quick_return_time_ratio(crank: float, pivot_distance: float) -> float:
-    """Time ratio of a slotted-lever quick return with the crank pivot a distance d from the lever's:
-    the lever stops where it is tangent to the crank circle, sin β = r2/d, so the crank turns
-    π + 2β one way and π − 2β back.
+# ---------------------------------------------------------------- task 1: the loops
 
-    >>> quick_return_time_ratio(0.05, 0.10)
-    2.0
+
+def _loop_rows(answer: Any):
+    """The scalar equations of an answer, as sympy expressions in plain real symbols: 2×1 matrices,
+    expressions or Eqs, in a list (nested once at most), or a declared ``Mechanism``; else the feedback."""
+    import sympy as sp
+
+    if isinstance(getattr(answer, "equations", None), sp.MatrixBase):
+        answer = list(answer.equations)  # a Mechanism
+    if isinstance(answer, str | bytes):
+        return wrong("build the loops with sympy (symbols and sp.Matrix), not as text.")
+    if isinstance(answer, Mapping | set | frozenset):
+        return wrong(f"give the loops as a list [loop1, loop2] of 2×1 sympy matrices; got a "
+                     f"{type(answer).__name__}.")
+    rows = [row for item in (answer if isinstance(answer, list | tuple) else [answer])
+            for row in (item if isinstance(item, sp.MatrixBase | list | tuple) else [item])]
+    expressions = []
+    for k, row in enumerate(rows, start=1):
+        if isinstance(row, int | float | sp.Number) and not isinstance(row, bool):
+            return wrong(f"equation {k} is a number: it does not change when the shaper moves (it holds none "
+                         "of θ2, θ4, r4, θ5, x).")
+        if isinstance(row, sp.Basic) and row.has(sp.Derivative):
+            return wrong(f"equation {k} holds a derivative: the loop equations are about positions only "
+                         "(the core differentiates them for you).")
+        if row is sp.true or row is sp.false:
+            return wrong(f"equation {k} is {row}, not an equation: sympy decided the Eq before you could "
+                         "use it. Write each component as an expression equal to zero.")
+        expressions.append(expression := plain(row, NAMES))
+        if isinstance(expression, Feedback):
+            return wrong(f"equation {k}: " + expression.message.removeprefix("Not yet: "))
+    return expressions
+
+
+def _vanishes(values: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """Per row: zero at every probe, compared with what the row gives off the configuration."""
+    finite = np.isfinite(values).all(axis=1)
+    return finite & (np.abs(values).max(axis=1) <= 1e-9 * np.maximum(scale, 1e-300)) & (scale > 0)
+
+
+#: The vectors whose direction a sign slip turns, by the angle that turns them.
+_SIGN_SLIPS = {"theta2": "the crank vector (O2 → A)", "theta4": "the lever vector (O4 → A, or O4 → B)",
+               "theta5": "the link vector (B → C)"}
+
+
+def _loop_hint(row, k: int, turned: str, moves: bool) -> str:
+    """What looks wrong with equation ``k``, which the drawn shaper does not satisfy (``turned``: a
+    vector that would satisfy it pointing the other way, or "")."""
+    import sympy as sp
+
+    names = {s.name for s in row.free_symbols}
+    theta2, theta4, theta5 = sp.symbols(("theta2", "theta4", "theta5"), real=True)
+    y_component = row.has(sp.sin(theta4)) and not row.has(sp.cos(theta4))
+    block = not names & {"theta5", "x", "l5", "h"}  # the loop through the block
+    return next(hint for holds, hint in [
+        (not moves, "{where} does not change when the shaper moves: it holds none of θ2, θ4, r4, θ5, x."),
+        (turned, "a sign slip: {where} would hold only if {turned} pointed the other way. Walk both routes "
+                 "from the same start to the same end point; each vector's sign is its direction."),
+        (block and "l4" in names, "{where} uses l4 in the loop through the block: from O4 the lever reaches "
+                                  "the block A after r4 (the unknown length), not after its full length l4."),
+        (block and "r4" not in names, "{where} has no r4: the block's distance along the lever is an unknown "
+                                      "of the loop O4 → O2 → A."),
+        (block and "d" not in names and y_component and row.has(sp.sin(theta2)),
+         "{where} leaves out the frame: O2 sits a distance d straight above O4, so the walk O4 → O2 → A "
+         "starts with (0, d)."),
+        (not block and "r4" in names and "l4" not in names,
+         "{where} uses r4 for O4 → B: B is the end of the lever, at l4 from O4; r4 is where the block is."),
+        (not block and "h" not in names and y_component and row.has(sp.sin(theta5)),
+         "{where} has no h: the ram's pin C runs on the line y = h, so O4 → C is (x, h)."),
+        (True, "{where} is not satisfied by the drawn shaper. Check each vector's sign (both routes from the "
+               "same start to the same end point), its length and its angle."),
+    ] if holds).format(where=f"equation {k} (counting the components in your order)", turned=turned)
+
+
+@reads(_loop_rows)
+def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
+    """Exercise 06, task 1: the two vector loops of the shaper, four scalar equations (each = 0) in
+    θ2, θ4, r4, θ5, x and r2, d, l4, l5, h — as a list of two 2×1 sympy matrices, four expressions,
+    or a ``Mechanism`` declared with them.  Time functions θ(t) are read as symbols.
+
+    Judged by evaluating them, not by their form: accepted when every equation vanishes at the
+    drawn configuration (found by geometry alone) for eight crank angles and the four together fix
+    θ4, r4, θ5, x there (their Jacobian has full rank); each is then the same equation as a correct
+    one up to sign, scale, order or combination.
+
+    >>> import sympy as sp
+    >>> th2, th4, r4, th5, x, r2, d, l4, l5, h = sp.symbols("theta2 theta4 r4 theta5 x r2 d l4 l5 h")
+    >>> wrong = [r2 * sp.cos(th2) - r4 * sp.cos(th4), r2 * sp.sin(th2) - r4 * sp.sin(th4),
+    ...          l4 * sp.cos(th4) + l5 * sp.cos(th5) - x, l4 * sp.sin(th4) + l5 * sp.sin(th5) - h]
+    >>> check_shaper_loops(wrong).message.split(":")[1].strip()
+    'equation 2 (counting the components in your order) leaves out the frame'
     """
-    require_positive("crank", crank)
-    require_positive("pivot_distance", pivot_distance)
-    if not crank < pivot_distance:
-        raise InvalidGeometryError("a quick return needs crank < pivot_distance (else the lever turns "
-                                   f"fully); got crank={crank}, pivot_distance={pivot_distance}")
-    beta = math.asin(crank / pivot_distance)
-    return (math.pi + 2 * beta) / (math.pi - 2 * beta)
+    import sympy as sp
+
+    if len(rows) != 4:
+        only = " — only one loop?" if len(rows) == 2 else ""
+        return wrong("two vector loops give four scalar equations (the x and y components of each); "
+                     f"you gave {len(rows)}{only}")
+    theta2 = np.radians(_PROBE_DEGREES)
+    q = np.array(shaper.configuration(theta2))
+
+    def evaluate(theta2, q):  # residuals (rows, probes), the drawing's lengths substituted
+        values = function(theta2, *q, *astuple(shaper))
+        return np.array([np.broadcast_to(np.asarray(v, dtype=complex), np.shape(theta2)) for v in values])
+
+    try:
+        function = sp.lambdify(sp.symbols(NAMES, real=True), rows, modules="numpy")
+        at_drawing = evaluate(theta2, q)
+    except Exception as error:  # an undefined function f(θ), a matrix inside a row, …
+        return wrong(f"your equations could not be evaluated with numbers ({type(error).__name__}): use only "
+                     "the task's symbols, numbers and sympy functions such as sp.cos and sp.sin.")
+    scale = np.abs(evaluate(theta2, q + _NUDGE[:, None])).max(axis=1)
+    holds = _vanishes(at_drawing, scale)
+    if not holds.all():
+        k = int(np.argmin(holds))
+        turned = next((text for name, text in _SIGN_SLIPS.items()
+                       if _vanishes(evaluate(theta2 + np.pi * (name == "theta2"),
+                                             q + np.pi * np.array([n == name for n in UNKNOWNS])[:, None]
+                                             )[k:k + 1], scale[k:k + 1])[0]), "")
+        return wrong(_loop_hint(rows[k], k + 1, turned, bool(scale[k] > 0)))
+    # the Jacobian in the unknowns by central differences, (probe, row, unknown), each row in units of
+    # its own size off the configuration: scaling a row changes nothing, and a squared row (zero
+    # gradient at the configuration) counts as zero
+    J = np.stack([(evaluate(theta2, q + step) - evaluate(theta2, q - step)).real / 2e-6
+                  for step in 1e-6 * np.eye(4)[:, :, None]], axis=2).swapaxes(0, 1)
+    singular_values = np.linalg.svd(J / scale[None, :, None], compute_uv=False)
+    if not (np.isfinite(singular_values).all()
+            and (singular_values[:, -1] > 1e-6 * singular_values[:, 0]).all()):
+        return wrong("each equation holds for the drawn shaper, but together they do not fix θ4, r4, θ5 "
+                     "and x: one repeats (or combines) others, or is squared. Give the x and y components "
+                     "of two different loops.")
+    return right("Correct: four scalar equations that the drawn shaper satisfies at every crank angle "
+                 "tried, and that fix θ4, r4, θ5 and x.")
 
 
-# ---------------------------------------------------------------- reading answers
+# ---------------------------------------------------------------- tasks 2–4 and lesson 12
 
 
 def _by_name(names: tuple[str, ...], what: str):
@@ -197,164 +283,6 @@ def _by_name(names: tuple[str, ...], what: str):
         return values if isinstance(values, Feedback) else np.array(values)
 
     return parse
-
-
-def _loop_rows(answer: Any):
-    """The scalar equations of an answer, as sympy expressions in plain real symbols: 2×1 matrices,
-    expressions or Eqs, in a list (nested once at most), or a declared ``Mechanism``; else the feedback."""
-    import sympy as sp
-
-    if isinstance(getattr(answer, "equations", None), sp.MatrixBase):
-        answer = list(answer.equations)  # a Mechanism
-    if isinstance(answer, str | bytes):
-        return wrong("build the loops with sympy (symbols and sp.Matrix), not as text.")
-    if isinstance(answer, Mapping | set | frozenset):
-        return wrong(f"give the loops as a list [loop1, loop2] of 2×1 sympy matrices; got a "
-                     f"{type(answer).__name__}.")
-    items = list(answer) if isinstance(answer, list | tuple) else [answer]
-    rows: list[Any] = []
-    for item in items:
-        rows.extend(item if isinstance(item, sp.MatrixBase | list | tuple) else [item])
-    expressions = []
-    for k, row in enumerate(rows, start=1):
-        if isinstance(row, int | float | sp.Number) and not isinstance(row, bool):
-            return wrong(f"equation {k} is a number: it does not change when the shaper moves (it holds none "
-                         "of θ2, θ4, r4, θ5, x).")
-        if isinstance(row, sp.Basic) and row.has(sp.Derivative):
-            return wrong(f"equation {k} holds a derivative: the loop equations are about positions only "
-                         "(the core differentiates them for you).")
-        if row is sp.true or row is sp.false:
-            return wrong(f"equation {k} is {row}, not an equation: sympy decided the Eq before you could "
-                         "use it. Write each component as an expression equal to zero.")
-        expression = plain(row, NAMES)
-        if isinstance(expression, Feedback):
-            return wrong(f"equation {k}: " + expression.message.removeprefix("Not yet: "))
-        expressions.append(expression)
-    return expressions
-
-
-# ---------------------------------------------------------------- task 1: the loops
-
-
-def _evaluator(rows):
-    """(θ2, q) ↦ residuals (rows, N) for q (4, N), the drawing's lengths substituted by name."""
-    import sympy as sp
-
-    function = sp.lambdify(sp.symbols(NAMES, real=True), rows, modules="numpy")
-
-    def evaluate(theta2, q, lengths):
-        with np.errstate(all="ignore"):
-            values = function(theta2, *q, *lengths)
-        return np.array([np.broadcast_to(np.asarray(v, dtype=complex), np.shape(theta2)) for v in values])
-
-    return evaluate
-
-
-def _vanishes(values: np.ndarray, scale: np.ndarray) -> np.ndarray:
-    """Per row: zero at every probe, compared with what the row gives off the configuration."""
-    finite = np.isfinite(values).all(axis=1)
-    return finite & (np.abs(values).max(axis=1) <= 1e-9 * np.maximum(scale, 1e-300)) & (scale > 0)
-
-
-_SIGN_SLIPS = {
-    "theta2": "the crank vector (O2 → A)",
-    "theta4": "the lever vector (O4 → A, or O4 → B)",
-    "theta5": "the link vector (B → C)",
-}
-
-
-def _loop_hint(row, k: int, holds_if_turned: list[str], moves: bool) -> str:
-    """What looks wrong with equation ``k``, which the drawn shaper does not satisfy."""
-    import sympy as sp
-
-    names = {s.name for s in row.free_symbols}
-    where = f"equation {k} (counting the components in your order)"
-    if not moves:
-        return f"{where} does not change when the shaper moves: it holds none of θ2, θ4, r4, θ5, x."
-    if holds_if_turned:
-        return (f"a sign slip: {where} would hold only if {holds_if_turned[0]} pointed the other way. Walk "
-                "both routes from the same start to the same end point; each vector's sign is its direction.")
-    theta2, theta4, theta5 = sp.symbols((INPUT, "theta4", "theta5"), real=True)
-    y_component = row.has(sp.sin(theta4)) and not row.has(sp.cos(theta4))
-    if not names & {"theta5", "x", "l5", "h"}:  # the loop through the block
-        if "l4" in names:
-            return (f"{where} uses l4 in the loop through the block: from O4 the lever reaches the block A "
-                    "after r4 (the unknown length), not after its full length l4.")
-        if "r4" not in names:
-            return (f"{where} has no r4: the block's distance along the lever is an unknown of the loop "
-                    "O4 → O2 → A.")
-        if "d" not in names and y_component and row.has(sp.sin(theta2)):
-            return (f"{where} leaves out the frame: O2 sits a distance d straight above O4, so the walk "
-                    "O4 → O2 → A starts with (0, d).")
-    else:
-        if "r4" in names and "l4" not in names:
-            return (f"{where} uses r4 for O4 → B: B is the end of the lever, at l4 from O4; r4 is where "
-                    "the block is.")
-        if "h" not in names and y_component and row.has(sp.sin(theta5)):
-            return f"{where} has no h: the ram's pin C runs on the line y = h, so O4 → C is (x, h)."
-    return (f"{where} is not satisfied by the drawn shaper. Check each vector's sign (both routes from the "
-            "same start to the same end point), its length and its angle.")
-
-
-@reads(_loop_rows)
-def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 1: the two vector loops of the shaper, four scalar equations (each = 0) in
-    θ2, θ4, r4, θ5, x and r2, d, l4, l5, h — as a list of two 2×1 sympy matrices, four expressions,
-    or a ``Mechanism`` declared with them.  Time functions θ(t) are read as symbols.
-
-    Accepted when every equation vanishes at the drawn configuration for eight crank angles and
-    the four together fix θ4, r4, θ5, x there; each is then the same equation as a correct one up
-    to sign, scale, order or combination.
-
-    >>> import sympy as sp
-    >>> th2, th4, r4, th5, x, r2, d, l4, l5, h = sp.symbols("theta2 theta4 r4 theta5 x r2 d l4 l5 h")
-    >>> wrong = [r2 * sp.cos(th2) - r4 * sp.cos(th4), r2 * sp.sin(th2) - r4 * sp.sin(th4),
-    ...          l4 * sp.cos(th4) + l5 * sp.cos(th5) - x, l4 * sp.sin(th4) + l5 * sp.sin(th5) - h]
-    >>> check_shaper_loops(wrong).message.split(":")[1].strip()
-    'equation 2 (counting the components in your order) leaves out the frame'
-    """
-    if len(rows) != 4:
-        only = " — only one loop?" if len(rows) == 2 else ""
-        return wrong("two vector loops give four scalar equations (the x and y components of each); "
-                     f"you gave {len(rows)}{only}")
-    theta2 = np.radians(_PROBE_DEGREES)
-    q = np.array(shaper.configuration(theta2))
-    lengths = list(shaper.values.values())
-    try:
-        evaluate = _evaluator(rows)
-        at_drawing = evaluate(theta2, q, lengths)
-    except Exception as error:  # an undefined function f(θ), a matrix inside a row, …
-        return wrong(f"your equations could not be evaluated with numbers ({type(error).__name__}): use only "
-                     "the task's symbols, numbers and sympy functions such as sp.cos and sp.sin.")
-    scale = np.abs(evaluate(theta2, q + _NUDGE[:, None], lengths)).max(axis=1)
-    holds = _vanishes(at_drawing, scale)
-    if not holds.all():
-        k = int(np.argmin(holds))
-        turned = [text for name, text in _SIGN_SLIPS.items()
-                  if _vanishes(evaluate(theta2 + np.pi * (name == INPUT),
-                                        q + np.pi * np.array([n == name for n in UNKNOWNS])[:, None],
-                                        lengths)[k:k + 1], scale[k:k + 1])[0]]
-        return wrong(_loop_hint(rows[k], k + 1, turned, bool(scale[k] > 0)))
-    columns = []
-    for j in range(4):  # the Jacobian in the unknowns, by central differences
-        step = np.zeros((4, 1))
-        step[j] = 1e-6
-        difference = evaluate(theta2, q + step, lengths) - evaluate(theta2, q - step, lengths)
-        columns.append(difference.real / 2e-6)
-    J = np.moveaxis(np.array(columns), (0, 1, 2), (2, 1, 0))  # (probe, row, unknown)
-    # each row in units of its own size off the configuration: scaling a row changes nothing, and a
-    # squared row (zero gradient at the configuration) counts as zero
-    singular_values = np.linalg.svd(J / scale[None, :, None], compute_uv=False)
-    if not (np.isfinite(singular_values).all()
-            and (singular_values[:, -1] > 1e-6 * singular_values[:, 0]).all()):
-        return wrong("each equation holds for the drawn shaper, but together they do not fix θ4, r4, θ5 "
-                     "and x: one repeats (or combines) others, or is squared. Give the x and y components "
-                     "of two different loops.")
-    return right("Correct: four scalar equations that the drawn shaper satisfies at every crank angle "
-                 "tried, and that fix θ4, r4, θ5 and x.")
-
-
-# ---------------------------------------------------------------- tasks 2–4 and lesson 12
 
 
 def _position_matches(values, candidate) -> bool:
@@ -375,24 +303,22 @@ def check_shaper_position(answer, theta2: float, shaper: ShaperDrawing = SHAPER)
     >>> print(check_shaper_position({"theta4": 1.0}, 1.0))
     ✘ Not yet: the dict needs the keys theta4, r4, theta5, x.
     """
-    theta4, r4, theta5, x = (float(value) for value in shaper.configuration(theta2))
-    other = tuple(float(value) for value in shaper.configuration(theta2, assembly=-1))
-    reference = (theta4, r4, theta5, x)
-    orders = [p for p in itertools.permutations(range(4)) if p != (0, 1, 2, 3)]
+    reference = theta4, r4, theta5, x = tuple(map(float, shaper.configuration(theta2)))
     return diagnose(answer, _position_matches, [
         (reference, "Correct: the shaper as drawn, C to the right of B."),
         ((theta4 + np.pi, -r4, theta5, x),
          Feedback(True, "Correct: the same position written with r4 < 0 and θ4 turned by π.")),
-        (other, "θ4 and r4 are right, but θ5 and x belong to the other assembly, with C to the left of B. "
-                "The drawing has C to the right: seed Newton with θ5 near 0."),
+        (tuple(map(float, shaper.configuration(theta2, assembly=-1))),
+         "θ4 and r4 are right, but θ5 and x belong to the other assembly, with C to the left of B. "
+         "The drawing has C to the right: seed Newton with θ5 near 0."),
         (lambda v: _position_matches(np.radians(v) * [1, 0, 1, 0] + v * [0, 1, 0, 1], reference),
          "your angles look like degrees; the library works in radians."),
         (lambda v: _position_matches(v / [1, 1000, 1, 1000], reference),
          "r4 and x look like millimetres; give lengths in metres."),
-        (tuple(float(value) for value in shaper.configuration(np.degrees(theta2))),
+        (tuple(map(float, shaper.configuration(np.degrees(theta2)))),
          "that is the shaper at θ2 given in degrees but read as radians: convert the crank angle with "
          "np.radians before solving."),
-        (lambda v: any(_position_matches(v[list(order)], reference) for order in orders),
+        (lambda v: any(_position_matches(v[[*order]], reference) for order in permutations(range(4))),
          "the right numbers in the wrong order: give (θ4, r4, θ5, x), or pass motion.position."),
         ((theta4, r4, None, None), "θ4 and r4 are right; θ5 and x are not: check the loop O4 → B → C and its "
                                    "seed."),
@@ -413,8 +339,6 @@ def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
     ✘ Not yet: those are the block's rates along the lever (v_r4, a_r4); the task asks for the ram, x.
     """
     velocity, acceleration = shaper.rates(theta2, omega2, alpha2)
-    reverse = shaper.rates(theta2, -omega2, -alpha2)
-    degrees = shaper.rates(np.degrees(theta2), omega2, alpha2)
     ram = (velocity[3], acceleration[3])
     return diagnose(answer, near, [
         (ram, "Correct: the ram's velocity and acceleration, both from the same Jacobian J."),
@@ -423,10 +347,10 @@ def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
         ((velocity[0], acceleration[0]), "those are the lever's rates (ω4, α4); the task asks for the ram's, "
                                          "v_x and a_x."),
         (lambda v: near(np.asarray(v) / 1000, ram), "those look like mm/s and mm/s²; give m/s and m/s²."),
-        ((reverse[0][3], reverse[1][3]), "the ram moves the other way: the crank turns counter-clockwise, so "
-                                         "ω2 is positive."),
-        ((degrees[0][3], degrees[1][3]), "that is the ram at θ2 given in degrees but read as radians: "
-                                         "convert with np.radians."),
+        (np.array(shaper.rates(theta2, -omega2, -alpha2))[:, 3],
+         "the ram moves the other way: the crank turns counter-clockwise, so ω2 is positive."),
+        (np.array(shaper.rates(np.degrees(theta2), omega2, alpha2))[:, 3],
+         "that is the ram at θ2 given in degrees but read as radians: convert with np.radians."),
         ((velocity[3], None), "the velocity is right; the acceleration is not. Even at constant ω2 the ram "
                               "accelerates: solve with rates and accelerations given "
                               "(accelerations={θ2: α2})."),
@@ -434,27 +358,26 @@ def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
        "(radians) and the assembly (C right of B).")
 
 
-def _ratio_rules(reference: float, slow: float) -> list:
-    """Rules for a time ratio: the reference, then the usual slips (see :func:`diagnose`)."""
-    def within(value, target, tolerance=SWEEP_TOL):
-        return abs(value - target) <= tolerance * abs(target)
+def _within(value: float, target: float, tolerance: float = SWEEP_TOL) -> bool:
+    return abs(value - target) <= tolerance * abs(target)
 
+
+@reads(number("the time ratio"))
+def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
+    """A time ratio against ``reference``: ✔ ``correct``, or the usual slips."""
+    slow = 2 * np.pi * reference / (1 + reference)  # the crank angle of the slow stroke
     angles = (slow, 2 * np.pi - slow, np.degrees(slow), 360 - np.degrees(slow))
-    return [
-        (lambda v: within(v, reference), "Correct."),
-        (lambda v: within(v * reference, 1.0), "that is the fast stroke over the slow one; the time ratio is "
-                                               "slow over fast (> 1)."),
-        (lambda v: any(within(v, angle) for angle in angles),
-         "that is a crank angle; the time ratio divides the crank angle of the slow stroke by that of the "
-         "fast one."),
-        (lambda v: within(v, reference, 0.05), "close, but not to 0.5 %: find the crank angles where ω4 "
-                                               "changes sign more precisely (interpolate between samples, or "
-                                               "use the condition that O4A ⟂ O2A there)."),
-    ]
-
-
-_RATIO_OTHERWISE = ("not the time ratio: the lever stops where ω4 = 0 (O4A ⟂ O2A); divide the crank angle "
-                    "turned between the two stops one way by the angle turned back.")
+    return diagnose(ratio, _within, [
+        (reference, correct),
+        (lambda v: _within(v * reference, 1.0),
+         "that is the fast stroke over the slow one; the time ratio is slow over fast (> 1)."),
+        (list(angles), "that is a crank angle; the time ratio divides the crank angle of the slow stroke by "
+                       "that of the fast one."),
+        (lambda v: _within(v, reference, 0.05),
+         "close, but not to 0.5 %: find the crank angles where ω4 changes sign more precisely (interpolate "
+         "between samples, or use the condition that O4A ⟂ O2A there)."),
+    ], "not the time ratio: the lever stops where ω4 = 0 (O4A ⟂ O2A); divide the crank angle turned between "
+       "the two stops one way by the angle turned back.")
 
 
 def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -> Feedback:
@@ -466,17 +389,8 @@ def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -
     >>> check_quick_return_time_ratio(2.0, 0.05, 0.10).ok, check_quick_return_time_ratio(0.5, 0.05, 0.10).ok
     (True, False)
     """
-    reference = quick_return_time_ratio(crank, pivot_distance)
-    return _check_time_ratio(answer, reference, math.pi + 2 * math.asin(crank / pivot_distance))
-
-
-@reads(number("the time ratio"))
-def _check_time_ratio(ratio: float, reference: float, slow: float) -> Feedback:
-    verdict = diagnose(ratio, None, _ratio_rules(reference, slow), _RATIO_OTHERWISE)
-    if verdict.ok:
-        return right("Correct: the crank turns π + 2β for the slow stroke and π − 2β for the fast one, "
-                     "sin β = r2/d.")
-    return verdict
+    return _time_ratio(answer, quick_return_time_ratio(crank, pivot_distance), "Correct: the crank turns "
+                       "π + 2β for the slow stroke and π − 2β for the fast one, sin β = r2/d.")
 
 
 @reads(vector(2, "(stroke, time_ratio)"))
@@ -492,22 +406,11 @@ def check_ram_stroke(answer, shaper: ShaperDrawing = SHAPER) -> Feedback:
     """
     stroke, ratio = answer
     reference = shaper.stroke()
-
-    def about(value, target):
-        return abs(value - target) <= SWEEP_TOL * abs(target)
-
-    wrong_stroke = diagnose(stroke, about, [
-        (reference, "Correct."),
+    return diagnose(stroke, _within, [
+        (reference, _time_ratio(ratio, shaper.time_ratio(), "Correct: the ram stops when the lever does, so "
+                                "its stroke and its time ratio are the lever's.")),
         (1000 * reference, "the stroke looks like millimetres; give metres."),
         (reference / 2, "that is half the stroke (the amplitude); the stroke is the full travel, "
                         "max x − min x."),
         (lambda value: value <= 0, "the stroke is a distance: positive, max x − min x."),
     ], "the stroke is not right: sweep a full revolution on the drawn assembly and take max x − min x.")
-    if not wrong_stroke.ok:
-        return wrong_stroke
-    start, stop = shaper.limit_angles()
-    verdict = diagnose(ratio, None, _ratio_rules(shaper.time_ratio(), stop - start), _RATIO_OTHERWISE)
-    if verdict.ok:
-        return right("Correct: the ram stops when the lever does, so its stroke and its time ratio are "
-                     "the lever's.")
-    return verdict

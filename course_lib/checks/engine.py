@@ -383,11 +383,13 @@ def _entries(answer: Any) -> tuple[Any, str]:
         answer = entries[0][1]
 
 
-def judge_expression(answer: Any, names: Sequence[str], rules, otherwise: str, system: str = "") -> Feedback:
-    """A sympy answer in the symbols ``names`` judged by :func:`diagnose` (the reference first in
+def judge_expression(answer: Any, symbols: Sequence, rules, otherwise: str, system: str = "") -> Feedback:
+    """A sympy answer in ``symbols`` (or their names) judged by :func:`diagnose` (the reference first in
     ``rules``): one expression compared by :func:`same`; a Matrix or list of them (LUsolve's, solve's)
     is told which element to pass.  With ``system`` (how to give it) the answer is a system of
     equations "= 0" instead, each may be scaled by a constant, in any order (candidates are tuples)."""
+    names = tuple(map(str, symbols))
+
     def matches(expr, candidate):
         return not isinstance(expr, Feedback) and same(expr, candidate, names)
 

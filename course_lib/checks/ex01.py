@@ -38,17 +38,6 @@ def check_mobility(answer) -> Feedback:
     ], "Correct: one input (the crank) drives the whole six-bar.")
 
 
-_LOOP_NAMES = ("l1", "l2", "l3", "l4", "theta1", "theta2", "theta3", "theta4")
-
-
-def _tilted_loop(sign3: int = 1, ground_tilt: bool = True) -> tuple:
-    import sympy as sp
-
-    l1, l2, l3, l4, t1, t2, t3, t4 = sp.symbols(_LOOP_NAMES, real=True)
-    t1 = t1 if ground_tilt else 0
-    return tuple(l2 * f(t2) + sign3 * l3 * f(t3) - l4 * f(t4) - l1 * f(t1) for f in (sp.cos, sp.sin))
-
-
 @reads()
 def check_tilted_loop(answer) -> Feedback:
     """Exercise 01, task 2: x and y components of R2 + R3 − R4 − R1 = 0 with the ground tilted by θ1.
@@ -64,11 +53,17 @@ def check_tilted_loop(answer) -> Feedback:
     >>> check_tilted_loop([x, y]).ok, check_tilted_loop([y, -x]).ok
     (True, True)
     """
-    return judge_expression(answer, _LOOP_NAMES, [
-        (_tilted_loop(), "Correct: two scalar equations, one per component."),
-        (_tilted_loop(ground_tilt=False), "that is the loop with a horizontal ground; here "
-                                          "R1 = l1(cos θ1, sin θ1) is tilted."),
-        (_tilted_loop(sign3=-1), "a sign error: walking O2 → A → B adds R2 and R3; walking O2 → O4 → B adds "
+    import sympy as sp
+
+    l1, l2, l3, l4, t1, t2, t3, t4 = symbols = sp.symbols("l1:5 theta1:5", real=True)
+
+    def loop(sign3=1, t1=t1):
+        return tuple(l2 * f(t2) + sign3 * l3 * f(t3) - l4 * f(t4) - l1 * f(t1) for f in (sp.cos, sp.sin))
+
+    return judge_expression(answer, symbols, [
+        (loop(), "Correct: two scalar equations, one per component."),
+        (loop(t1=0), "that is the loop with a horizontal ground; here R1 = l1(cos θ1, sin θ1) is tilted."),
+        (loop(sign3=-1), "a sign error: walking O2 → A → B adds R2 and R3; walking O2 → O4 → B adds "
                                  "R1 and R4, so R1 and R4 carry the minus sign."),
     ], "compare each term with the walk O2 → A → B versus O2 → O4 → B (signs, lengths, angles).",
         system="the two components as a list [x_component, y_component] (or a 2×1 Matrix)")

@@ -29,7 +29,7 @@ def check_newton_update(answer) -> Feedback:
 
     x = sp.Symbol("x", real=True)
     f, df = _wallis(x)
-    return judge_expression(answer, ("x",), [
+    return judge_expression(answer, (x,), [
         (x - f / df, "Correct: x − f/f' (for this cubic it simplifies to (2x³ + 5)/(3x² − 2))."),
         (x + f / df, "a sign error: the tangent reaches zero at x − f/f', not x + f/f'."),
         (x - df / f, "the fraction is upside down: divide f by its derivative f'."),

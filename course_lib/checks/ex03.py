@@ -32,9 +32,6 @@ def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -
     ], "recheck the half-angle coefficients A, B, C and which root (±√) you took.")
 
 
-_RATE_NAMES = ("l2", "l3", "l4", "theta2", "theta3", "theta4", "omega2")
-
-
 @reads()
 def check_omega4_expression(answer) -> Feedback:
     """Exercise 03, task 2: ω4 as a sympy expression in l2, l3, l4, θ2, θ3, θ4, ω2.
@@ -46,10 +43,10 @@ def check_omega4_expression(answer) -> Feedback:
     """
     import sympy as sp
 
-    l2, l3, l4, t2, t3, t4, w2 = sp.symbols(_RATE_NAMES, real=True)
+    l2, l3, l4, t2, t3, t4, w2 = symbols = sp.symbols("l2 l3 l4 theta2 theta3 theta4 omega2", real=True)
     omega4 = w2 * l2 * sp.sin(t2 - t3) / (l4 * sp.sin(t4 - t3))
     omega3 = w2 * l2 * sp.sin(t4 - t2) / (l3 * sp.sin(t3 - t4))
-    return judge_expression(answer, _RATE_NAMES, [
+    return judge_expression(answer, symbols, [
         (omega4, "Correct: ω4 = ω2·l2·sin(θ2 − θ3) / (l4·sin(θ4 − θ3)) in some equivalent form."),
         (-omega4, "a sign error: recheck the signs of the velocity equations (the minus on R4)."),
         ([omega3, -omega3], "that is ω3, the coupler's angular velocity; the task asks for the rocker's ω4."),

@@ -9,9 +9,6 @@ from .engine import *  # the feedback engine's helpers (engine.__all__)
 __all__ = ["check_saw_omega3_expression", "check_saw_position", "check_saw_slider_acceleration",
            "check_saw_linear_stage"]
 
-_SAW_NAMES = ("r1y", "r2", "r3", "theta1", "theta2", "theta3", "omega2")
-
-
 @reads()
 def check_saw_omega3_expression(answer) -> Feedback:
     """Exercise 04, task 1: ω3 of the saw as a sympy expression in r2, r3, θ2, θ3, ω2.
@@ -23,10 +20,10 @@ def check_saw_omega3_expression(answer) -> Feedback:
     """
     import sympy as sp
 
-    _, r2, r3, _, t2, t3, w2 = sp.symbols(_SAW_NAMES, real=True)
+    _, r2, r3, _, t2, t3, w2 = symbols = sp.symbols("r1y r2 r3 theta1 theta2 theta3 omega2", real=True)
     reference = -w2 * r2 * sp.cos(t2) / (r3 * sp.cos(t3))
     swapped = -w2 * r2 * sp.sin(t2) / (r3 * sp.sin(t3))
-    return judge_expression(answer, _SAW_NAMES, [
+    return judge_expression(answer, symbols, [
         (reference, "Correct: ω3 = −ω2·r2·cos θ2 / (r3·cos θ3), from the derivative of Fy − Fc."),
         (-reference, "a sign error: differentiate r2 sin θ2 + r3 sin θ3 = r1y (constant) and solve for ω3."),
         ([swapped, -swapped], "sin and cos are swapped: d(sin θ)/dt = ω cos θ."),

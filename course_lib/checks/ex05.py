@@ -60,9 +60,6 @@ def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: t
     ], "use θ = 2·atan((−b + σ√(b² − 4ac))/2a) with the half-angle coefficients of each leg.")
 
 
-_FIVEBAR_NAMES = ("l1", "l2", "l3", "l4", "l5", "theta1", "theta4")
-
-
 @reads()
 def check_fivebar_g(answer) -> Feedback:
     """Exercise 05, task 3: the slope g in X3 = g·Y3 + f (EcL2 − EcL3 solved for X3).
@@ -74,9 +71,9 @@ def check_fivebar_g(answer) -> Feedback:
     """
     import sympy as sp
 
-    l1, l2, l3, l4, l5, t1, t4 = sp.symbols(_FIVEBAR_NAMES, real=True)
+    l1, l2, l3, l4, l5, t1, t4 = symbols = sp.symbols("l1 l2 l3 l4 l5 theta1 theta4", real=True)
     g = (-2 * l1 * sp.sin(t1) + 2 * l4 * sp.sin(t4)) / (2 * (l5 + l1 * sp.cos(t1) - l4 * sp.cos(t4)))
-    return judge_expression(answer, _FIVEBAR_NAMES, [
+    return judge_expression(answer, symbols, [
         (g, "Correct: the seeds' g = (−2 l1 sin θ1 + 2 l4 sin θ4) / (2 (l5 + l1 cos θ1 − l4 cos θ4))."),
         (-g, "a sign error: move the Y3 term to the right-hand side before dividing by the X3 coefficient."),
         ([1 / g, -1 / g], "that is dY3/dX3; solve the linear equation for X3, not Y3."),

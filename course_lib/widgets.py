@@ -63,17 +63,14 @@ from .errors import (
     UnreachableError,
 )
 from .fourbar import BRANCHES, FourBar
-from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _motion_background, _Quantizer
+from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _ground_symbol, _motion_background, _Quantizer
 
 __all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer",
            "mechanism_explorer"]
 
-#: Description width shared by every slider, so the columns line up.
+#: Description width shared by every slider and toggle, so the columns line up.
 _STYLE = {"description_width": "120px"}
-_SLIDER_LAYOUT = {"width": "340px"}
 _ERROR_COLOR = "#b00020"
-#: Errors a drawing step may meet on a state it cannot draw (the explorer reports them, never raises).
-_DRAWING_ERRORS = (CourseLibError, ArithmeticError, ValueError, TypeError, IndexError)
 
 
 @dataclass(frozen=True)
@@ -155,16 +152,12 @@ class Explorer:
         moving = [artist for name, artist in self.artists.items()
                   if name not in self.geometry_artists and getattr(artist, "get_animated", lambda: False)()]
         self._moving = sorted(moving, key=lambda artist: artist.get_zorder())  # stable: ties keep their order
-        self._base = self._background = None
-        self._base_limits: list | None = None
-        self._background_visible: tuple[bool, ...] | None = None
-        self._palette = None
-        self._drawn_geometry: dict[str, object] | None = None
+        self._base = self._background = self._base_limits = self._background_visible = None
+        self._palette = self._drawn_geometry = None
         self._holding = False
-        self.image = widgets.Image(format="png", layout={"width": f"{self.figure.bbox.width:.0f}px"})
-        self.image.add_class("course-explorer-image")
-        self.readout = widgets.HTML(layout={"width": f"{self.figure.bbox.width:.0f}px"})
-        self.readout.add_class("course-explorer-readout")
+        width = {"width": f"{self.figure.bbox.width:.0f}px"}
+        self.image = widgets.Image(format="png", layout=width).add_class("course-explorer-image")
+        self.readout = widgets.HTML(layout=width).add_class("course-explorer-readout")
         for control in self.controls.values():
             control.observe(self._on_change, names="value")
         column = widgets.VBox([*self.controls.values(), *self.extra], layout={"width": "360px"})
@@ -225,14 +218,11 @@ class Explorer:
         self._holding = True
         try:
             for key, value in state.items():
-                control = self.controls[key]
-                accepted, note = _control_value(key, control, value)
-                if note:
-                    notes.append(note)
-                if accepted is _REFUSED:
-                    refused = True
-                else:
-                    control.value = accepted
+                accepted, note = _control_value(key, self.controls[key], value)
+                notes += [note] if note else []
+                refused = refused or accepted is _REFUSED
+                if accepted is not _REFUSED:
+                    self.controls[key].value = accepted
         finally:
             self._holding = False
         return self.refresh(notes=notes, refused=refused)
@@ -252,7 +242,8 @@ class Explorer:
         try:
             readout = self.draw(state, changed)
             self._drawn_geometry = geometry
-        except _DRAWING_ERRORS as err:  # the last safety net: report, keep the controls working
+        except (CourseLibError, ArithmeticError, ValueError, TypeError, IndexError) as err:
+            # the last safety net for a state the drawing step cannot draw: report, keep the controls working
             self._drawn_geometry = None
             readout = Readout("error", (f"this state cannot be drawn: {err}",
                                         "Change an input to continue."))
@@ -289,25 +280,18 @@ class Explorer:
         else:
             self.canvas.restore_region(self._background)
         self._draw_artists(self._moving)  # ... and the moving artists on top, alone
-        if new_limits:
-            self._palette = None
-        return self._png()
+        # An opaque 256-colour PNG: line art looks the same and encodes fast and small.  The palette is
+        # made for the first picture of new axis limits (with every colour the changing artists can take,
+        # shown or not), and reused while only positions change.
+        pixels = np.asarray(self.canvas.buffer_rgba())
+        if new_limits or self._palette is None:
+            self._palette = _Quantizer(pixels, _solid_colours(self.artists.values()))
+        return self._palette.png(pixels, compress_level=1, trim=False)
 
     def _draw_artists(self, artists) -> None:
         for artist in artists:
             if artist.get_visible():
                 (artist.axes or self.figure).draw_artist(artist)
-
-    def _png(self) -> bytes:
-        """The canvas as an opaque 256-colour PNG: line art looks the same and encodes fast and small.
-
-        The palette is made for the first picture of new axis limits (with every colour the changing
-        artists can take, shown or not), and reused while only positions change.
-        """
-        pixels = np.asarray(self.canvas.buffer_rgba())
-        if self._palette is None:
-            self._palette = _Quantizer(pixels, _solid_colours(self.artists.values()))
-        return self._palette.png(pixels, compress_level=1, trim=False)
 
     def _on_change(self, change) -> None:
         if not self._holding:
@@ -342,27 +326,21 @@ class Explorer:
         True
         """
         figure = np.asarray(PILImage.open(io.BytesIO(self.image.value)).convert("RGB"))
-        readout = _readout_picture(self.last, figure.shape[1])
+        width = figure.shape[1]
+        # the readout's lines, wrapped to fit, as in the widget: 9 points at the figures' 80 dpi, about 6 px
+        # per character
+        lines = [part for line in self.last.lines for part in textwrap.wrap(line, max(20, int(width / 6.4)))]
+        height = int(np.ceil(len(lines) * (9.0 * 1.45 / 72 * 80) + 10))
+        text = Figure(figsize=(width / 80, height / 80), dpi=80)
+        canvas = FigureCanvasAgg(text)
+        text.text(8 / width, 1 - 5 / height, "\n".join(lines), fontsize=9.0, va="top", ha="left",
+                  color="black" if self.status == "ok" else _ERROR_COLOR, linespacing=1.45)
+        canvas.draw()
+        readout = np.asarray(canvas.buffer_rgba())[..., :3][:, :width]
+        readout = np.pad(readout, ((0, 0), (0, width - readout.shape[1]), (0, 0)),  # (a pixel lost to
+                         constant_values=255)  # rounding the size in inches)
         picture = np.concatenate([figure, readout])
         return _Quantizer(picture).png(picture, compress_level=9)
-
-
-def _readout_picture(readout: Readout, width: int) -> np.ndarray:
-    """The readout's lines as an RGB picture ``width`` pixels wide (wrapped to fit), as in the widget."""
-    size = 9.0  # points, at the figures' 80 dpi: about 6 px per character
-    lines = [part for line in readout.lines for part in textwrap.wrap(line, max(20, int(width / 6.4)))]
-    line_px = size * 1.45 / 72 * 80
-    height = int(np.ceil(len(lines) * line_px + 10))
-    figure = Figure(figsize=(width / 80, height / 80), dpi=80)
-    canvas = FigureCanvasAgg(figure)
-    color = "black" if readout.status == "ok" else _ERROR_COLOR
-    figure.text(8 / width, 1 - 5 / height, "\n".join(lines), fontsize=size, va="top", ha="left", color=color,
-                linespacing=1.45)
-    canvas.draw()
-    pixels = np.asarray(canvas.buffer_rgba())[..., :3][:, :width]
-    if pixels.shape[1] < width:  # (a pixel lost to rounding the size in inches)
-        pixels = np.pad(pixels, ((0, 0), (0, width - pixels.shape[1]), (0, 0)), constant_values=255)
-    return pixels
 
 
 # ---------------------------------------------------------------------------- input values
@@ -400,31 +378,19 @@ def _option(value, labels, values):
     return _REFUSED
 
 
-def _echo(value) -> str:
-    """A refused value as the readout quotes it (NaN named as such, never as a computed "nan")."""
-    number = _plain_number(value)
-    if number is not None and math.isnan(number):
-        return "NaN"
-    return repr(value) if number is None else f"{number:g}"
-
-
 def _control_value(key: str, control, value) -> tuple[object, str]:
     """What ``update`` sets for ``value`` on ``control`` (or ``_REFUSED``) and a readout note, or ""."""
-    name = control.description or key
+    name, number = control.description or key, _plain_number(value)
+    # the refused value as the readout quotes it: NaN named as such, never as a computed "nan"
+    echo = repr(value) if number is None else "NaN" if math.isnan(number) else f"{number:g}"
     if isinstance(control, widgets.ToggleButtons):
-        labels, values = control._options_labels, control._options_values
-        option = _option(value, labels, values)
-        if option is _REFUSED:
-            listed = ", ".join(repr(option) for option in values)
-            return _REFUSED, f"{name}: refused {_echo(value)}, not one of {listed}; kept {control.value!r}"
-        return option, ""
-    number = _plain_number(value)
-    kept = f"kept {control.value:g}"
-    if number is None:
-        return _REFUSED, f"{name}: refused {_echo(value)}, not a number; {kept}"
-    if not math.isfinite(number):
-        why = "not a number" if math.isnan(number) else "not a finite number"
-        return _REFUSED, f"{name}: refused {_echo(value)}, {why}; {kept}"
+        option = _option(value, control._options_labels, control._options_values)
+        listed = ", ".join(repr(option) for option in control._options_values)
+        return option, (f"{name}: refused {echo}, not one of {listed}; kept {control.value!r}"
+                        if option is _REFUSED else "")
+    if number is None or not math.isfinite(number):
+        why = "not a finite number" if number is not None and math.isinf(number) else "not a number"
+        return _REFUSED, f"{name}: refused {echo}, {why}; kept {control.value:g}"
     if key.endswith("_deg") and not control.min <= number <= control.max:
         wrapped = _wrap_degrees(number)
         return wrapped, f"{name} = {number:g} taken as {wrapped:g} (the same direction)"
@@ -435,16 +401,11 @@ def _control_value(key: str, control, value) -> tuple[object, str]:
     return number, ""
 
 
-def _number_argument(name: str, value, unit: str) -> float:
+def _number_argument(name: str, value, unit: str, low: float = -math.inf, high: float = math.inf) -> float:
+    """A builder argument: a finite number (within its slider's range ``low``…``high``), else raise."""
     number = _plain_number(value)
     if number is None or not math.isfinite(number):
         raise InvalidGeometryError(f"{name} must be a finite number ({unit}); got {value!r}")
-    return number
-
-
-def _range_argument(name: str, value, low: float, high: float, unit: str) -> float:
-    """A builder argument that sets a slider: a finite number within the slider's range, else raise."""
-    number = _number_argument(name, value, unit)
     if not low <= number <= high:
         raise InvalidGeometryError(
             f"{name} must be between {low:g} and {high:g} {unit} (its slider's range); got {value!r}"
@@ -457,32 +418,32 @@ def _angle_argument(name: str, value) -> float:
     return _wrap_degrees(math.degrees(_number_argument(name, value, "an angle in radians")))
 
 
-def _choice_argument(name: str, value, labels, values):
-    """A builder argument that sets a toggle: one of its options (text in any letter case), else raise."""
-    option = _option(value, labels, values)
-    if option is _REFUSED:
-        listed = ", ".join(repr(option) for option in values)
-        raise InvalidGeometryError(f"{name} must be one of {listed}; got {value!r}")
-    return option
-
-
 # ---------------------------------------------------------------------------- helpers
 def _slider(description: str, value: float, low: float, high: float, step: float, fmt: str = ".3f"):
     return widgets.FloatSlider(
         value=value, min=low, max=high, step=step, description=description, readout_format=fmt,
-        continuous_update=True, style=_STYLE, layout=_SLIDER_LAYOUT,
+        continuous_update=True, style=_STYLE, layout={"width": "340px"},
     )
 
 
-def _toggle(description: str, options, value):
-    return widgets.ToggleButtons(
-        options=options, value=value, description=description, style={**_STYLE, "button_width": "90px"},
-    )
+def _toggle(description: str, options, name: str, value):
+    """A toggle set to the builder argument ``name``: one of its options (text in any letter case), else
+    raise.  ``options`` are texts or (label, value) pairs."""
+    labels, values = zip(*((option, option) if isinstance(option, str) else option for option in options),
+                         strict=True)
+    chosen = _option(value, labels, values)
+    if chosen is _REFUSED:
+        listed = ", ".join(repr(option) for option in values)
+        raise InvalidGeometryError(f"{name} must be one of {listed}; got {value!r}")
+    return widgets.ToggleButtons(options=options, value=chosen, description=description,
+                                 style={**_STYLE, "button_width": "90px"})
 
 
-def _figure(width: float, height: float) -> Figure:
-    """A bare Figure (no pyplot): rendered by the explorer's own Agg canvas; fixed layout (fast)."""
-    return Figure(figsize=(width, height), dpi=80)
+def _grid(ax, **properties):
+    """The axes with ``properties`` set (labels, limits) and the explorers' dashed grid."""
+    ax.set(**properties)
+    ax.grid(True, linestyle="--", alpha=0.5)
+    return ax
 
 
 def _set_equal_limits(ax, xmin: float, xmax: float, ymin: float, ymax: float) -> None:
@@ -496,20 +457,15 @@ def _set_equal_limits(ax, xmin: float, xmax: float, ymin: float, ymax: float) ->
     ax.set_ylim(y_mid - scale * box_height / 2, y_mid + scale * box_height / 2)
 
 
-def _keep_or_fit_limits(ax, content, padded) -> None:
-    """Keep the axes' limits while the ``content`` box (xmin, xmax, ymin, ymax) stays inside them and
-    fills at least half of them; otherwise fit the ``padded`` box (content plus margins)."""
-    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    xmin, xmax, ymin, ymax = content
-    fits = x0 <= xmin and xmax <= x1 and y0 <= ymin and ymax <= y1
-    fills = max((xmax - xmin) / (x1 - x0), (ymax - ymin) / (y1 - y0)) >= 0.5
-    if not (fits and fills):
-        _set_equal_limits(ax, *padded)
-
-
 def _moving_line(ax, *args, **kwargs):
     (line,) = ax.plot(*args, animated=True, **kwargs)
     return line
+
+
+def _failure_text(ax, y: float = 0.97):
+    """The red text in the drawing's top left corner that says why the linkage is not drawn."""
+    return ax.text(0.02, y, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR, fontsize=10,
+                   fontweight="bold", animated=True)
 
 
 def _ground_triangle(size: float) -> np.ndarray:
@@ -519,9 +475,7 @@ def _ground_triangle(size: float) -> np.ndarray:
 def _num(value: float, digits: int) -> str:
     """``value`` with ``digits`` decimals and no "-0.000" (rounded first); "undefined" if not finite."""
     number = float(value)
-    if not math.isfinite(number):
-        return "undefined"
-    return f"{round(number, digits) + 0.0:.{digits}f}"
+    return f"{round(number, digits) + 0.0:.{digits}f}" if math.isfinite(number) else "undefined"
 
 
 def _solid_colours(artists) -> list[tuple[int, int, int]]:
@@ -530,11 +484,9 @@ def _solid_colours(artists) -> list[tuple[int, int, int]]:
     for artist in artists:
         for getter in ("get_color", "get_markerfacecolor", "get_markeredgecolor", "get_edgecolor",
                        "get_facecolor"):
-            if not hasattr(artist, getter):
-                continue
             try:
                 rgba = to_rgba_array(getattr(artist, getter)())
-            except (TypeError, ValueError):
+            except (AttributeError, TypeError, ValueError):
                 continue
             alpha = rgba[:, 3:] * (artist.get_alpha() if artist.get_alpha() is not None else 1.0)
             blended = rgba[:, :3] * alpha + (1.0 - alpha)  # over the white figure
@@ -546,14 +498,20 @@ def _finite(*values) -> bool:
     return all(np.all(np.isfinite(value)) for value in values)
 
 
-def _deg(value) -> float:
-    return float(np.degrees(value))
+def _visible(artists, names: str, shown: bool) -> None:
+    for name in names.split():
+        artists[name].set_visible(shown)
 
 
 # ---------------------------------------------------------------------------- four-bar
-_FOURBAR_CURVE_POINTS = 361
 #: The length sliders' range (m); a builder argument outside it is refused.
 _FOURBAR_LENGTHS = (0.02, 0.40)
+#: The moving links by name: the pairs of points they join (P is the coupler point on plate ABP).
+_FOURBAR_LINKS = {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "plate": ("A", "P"),
+                  "plate PB": ("P", "B")}
+#: Artists that change only with a length, the branch or the coupler point (the cached geometry layer).
+_FOURBAR_GEOMETRY_LAYER = ("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4", "label_O2",
+                           "label_O4")
 
 
 def fourbar_explorer(
@@ -582,37 +540,27 @@ def fourbar_explorer(
     >>> "outside the input range" in explorer.message
     True
     """
-    lengths = {name: _range_argument(name, value, *_FOURBAR_LENGTHS, "m") for name, value in
-               (("ground", ground), ("crank", crank), ("coupler", coupler), ("rocker", rocker))}
-    p = 0.5 * lengths["coupler"] if p is None else _range_argument("p", p, 0.0, _FOURBAR_LENGTHS[1], "m")
-    branch = _choice_argument("branch", branch, BRANCHES, BRANCHES)
-    low, high, step = *_FOURBAR_LENGTHS, 0.005
-    controls = {
-        "ground": _slider("ground l1 (m)", lengths["ground"], low, high, step),
-        "crank": _slider("crank l2 (m)", lengths["crank"], low, high, step),
-        "coupler": _slider("coupler l3 (m)", lengths["coupler"], low, high, step),
-        "rocker": _slider("rocker l4 (m)", lengths["rocker"], low, high, step),
+    low, high = _FOURBAR_LENGTHS
+    named = (("ground", "ground l1", ground), ("crank", "crank l2", crank),
+             ("coupler", "coupler l3", coupler), ("rocker", "rocker l4", rocker))
+    lengths = {key: _number_argument(key, value, "m", low, high) for key, _, value in named}
+    p = 0.5 * lengths["coupler"] if p is None else _number_argument("p", p, "m", 0.0, high)
+    branch_toggle = _toggle("branch", BRANCHES, "branch", branch)
+    controls = {key: _slider(f"{label} (m)", lengths[key], low, high, 0.005) for key, label, _ in named}
+    controls.update({
         "theta2_deg": _slider("θ2 (°)", _angle_argument("theta2", theta2), -180.0, 180.0, 1.0, ".0f"),
-        "branch": _toggle("branch", BRANCHES, branch),
-        "p": _slider("point P: p (m)", p, 0.0, high, step),
+        "branch": branch_toggle,
+        "p": _slider("point P: p (m)", p, 0.0, high, 0.005),
         "delta_deg": _slider("point P: δ (°)", _angle_argument("delta", delta), -180.0, 180.0, 5.0, ".0f"),
-    }
-    figure = _figure(8.6, 3.8)
+    })
+    figure = Figure(figsize=(8.6, 3.8), dpi=80)
     grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,
                                top=0.97, wspace=0.22)
-    ax = figure.add_subplot(grid[0])
-    ax_mu = figure.add_subplot(grid[1])
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
-    ax.grid(True, linestyle="--", alpha=0.5)
-    ax_mu.set_xlabel("θ2 (°)")
-    ax_mu.set_ylabel("transmission angle μ (°)")
-    ax_mu.set_xlim(-180, 180)
-    ax_mu.set_ylim(0, 92)
-    ax_mu.set_xticks(np.arange(-180, 181, 90))
+    ax = _grid(figure.add_subplot(grid[0]), xlabel="x (m)", ylabel="y (m)")
+    ax_mu = _grid(figure.add_subplot(grid[1]), xlabel="θ2 (°)", ylabel="transmission angle μ (°)",
+                  xlim=(-180, 180), ylim=(0, 92), xticks=np.arange(-180, 181, 90))
     ax_mu.axhline(40.0, color="0.5", linestyle=":", lw=1)
     ax_mu.text(-175, 42, "μ = 40°", color="0.4", fontsize=8)
-    ax_mu.grid(True, linestyle="--", alpha=0.5)
     curve_line, = ax.plot([], [], color="tab:purple", lw=1.2, label="coupler curve of P")
     mu_line, = ax_mu.plot([], [], color="tab:purple", lw=1.5)
     plate = {"color": LINK_COLORS[1], "lw": 1, "alpha": 0.6}
@@ -626,153 +574,112 @@ def fourbar_explorer(
         "point_p": _moving_line(ax, [], [], "o", ms=6, color="tab:purple", zorder=5),
         "mu_cursor": _moving_line(ax_mu, [], [], "o", ms=7, color="black", zorder=5),
         "mu_cursor_line": ax_mu.axvline(0.0, color="black", lw=1, animated=True),
-        "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
-                           fontsize=10, fontweight="bold", animated=True),
+        "failure": _failure_text(ax),
+        **{f"label_{key}": ax.text(0, 0, key, fontsize=9, animated=True) for key in ("O2", "O4")},
+        **{f"ground_{key}": ax.add_patch(Polygon(_ground_triangle(0.01), closed=True, facecolor="none",
+                                                 edgecolor="0.3", hatch="///", lw=1, animated=True))
+           for key in ("O2", "O4")},
+        **{key: ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.45", lw=1,
+                                    animated=True)) for key in ("reach_A", "reach_O4")},
     }
-    for key in ("O2", "O4"):
-        artists[f"label_{key}"] = ax.text(0, 0, key, fontsize=9, animated=True)
-    for key in ("ground_O2", "ground_O4"):
-        patch = Polygon(_ground_triangle(0.01), closed=True, facecolor="none", edgecolor="0.3",
-                        hatch="///", lw=1, animated=True)
-        artists[key] = ax.add_patch(patch)
-    for key in ("reach_A", "reach_O4"):
-        circle = Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.45", lw=1, animated=True)
-        artists[key] = ax.add_patch(circle)
     ax.legend(handles=[curve_line], loc="lower right", fontsize=8)
 
     def draw(state, geometry_changed: bool) -> Readout:
-        return _draw_fourbar(state, geometry_changed, artists, ax, linkage)
+        """Solve the four-bar at the state's θ2 and move the artists; the plain update step."""
+        theta2, branch = np.radians(float(state["theta2_deg"])), state["branch"]
+        four = FourBar(crank=state["crank"], coupler=state["coupler"], rocker=state["rocker"],
+                       ground=state["ground"])
+        l1, l2, l3, l4 = four.l1, four.l2, four.l3, four.l4
+        p, delta = float(state["p"]), np.radians(float(state["delta_deg"]))
+        offset = linkage.label_offset = 0.04 * max(l1, l2, l3, l4)
+        if geometry_changed:
+            sweep = np.linspace(-np.pi, np.pi, 361)
+            curve = four.coupler_point(sweep, p, delta, branch=branch, on_unreachable="nan").position
+            mu = four.transmission_angle(sweep, branch=branch, on_unreachable="nan")
+            artists["coupler_curve"].set_data(curve[:, 0], curve[:, 1])
+            artists["mu_curve"].set_data(np.degrees(sweep), np.degrees(mu))
+            # limits for the crank circle, rocker circle and coupler curve, kept while these stay inside
+            # them and fill at least half of them, else fitted with margins
+            xs = [-l2, l2, l1 - l4, l1 + l4, *np.nan_to_num(curve[:, 0], nan=0.0)]
+            ys = [-l2, l2, -l4, l4, *np.nan_to_num(curve[:, 1], nan=0.0)]
+            xmin, xmax, ymin, ymax = min(xs), max(xs), min(ys), max(ys)
+            (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+            fits = x0 <= xmin and xmax <= x1 and y0 <= ymin and ymax <= y1
+            if not (fits and max((xmax - xmin) / (x1 - x0), (ymax - ymin) / (y1 - y0)) >= 0.5):
+                margin = 0.08 * max(xmax - xmin, ymax - ymin)
+                _set_equal_limits(ax, xmin - margin, xmax + margin, ymin - margin, ymax + 2.5 * margin)
+            size = 0.035 * max(l1, l2, l4)
+            artists["ground_O2"].set_xy(_ground_triangle(size))
+            artists["ground_O4"].set_xy(_ground_triangle(size) + [l1, 0.0])
+            artists["ground"].set_data([0.0, l1], [0.0, 0.0])
+            artists["label_O2"].set_position((offset, offset))
+            artists["label_O4"].set_position((l1 + offset, offset))
+        grashof, reach = four.grashof(), four.input_range()
+        relation = "<" if grashof.s_plus_l < grashof.p_plus_q else ">" if grashof.name[:3] == "non" else "="
+        ranges = " and ".join(f"[{np.degrees(a):.1f}°, {np.degrees(b):.1f}°]" for a, b in reach.intervals)
+        lines = (
+            f"{grashof.name}: s + l = {grashof.s_plus_l:.3f} m {relation} p + q = {grashof.p_plus_q:.3f} m "
+            f"(shortest: {grashof.shortest}, longest: {grashof.longest})",
+            "input range: θ2 turns fully (0° to 360°)" if reach.full_rotation
+            else f"input range: θ2 in {ranges} (toggle positions at the ends)" if reach.intervals
+            else "input range: none — these lengths cannot be assembled at any θ2",
+        )
+        A = np.array([l2 * np.cos(theta2), l2 * np.sin(theta2)])
+        O2, O4 = np.zeros(2), np.array([l1, 0.0])
+        artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
+        try:
+            solution = four.solve(theta2, branch=branch)
+            mu = four.transmission_angle(theta2, branch=branch)
+            point = four.coupler_point(theta2, p, delta, branch=branch).position
+            failure = (None if _finite(solution.theta3, solution.theta4, mu, point)
+                       else "the closed form returns no number here")
+        except CourseLibError as err:
+            failure = err
+        if failure is not None:
+            _visible(artists, "point_p mu_cursor", False)
+            linkage.move({"O2": O2, "A": A, "O4": O4})
+            at, distance = f"θ2 = {np.degrees(theta2):.0f}°", float(np.hypot(*(O4 - A)))
+            if distance < 1e-9 * max(l1, l2):  # A on O4: the coupler's direction is undefined
+                _visible(artists, "reach_A reach_O4", False)
+                artists["failure"].set_text(f"A lands on O4 at {at}")
+                return Readout("singular", (
+                    f"{at}: the crank pin A lands on the pivot O4 (l2 = l1), "
+                    "so the coupler's direction, θ3 and θ4 are undefined here.",
+                    "Move θ2 a little, or change l1 or l2.", *lines, f"course_lib says: {failure}",
+                ))
+            artists["reach_A"].set(center=tuple(A), radius=l3, visible=True)
+            artists["reach_O4"].set(center=tuple(O4), radius=l4, visible=True)
+            artists["failure"].set_text(f"cannot assemble at {at}")
+            far, near = f"l3 + l4 = {l3 + l4:.3f} m", f"|l3 − l4| = {abs(l3 - l4):.3f} m"
+            why = f"|AO4| = {distance:.3f} m " + (
+                f"> {far}: coupler and rocker cannot reach" if distance > l3 + l4
+                else f"< {near}: the longer link overshoots" if distance < abs(l3 - l4)
+                else f"is at the limit {far} or {near}: a toggle position")
+            return Readout("unreachable", (
+                f"{at} is outside the input range: the loop cannot close.",
+                why + " (the dashed circles about A and O4 do not meet).",
+                "Move θ2 back into the input range, or change the lengths.", *lines,
+                f"course_lib says: {failure}",
+            ))
+        B = O4 + l4 * np.array([np.cos(solution.theta4), np.sin(solution.theta4)])
+        _visible(artists, "reach_A reach_O4", False)
+        _visible(artists, "point_p mu_cursor", True)
+        artists["failure"].set_text("")
+        linkage.move({"O2": O2, "A": A, "B": B, "O4": O4, "P": point})
+        artists["point_p"].set_data([point[0]], [point[1]])
+        artists["mu_cursor"].set_data([np.degrees(theta2)], [np.degrees(mu)])
+        warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
+        return Readout("ok", (
+            f"θ2 = {np.degrees(theta2):.1f}°  →  θ3 = {np.degrees(solution.theta3):.2f}°, "
+            f"θ4 = {np.degrees(solution.theta4):.2f}°  ({branch} branch)",
+            f"transmission angle μ = {np.degrees(mu):.2f}°{warning}",
+            f"coupler point P = ({point[0]:.4f}, {point[1]:.4f}) m",
+            *lines,
+        ))
 
     geometry = ("ground", "crank", "coupler", "rocker", "branch", "p", "delta_deg")
     return Explorer("four-bar", controls, figure, artists, draw, geometry,
                     geometry_artists=_FOURBAR_GEOMETRY_LAYER)
-
-
-#: The moving links by name: the pairs of points they join (P is the coupler point on plate ABP).
-_FOURBAR_LINKS = {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "plate": ("A", "P"),
-                  "plate PB": ("P", "B")}
-#: Artists that change only with a length, the branch or the coupler point (the cached geometry layer).
-_FOURBAR_GEOMETRY_LAYER = ("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4", "label_O2",
-                           "label_O4")
-
-
-def _draw_fourbar(state, geometry_changed, artists, ax, drawing: LinkageArtist) -> Readout:
-    """Solve the four-bar at the state's θ2 and move the artists; the plain update step."""
-    theta2 = np.radians(float(state["theta2_deg"]))
-    branch = state["branch"]
-    linkage = FourBar(crank=state["crank"], coupler=state["coupler"], rocker=state["rocker"],
-                      ground=state["ground"])
-    l1, l2, l3, l4 = linkage.l1, linkage.l2, linkage.l3, linkage.l4
-    p, delta = float(state["p"]), np.radians(float(state["delta_deg"]))
-    offset = 0.04 * max(l1, l2, l3, l4)
-    drawing.label_offset = offset
-    if geometry_changed:
-        sweep = np.linspace(-np.pi, np.pi, _FOURBAR_CURVE_POINTS)
-        curve = linkage.coupler_point(sweep, p, delta, branch=branch, on_unreachable="nan").position
-        mu = linkage.transmission_angle(sweep, branch=branch, on_unreachable="nan")
-        artists["coupler_curve"].set_data(curve[:, 0], curve[:, 1])
-        artists["mu_curve"].set_data(np.degrees(sweep), np.degrees(mu))
-        _fourbar_limits(ax, linkage, curve)
-        size = 0.035 * max(l1, l2, l4)
-        artists["ground_O2"].set_xy(_ground_triangle(size))
-        artists["ground_O4"].set_xy(_ground_triangle(size) + [l1, 0.0])
-        artists["ground"].set_data([0.0, l1], [0.0, 0.0])
-        artists["label_O2"].set_position((offset, offset))
-        artists["label_O4"].set_position((l1 + offset, offset))
-    grashof = linkage.grashof()
-    relation = "<" if grashof.s_plus_l < grashof.p_plus_q else ">" if grashof.name.startswith("non") else "="
-    lines = [
-        f"{grashof.name}: s + l = {grashof.s_plus_l:.3f} m {relation} p + q = {grashof.p_plus_q:.3f} m "
-        f"(shortest: {grashof.shortest}, longest: {grashof.longest})",
-        _input_range_text(linkage),
-    ]
-    A = np.array([l2 * np.cos(theta2), l2 * np.sin(theta2)])
-    O2, O4 = np.zeros(2), np.array([l1, 0.0])
-    artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
-    distance = float(np.hypot(*(O4 - A)))
-    try:
-        solution = linkage.solve(theta2, branch=branch)
-        mu = linkage.transmission_angle(theta2, branch=branch)
-        point = linkage.coupler_point(theta2, p, delta, branch=branch).position
-        failure = None
-    except CourseLibError as err:
-        failure = err
-    if failure is None and not _finite(solution.theta3, solution.theta4, mu, point):
-        failure = "the closed form returns no number here"
-    if failure is not None:
-        _hide(artists, "point_p mu_cursor")
-        drawing.move({"O2": O2, "A": A, "O4": O4})
-        if distance < 1e-9 * max(l1, l2):  # A on O4: the coupler's direction is undefined
-            _hide(artists, "reach_A reach_O4")
-            artists["failure"].set_text(f"A lands on O4 at θ2 = {np.degrees(theta2):.0f}°")
-            return Readout("singular", (
-                f"θ2 = {np.degrees(theta2):.0f}°: the crank pin A lands on the pivot O4 (l2 = l1), "
-                "so the coupler's direction, θ3 and θ4 are undefined here.",
-                "Move θ2 a little, or change l1 or l2.",
-                lines[0], lines[1], f"course_lib says: {failure}",
-            ))
-        artists["reach_A"].set(center=tuple(A), radius=l3, visible=True)
-        artists["reach_O4"].set(center=tuple(O4), radius=l4, visible=True)
-        artists["failure"].set_text(f"cannot assemble at θ2 = {np.degrees(theta2):.0f}°")
-        if distance > l3 + l4:
-            why = f"|AO4| = {distance:.3f} m > l3 + l4 = {l3 + l4:.3f} m: coupler and rocker cannot reach"
-        elif distance < abs(l3 - l4):
-            why = f"|AO4| = {distance:.3f} m < |l3 − l4| = {abs(l3 - l4):.3f} m: the longer link overshoots"
-        else:
-            why = (f"|AO4| = {distance:.3f} m is at the limit l3 + l4 = {l3 + l4:.3f} m or "
-                   f"|l3 − l4| = {abs(l3 - l4):.3f} m: a toggle position")
-        return Readout("unreachable", (
-            f"θ2 = {np.degrees(theta2):.0f}° is outside the input range: the loop cannot close.",
-            why + " (the dashed circles about A and O4 do not meet).",
-            "Move θ2 back into the input range, or change the lengths.",
-            lines[0], lines[1], f"course_lib says: {failure}",
-        ))
-    B = O4 + l4 * np.array([np.cos(solution.theta4), np.sin(solution.theta4)])
-    _hide(artists, "reach_A reach_O4")
-    artists["failure"].set_text("")
-    _show(artists, "point_p mu_cursor")
-    drawing.move({"O2": O2, "A": A, "B": B, "O4": O4, "P": point})
-    artists["point_p"].set_data([point[0]], [point[1]])
-    artists["mu_cursor"].set_data([np.degrees(theta2)], [np.degrees(mu)])
-    warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
-    return Readout("ok", (
-        f"θ2 = {np.degrees(theta2):.1f}°  →  θ3 = {np.degrees(solution.theta3):.2f}°, "
-        f"θ4 = {np.degrees(solution.theta4):.2f}°  ({branch} branch)",
-        f"transmission angle μ = {np.degrees(mu):.2f}°{warning}",
-        f"coupler point P = ({point[0]:.4f}, {point[1]:.4f}) m",
-        *lines,
-    ))
-
-
-def _input_range_text(linkage: FourBar) -> str:
-    reach = linkage.input_range()
-    if reach.full_rotation:
-        return "input range: θ2 turns fully (0° to 360°)"
-    if not reach.intervals:
-        return "input range: none — these lengths cannot be assembled at any θ2"
-    parts = " and ".join(f"[{np.degrees(a):.1f}°, {np.degrees(b):.1f}°]" for a, b in reach.intervals)
-    return f"input range: θ2 in {parts} (toggle positions at the ends)"
-
-
-def _fourbar_limits(ax, linkage: FourBar, curve: np.ndarray) -> None:
-    """Limits for a geometry (crank circle, rocker circle, coupler curve), kept while the picture fits."""
-    l1, l2, l4 = linkage.l1, linkage.l2, linkage.l4
-    xs = [-l2, l2, l1 - l4, l1 + l4, *np.nan_to_num(curve[:, 0], nan=0.0)]
-    ys = [-l2, l2, -l4, l4, *np.nan_to_num(curve[:, 1], nan=0.0)]
-    content = (min(xs), max(xs), min(ys), max(ys))
-    margin = 0.08 * max(content[1] - content[0], content[3] - content[2])
-    padded = (content[0] - margin, content[1] + margin, content[2] - margin, content[3] + 2.5 * margin)
-    _keep_or_fit_limits(ax, content, padded)
-
-
-def _hide(artists, names: str) -> None:
-    for name in names.split():
-        artists[name].set_visible(False)
-
-
-def _show(artists, names: str) -> None:
-    for name in names.split():
-        artists[name].set_visible(True)
 
 
 # ---------------------------------------------------------------------------- power saw
@@ -803,23 +710,21 @@ def saw_explorer(
     >>> bool(abs(explorer.state["t"] - 30 * explorer.controls["t"].step) < 1e-12)
     True
     """
-    from . import saw as saw_module
-    from .profile import first_turn_time as turn_time
-    from .profile import motor_profile
+    from .profile import first_turn_time, motor_profile
+    from .saw import COURSE_SAW, analytic, joint_positions
 
     count = _plain_number(frames)
     if count is None or not 2 <= count <= 10_000 or count != int(count):
         raise InvalidGeometryError(f"frames must be a whole number from 2 to 10000; got {frames!r}")
-    frames = int(count)
-    end = 2 * turn_time() if t_end is None else _number_argument("t_end", t_end, "a time in seconds")
+    turn = first_turn_time()
+    end = 2 * turn if t_end is None else _number_argument("t_end", t_end, "a time in seconds")
     if not 0 < end <= 100:
         raise InvalidGeometryError(f"t_end must be a time in seconds, > 0 and at most 100; got {t_end!r}")
-    t = _range_argument("t", t, 0.0, end, "s")
+    t = _number_argument("t", t, "s", 0.0, end)
     interval = _number_argument("interval_ms", interval_ms, "milliseconds per frame")
     if interval <= 0:
         raise InvalidGeometryError(f"interval_ms must be a positive time in ms; got {interval_ms!r}")
-    dt = end / frames
-    geometry = saw_module.COURSE_SAW
+    frames, dt = int(count), end / int(count)
     time_slider = _slider("time t (s)", t, 0.0, end, dt, ".3f")
     play = widgets.Play(value=int(round(t / dt)), min=0, max=frames, step=1, interval=int(round(interval)),
                         description="play")
@@ -833,20 +738,18 @@ def saw_explorer(
 
     play.observe(play_moved, names="value")
     time_slider.observe(slider_moved, names="value")
-    controls = {"t": time_slider}
 
     sweep_t = np.linspace(0.0, end, 481)
     profile = motor_profile(sweep_t)
-    values = saw_module.analytic(*profile, saw=geometry)
-
-    figure = _figure(8.6, 6.6)
+    values = analytic(*profile, saw=COURSE_SAW)
+    figure = Figure(figsize=(8.6, 6.6), dpi=80)
     grid = figure.add_gridspec(2, 1, height_ratios=(1.0, 1.25), left=0.08, right=0.985, bottom=0.06,
                                top=0.97, hspace=0.2)
     top = grid[0].subgridspec(1, 2, width_ratios=(1.25, 1.0), wspace=0.25)
     bottom = grid[1].subgridspec(3, 3, hspace=0.55, wspace=0.38)
     ax = figure.add_subplot(top[0])
     ax_profile = figure.add_subplot(top[1])
-    r1y, r2, r3 = geometry.r1y, geometry.r2, geometry.r3
+    r1y, r2, r3 = COURSE_SAW.r1y, COURSE_SAW.r2, COURSE_SAW.r3
     ax.set_xlabel("x (m)", labelpad=1)
     ax.set_ylabel("y (m)", labelpad=1)
     ax.grid(True, linestyle="--", alpha=0.5)
@@ -854,18 +757,16 @@ def saw_explorer(
     ax.text(-r2 - r3 - 0.015, r1y + 0.006, "slider line y = r1y", fontsize=7, color="0.4")
     crank_circle = np.linspace(0, 2 * np.pi, 100)
     ax.plot(r2 * np.cos(crank_circle), r2 * np.sin(crank_circle), color="0.75", lw=0.8)
-    ax.add_patch(Polygon(_ground_triangle(0.008), closed=True, facecolor="none", edgecolor="0.3",
-                         hatch="///"))
+    _ground_symbol(ax, (0.0, 0.0), 0.008)
     _set_equal_limits(ax, -r2 - r3 - 0.02, r2 + 0.02, -r2 - 0.015, max(r2, r1y) + 0.025)
-    ax_profile.plot(sweep_t, profile.theta2, color="tab:blue", label="θ2 (rad)")
-    ax_profile.plot(sweep_t, profile.omega2, color="tab:orange", label="ω2 (rad/s)")
-    ax_profile.plot(sweep_t, profile.alpha2, color="tab:green", label="α2 (rad/s²)")
-    ax_profile.axvline(turn_time(), color="0.5", linestyle=":", lw=1)
-    ax_profile.set_xlim(0, end)
+    for curve, color, label in zip(profile, ("tab:blue", "tab:orange", "tab:green"),
+                                   ("θ2 (rad)", "ω2 (rad/s)", "α2 (rad/s²)"), strict=True):
+        ax_profile.plot(sweep_t, curve, color=color, label=label)
+    ax_profile.axvline(turn, color="0.5", linestyle=":", lw=1)
+    _grid(ax_profile, xlim=(0, end))
     ax_profile.set_xlabel("t (s)", labelpad=1)
     ax_profile.set_title("motor profile", fontsize=9, pad=3)
     ax_profile.legend(fontsize=7, loc="upper left")
-    ax_profile.grid(True, linestyle="--", alpha=0.5)
     drawing = LinkageArtist(ax, {"r1": ("O2", "B"), "crank": ("O2", "A"), "rod": ("A", "B")}, blocks=["B"],
                             styles={"r1": {"color": "tab:purple", "lw": 1.2, "linestyle": "--"},
                                     "crank": {"color": LINK_COLORS[0]}, "rod": {"color": LINK_COLORS[1]}},
@@ -874,71 +775,63 @@ def saw_explorer(
         **drawing.artists,
         "profile_cursor": ax_profile.axvline(0.0, color="black", lw=1, animated=True),
         "profile_points": _moving_line(ax_profile, [], [], "o", ms=5, color="black"),
-        "failure": ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
-                           fontsize=10, fontweight="bold", animated=True),
+        "failure": _failure_text(ax, 0.96),
         "title": ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", fontsize=9, animated=True),
     }
     for k, (key, label) in enumerate(_SAW_PANELS):
-        panel = figure.add_subplot(bottom[k // 3, k % 3])
+        panel = _grid(figure.add_subplot(bottom[k // 3, k % 3]), xlim=(0, end))
         panel.plot(sweep_t, values[:, k], color="tab:purple", lw=1.2)
         panel.set_title(label, fontsize=8, pad=2)
         panel.tick_params(labelsize=7, pad=1)
-        panel.set_xlim(0, end)
-        panel.grid(True, linestyle="--", alpha=0.5)
         if k >= 6:
             panel.set_xlabel("t (s)", fontsize=7, labelpad=0)
         artists[f"cursor_{key}"] = panel.axvline(0.0, color="black", lw=1, animated=True)
         artists[f"point_{key}"] = _moving_line(panel, [], [], "o", ms=4, color="black")
 
     def draw(state, geometry_changed: bool) -> Readout:
-        return _draw_saw(float(state["t"]), artists, drawing, geometry, saw_module, motor_profile,
-                         turn_time())
+        """Solve the saw at time t of the motor profile and move the artists; the plain update step."""
+        t = float(state["t"])
+        try:
+            theta2, omega2, alpha2 = (float(v) for v in motor_profile(t))
+            values = analytic(theta2, omega2, alpha2, saw=COURSE_SAW)
+            joints = joint_positions(theta2, saw=COURSE_SAW)
+        except CourseLibError as err:
+            drawing.move({})
+            artists["profile_points"].set_visible(False)
+            artists["failure"].set_text(f"no assembly at t = {t:.3f} s")
+            return Readout("unreachable", (f"t = {t:.3f} s: the saw cannot be solved here.",
+                                           f"course_lib says: {err}"))
+        artists["profile_points"].set_visible(True)
+        artists["failure"].set_text("")
+        drawing.move(dict(zip(("O2", "A", "B"), joints, strict=True)))
+        artists["title"].set_text(f"t = {t:.3f} s")
+        artists["profile_cursor"].set_xdata([t, t])
+        artists["profile_points"].set_data([t, t, t], [theta2, omega2, alpha2])
+        for k, (key, _label) in enumerate(_SAW_PANELS):
+            artists[f"cursor_{key}"].set_xdata([t, t])
+            artists[f"point_{key}"].set_data([t], [values[k]])
+        phase = (("α2 rising", "α2 constant", "α2 falling")[min(int(3 * t / turn), 2)] if t < turn
+                 else "steady speed")
+        named = {key: _num(value, 5) for (key, _), value in zip(_SAW_PANELS, values, strict=True)}
+        return Readout("ok", (
+            f"t = {t:.3f} s ({'start-up, ' + phase if t < turn else phase}; "
+            f"first turn ends at T = {turn:.4f} s)",
+            f"motor: θ2 = {_num(theta2, 4)} rad ({np.degrees(theta2):.1f}°), ω2 = {_num(omega2, 4)} rad/s, "
+            f"α2 = {_num(alpha2, 4)} rad/s²",
+            f"position: r1 = {named['r1']} m, θ1 = {named['theta1']} rad, θ3 = {named['theta3']} rad",
+            f"velocity: v_r = {named['v_r']} m/s, ω1 = {named['omega1']} rad/s, ω3 = {named['omega3']} rad/s",
+            f"acceleration: a_r = {named['a_r']} m/s², α1 = {named['alpha1']} rad/s², "
+            f"α3 = {named['alpha3']} rad/s²",
+        ))
 
-    explorer = Explorer("power saw", controls, figure, artists, draw, (), (play,))
+    explorer = Explorer("power saw", {"t": time_slider}, figure, artists, draw, (), (play,))
     explorer.play = play  # the Play button (frame k ↔ t = k·dt), also in ``extra``
     return explorer
-
-
-def _draw_saw(t, artists, drawing, geometry, saw_module, motor_profile, turn) -> Readout:
-    """Solve the saw at time t of the motor profile and move the artists; the plain update step."""
-    try:
-        theta2, omega2, alpha2 = (float(v) for v in motor_profile(t))
-        values = saw_module.analytic(theta2, omega2, alpha2, saw=geometry)
-        joints = saw_module.joint_positions(theta2, saw=geometry)
-    except CourseLibError as err:
-        drawing.move({})
-        artists["profile_points"].set_visible(False)
-        artists["failure"].set_text(f"no assembly at t = {t:.3f} s")
-        return Readout("unreachable", (f"t = {t:.3f} s: the saw cannot be solved here.",
-                                       f"course_lib says: {err}"))
-    artists["profile_points"].set_visible(True)
-    artists["failure"].set_text("")
-    drawing.move(dict(zip(("O2", "A", "B"), joints, strict=True)))
-    artists["title"].set_text(f"t = {t:.3f} s")
-    artists["profile_cursor"].set_xdata([t, t])
-    artists["profile_points"].set_data([t, t, t], [theta2, omega2, alpha2])
-    for k, (key, _label) in enumerate(_SAW_PANELS):
-        artists[f"cursor_{key}"].set_xdata([t, t])
-        artists[f"point_{key}"].set_data([t], [values[k]])
-    phases = ("α2 rising", "α2 constant", "α2 falling")
-    phase = phases[min(int(3 * t / turn), 2)] if t < turn else "steady speed"
-    named = {key: _num(value, 5) for (key, _), value in zip(_SAW_PANELS, values, strict=True)}
-    return Readout("ok", (
-        f"t = {t:.3f} s ({'start-up, ' + phase if t < turn else phase}; first turn ends at T = {turn:.4f} s)",
-        f"motor: θ2 = {_num(theta2, 4)} rad ({np.degrees(theta2):.1f}°), ω2 = {_num(omega2, 4)} rad/s, "
-        f"α2 = {_num(alpha2, 4)} rad/s²",
-        f"position: r1 = {named['r1']} m, θ1 = {named['theta1']} rad, θ3 = {named['theta3']} rad",
-        f"velocity: v_r = {named['v_r']} m/s, ω1 = {named['omega1']} rad/s, ω3 = {named['omega3']} rad/s",
-        f"acceleration: a_r = {named['a_r']} m/s², α1 = {named['alpha1']} rad/s², "
-        f"α3 = {named['alpha3']} rad/s²",
-    ))
 
 
 # ---------------------------------------------------------------------------- five-bar robot
 _SIGMA = (("+1 (arms up)", 1), ("−1 (arms down)", -1))  # σ of the forward kinematics (lesson 00)
 _ROOT = (("+1 (+√Δ)", 1), ("−1 (−√Δ)", -1))  # σ1, σ2: the sign before √Δ in the root for θ1, θ4
-_MODES = ("forward", "inverse")
-_WORKSPACE_POINTS = 161
 
 
 def fivebar_explorer(
@@ -967,33 +860,28 @@ def fivebar_explorer(
     robot = FiveBar(l1, l2, l3, l4, l5)
     reach = max(robot.l1 + robot.l2, robot.l4 + robot.l3) + robot.l5 / 2
     limit = float(np.ceil(reach * 1.1 / 0.01) * 0.01)
-    labels, values = tuple(label for label, _ in _SIGMA), tuple(value for _, value in _SIGMA)
-    roots = tuple(label for label, _ in _ROOT)
     controls = {
-        "mode": _toggle("mode", _MODES, _choice_argument("mode", mode, _MODES, _MODES)),
+        "mode": _toggle("mode", ("forward", "inverse"), "mode", mode),
         "theta1_deg": _slider("θ1 (°)", _angle_argument("theta1", theta1), -180.0, 180.0, 1.0, ".0f"),
         "theta4_deg": _slider("θ4 (°)", _angle_argument("theta4", theta4), -180.0, 180.0, 1.0, ".0f"),
-        "sigma": _toggle("assembly σ", _SIGMA, _choice_argument("sigma", sigma, labels, values)),
-        "x3": _slider("X3 (m)", _range_argument("x3", x3, -limit, limit, "m"), -limit, limit, 0.005),
-        "y3": _slider("Y3 (m)", _range_argument("y3", y3, -limit, limit, "m"), -limit, limit, 0.005),
-        "sigma1": _toggle("σ1 (θ1 root)", _ROOT, _choice_argument("sigma1", sigma1, roots, values)),
-        "sigma2": _toggle("σ2 (θ4 root)", _ROOT, _choice_argument("sigma2", sigma2, roots, values)),
+        "sigma": _toggle("assembly σ", _SIGMA, "sigma", sigma),
+        "x3": _slider("X3 (m)", _number_argument("x3", x3, "m", -limit, limit), -limit, limit, 0.005),
+        "y3": _slider("Y3 (m)", _number_argument("y3", y3, "m", -limit, limit), -limit, limit, 0.005),
+        "sigma1": _toggle("σ1 (θ1 root)", _ROOT, "sigma1", sigma1),
+        "sigma2": _toggle("σ2 (θ4 root)", _ROOT, "sigma2", sigma2),
     }
-    figure = _figure(6.2, 5.0)
-    ax = figure.add_axes((0.12, 0.1, 0.85, 0.86))
-    ax.set_xlabel("X (m)")
-    ax.set_ylabel("Y (m)")
-    ax.grid(True, linestyle="--", alpha=0.5)
+    figure = Figure(figsize=(6.2, 5.0), dpi=80)
+    ax = _grid(figure.add_axes((0.12, 0.1, 0.85, 0.86)), xlabel="X (m)", ylabel="Y (m)")
     _set_equal_limits(ax, -limit, limit, -limit, limit)
-    grid = np.linspace(-limit, limit, _WORKSPACE_POINTS)
+    grid = np.linspace(-limit, limit, 161)
     workspace = robot.workspace(grid, grid, modes=(1, 1))
     shade = np.zeros(workspace.reachable.shape + (4,))
     shade[workspace.reachable] = (0.12, 0.47, 0.71, 0.16)
     shading = ax.imshow(shade, extent=(-limit, limit, -limit, limit), origin="lower", interpolation="nearest")
     half = robot.l5 / 2
+    P1, P5 = np.array([half, 0.0]), np.array([-half, 0.0])
     for center in (half, -half):
-        ax.add_patch(Polygon(_ground_triangle(0.012) + [center, 0.0], closed=True, facecolor="none",
-                             edgecolor="0.3", hatch="///"))
+        _ground_symbol(ax, (center, 0.0), 0.012)
     singular_line, = ax.plot([], [], ".", color="tab:red", ms=2, label="parallel singularity of (σ1, σ2)")
     drawing = LinkageArtist(ax, {"leg1_crank": ("P1", "P2"), "leg1_distal": ("P2", "P3"),
                                  "leg4_distal": ("P4", "P3"), "leg4_crank": ("P5", "P4")},
@@ -1007,152 +895,119 @@ def fivebar_explorer(
         **drawing.artists,
         "end_effector": _moving_line(ax, [], [], "o", ms=8, color="black", zorder=5),
         "target": _moving_line(ax, [], [], "x", ms=11, mew=2.5, color=_ERROR_COLOR),
-        "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
-                           fontsize=10, fontweight="bold", animated=True),
+        "failure": _failure_text(ax),
+        **{key: ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.35", lw=1,
+                                    animated=True)) for key in ("reach_a", "reach_b")},
     }
-    for key in ("reach_a", "reach_b"):
-        artists[key] = ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.35",
-                                           lw=1, animated=True))
-
     curves: dict[tuple[int, int], np.ndarray] = {}  # singularity curve per working mode, computed once
 
+    def angles(state):
+        return np.radians(float(state["theta1_deg"])), np.radians(float(state["theta4_deg"]))
+
     def draw(state, geometry_changed: bool) -> Readout:
-        if geometry_changed:
-            _fivebar_background(state, robot, grid, artists, controls, curves)
-        return _draw_fivebar(state, robot, artists, drawing)
+        """Forward or inverse kinematics of the state and the artists moved; the plain update step."""
+        inverse = state["mode"] == "inverse"
+        modes = (int(state["sigma1"]), int(state["sigma2"]))
+        if geometry_changed:  # the controls of the current mode; in inverse mode the singularity curve
+            for key in ("theta1_deg", "theta4_deg", "sigma", "x3", "y3", "sigma1", "sigma2"):
+                controls[key].disabled = inverse == (key in ("theta1_deg", "theta4_deg", "sigma"))
+            if inverse and modes not in curves:
+                # where the parallel measure changes sign between grid neighbours (linear interpolation)
+                parallel, points = robot.workspace(grid, grid, modes=modes).parallel, []
+                for axis in (0, 1):
+                    a, b = parallel, np.roll(parallel, -1, axis=axis)
+                    crossing = (np.sign(a) * np.sign(b) < 0) & np.isfinite(a) & np.isfinite(b)
+                    crossing[(-1, slice(None)) if axis == 0 else (slice(None), -1)] = False
+                    rows, cols = np.nonzero(crossing)
+                    weight = a[rows, cols] / (a[rows, cols] - b[rows, cols])
+                    step = (grid[1] - grid[0]) * weight
+                    points.append(np.stack([grid[cols] + (step if axis == 1 else 0.0),
+                                            grid[rows] + (step if axis == 0 else 0.0)], axis=1))
+                curves[modes] = np.concatenate(points)
+            points = curves[modes] if inverse else np.empty((0, 2))
+            artists["singularity"].set_data(points[:, 0], points[:, 1])
+        _visible(artists, "reach_a reach_b target", False)
+        artists["failure"].set_text("")
+        try:
+            if inverse:
+                x3, y3 = float(state["x3"]), float(state["y3"])
+                theta1, theta4 = robot.inverse(x3, y3, modes=modes)
+            else:
+                theta1, theta4 = angles(state)
+                x3, y3 = robot.forward(theta1, theta4, mode=int(state["sigma"]))
+        except CourseLibError as err:
+            return failed(state, err)
+        if not _finite(theta1, theta4, x3, y3):
+            artists["end_effector"].set_visible(False)
+            drawing.move({"P1": P1, "P5": P5})
+            artists["failure"].set_text("no position here")
+            return Readout("singular", ("The robot's position is undefined for these inputs "
+                                        "(the closed form returns no number).", "Move a slider a little."))
+        P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
+        P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
+        artists["end_effector"].set_visible(True)
+        drawing.move({"P1": P1, "P2": P2, "P3": np.array([x3, y3]), "P4": P4, "P5": P5})
+        artists["end_effector"].set_data([x3], [y3])
+        measures = robot.singularity_measures(theta1, theta4, x3, y3)
+        parallel = float(measures.parallel)
+        serial = min(abs(float(measures.serial_leg1)), abs(float(measures.serial_leg4)))
+        if inverse:
+            head = (f"inverse, modes (σ1, σ2) = ({modes[0]:+d}, {modes[1]:+d}): "
+                    f"P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m  →  θ1 = {_num(np.degrees(theta1), 2)}°, "
+                    f"θ4 = {_num(np.degrees(theta4), 2)}°")
+        else:
+            head = (f"forward, σ = {int(state['sigma']):+d}: θ1 = {np.degrees(theta1):.1f}°, "
+                    f"θ4 = {np.degrees(theta4):.1f}°  →  P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m")
+        return Readout("ok", (
+            head,
+            f"singularity measures (0 = singular): leg 1 {_num(measures.serial_leg1, 3)}, "
+            f"leg 4 {_num(measures.serial_leg4, 3)}, parallel {_num(parallel, 3)}",
+            *["near a parallel (type-2) singularity: l2 and l3 almost aligned"] * (abs(parallel) < 0.05),
+            *["near a serial (type-1) singularity: a leg almost stretched or folded"] * (serial < 0.05),
+        ))
+
+    def failed(state, err) -> Readout:
+        """Explain an unreachable input and draw the reach circles that fail to meet."""
+        artists["end_effector"].set_visible(False)
+        if state["mode"] == "inverse":
+            P3 = np.array([float(state["x3"]), float(state["y3"])])
+            drawing.move({"P1": P1, "P5": P5})
+            artists["target"].set_data([P3[0]], [P3[1]])
+            artists["target"].set_visible(True)
+            artists["failure"].set_text(f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach")
+            lines = [f"P3 = ({P3[0]:.4f}, {P3[1]:.4f}) m cannot be reached:"]
+            for leg, pivot, crank, distal in (("leg 1 (l1, l2)", P1, robot.l1, robot.l2),
+                                              ("leg 4 (l4, l3)", P5, robot.l4, robot.l3)):
+                distance, far, near = float(np.hypot(*(P3 - pivot))), crank + distal, abs(crank - distal)
+                if distance > far:
+                    lines.append(f"{leg}: distance {distance:.4f} m > {far:.4f} m, fully stretched")
+                elif distance < near:
+                    lines.append(f"{leg}: distance {distance:.4f} m < {near:.4f} m, fully folded")
+            lines.append("Bring the target back into the shaded workspace.")
+        else:
+            theta1, theta4 = angles(state)
+            P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
+            P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
+            drawing.move({"P1": P1, "P2": P2, "P4": P4, "P5": P5})
+            artists["reach_a"].set(center=tuple(P2), radius=robot.l2, visible=True)
+            artists["reach_b"].set(center=tuple(P4), radius=robot.l3, visible=True)
+            distance = float(np.hypot(*(P2 - P4)))
+            artists["failure"].set_text("the distal links cannot meet")
+            if distance > robot.l2 + robot.l3:
+                why = f"|P2P4| = {distance:.4f} m > l2 + l3 = {robot.l2 + robot.l3:.4f} m"
+            else:
+                why = f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(robot.l2 - robot.l3):.4f} m"
+            lines = [
+                f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°: "
+                "the robot cannot be assembled.",
+                why + " (the dashed circles about P2 and P4 do not meet).",
+                "Move θ1 or θ4 until the circles meet again.",
+            ]
+        lines.append(f"course_lib says: {err}")
+        return Readout("unreachable", tuple(lines))
 
     return Explorer("five-bar", controls, figure, artists, draw, ("mode", "sigma1", "sigma2"),
                     geometry_artists=("singularity",))
-
-
-def _fivebar_background(state, robot, grid, artists, controls, curves) -> None:
-    """Enable the controls of the current mode; in inverse mode show the type-2 singularity curve."""
-    inverse = state["mode"] == "inverse"
-    for key in ("theta1_deg", "theta4_deg", "sigma"):
-        controls[key].disabled = inverse
-    for key in ("x3", "y3", "sigma1", "sigma2"):
-        controls[key].disabled = not inverse
-    line = artists["singularity"]
-    if not inverse:
-        line.set_data([], [])
-        return
-    modes = (int(state["sigma1"]), int(state["sigma2"]))
-    if modes not in curves:
-        curves[modes] = _singularity_curve(robot, grid, modes)
-    points = curves[modes]
-    line.set_data(points[:, 0], points[:, 1])
-
-
-def _singularity_curve(robot, grid, modes) -> np.ndarray:
-    """Points where the parallel measure changes sign between grid neighbours (linear interpolation)."""
-    parallel = robot.workspace(grid, grid, modes=modes).parallel
-    points = []
-    step = grid[1] - grid[0]
-    for axis in (0, 1):
-        a = parallel
-        b = np.roll(parallel, -1, axis=axis)
-        crossing = (np.sign(a) * np.sign(b) < 0) & np.isfinite(a) & np.isfinite(b)
-        crossing[(-1, slice(None)) if axis == 0 else (slice(None), -1)] = False
-        rows, cols = np.nonzero(crossing)
-        weight = a[rows, cols] / (a[rows, cols] - b[rows, cols])
-        xs = grid[cols] + (weight * step if axis == 1 else 0.0)
-        ys = grid[rows] + (weight * step if axis == 0 else 0.0)
-        points.append(np.stack([xs, ys], axis=1))
-    return np.concatenate(points)
-
-
-def _draw_fivebar(state, robot, artists, drawing) -> Readout:
-    """Forward or inverse kinematics of the state and the artists moved; the plain update step."""
-    half = robot.l5 / 2
-    P1, P5 = np.array([half, 0.0]), np.array([-half, 0.0])
-    inverse = state["mode"] == "inverse"
-    for key in ("reach_a", "reach_b", "target"):
-        artists[key].set_visible(False)
-    artists["failure"].set_text("")
-    try:
-        if inverse:
-            x3, y3 = float(state["x3"]), float(state["y3"])
-            modes = (int(state["sigma1"]), int(state["sigma2"]))
-            theta1, theta4 = robot.inverse(x3, y3, modes=modes)
-        else:
-            theta1, theta4 = np.radians(float(state["theta1_deg"])), np.radians(float(state["theta4_deg"]))
-            x3, y3 = robot.forward(theta1, theta4, mode=int(state["sigma"]))
-    except CourseLibError as err:
-        return _fivebar_failure(state, robot, artists, drawing, err, P1, P5)
-    if not _finite(theta1, theta4, x3, y3):
-        _hide(artists, "end_effector")
-        drawing.move({"P1": P1, "P5": P5})
-        artists["failure"].set_text("no position here")
-        return Readout("singular", ("The robot's position is undefined for these inputs "
-                                    "(the closed form returns no number).", "Move a slider a little."))
-    P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
-    P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
-    P3 = np.array([x3, y3])
-    _show(artists, "end_effector")
-    drawing.move({"P1": P1, "P2": P2, "P3": P3, "P4": P4, "P5": P5})
-    artists["end_effector"].set_data([x3], [y3])
-    measures = robot.singularity_measures(theta1, theta4, x3, y3)
-    parallel = float(measures.parallel)
-    serial = min(abs(float(measures.serial_leg1)), abs(float(measures.serial_leg4)))
-    warnings = []
-    if abs(parallel) < 0.05:
-        warnings.append("near a parallel (type-2) singularity: l2 and l3 almost aligned")
-    if serial < 0.05:
-        warnings.append("near a serial (type-1) singularity: a leg almost stretched or folded")
-    if inverse:
-        head = (f"inverse, modes (σ1, σ2) = ({int(state['sigma1']):+d}, {int(state['sigma2']):+d}): "
-                f"P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m  →  θ1 = {_num(np.degrees(theta1), 2)}°, "
-                f"θ4 = {_num(np.degrees(theta4), 2)}°")
-    else:
-        head = (f"forward, σ = {int(state['sigma']):+d}: θ1 = {np.degrees(theta1):.1f}°, "
-                f"θ4 = {np.degrees(theta4):.1f}°  →  P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m")
-    return Readout("ok", (
-        head,
-        f"singularity measures (0 = singular): leg 1 {_num(measures.serial_leg1, 3)}, "
-        f"leg 4 {_num(measures.serial_leg4, 3)}, parallel {_num(parallel, 3)}",
-        *warnings,
-    ))
-
-
-def _fivebar_failure(state, robot, artists, drawing, err, P1, P5) -> Readout:
-    """Explain an unreachable five-bar input and draw the reach circles that fail to meet."""
-    _hide(artists, "end_effector")
-    if state["mode"] == "inverse":
-        P3 = np.array([float(state["x3"]), float(state["y3"])])
-        drawing.move({"P1": P1, "P5": P5})
-        artists["target"].set_data([P3[0]], [P3[1]])
-        artists["target"].set_visible(True)
-        artists["failure"].set_text(f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach")
-        lines = [f"P3 = ({P3[0]:.4f}, {P3[1]:.4f}) m cannot be reached:"]
-        for leg, pivot, crank, distal in (("leg 1 (l1, l2)", P1, robot.l1, robot.l2),
-                                          ("leg 4 (l4, l3)", P5, robot.l4, robot.l3)):
-            distance = float(np.hypot(*(P3 - pivot)))
-            if distance > crank + distal:
-                lines.append(f"{leg}: distance {distance:.4f} m > {crank + distal:.4f} m, fully stretched")
-            elif distance < abs(crank - distal):
-                lines.append(f"{leg}: distance {distance:.4f} m < {abs(crank - distal):.4f} m, fully folded")
-        lines.append("Bring the target back into the shaded workspace.")
-    else:
-        theta1, theta4 = np.radians(float(state["theta1_deg"])), np.radians(float(state["theta4_deg"]))
-        P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
-        P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
-        drawing.move({"P1": P1, "P2": P2, "P4": P4, "P5": P5})
-        artists["reach_a"].set(center=tuple(P2), radius=robot.l2, visible=True)
-        artists["reach_b"].set(center=tuple(P4), radius=robot.l3, visible=True)
-        distance = float(np.hypot(*(P2 - P4)))
-        artists["failure"].set_text("the distal links cannot meet")
-        if distance > robot.l2 + robot.l3:
-            why = f"|P2P4| = {distance:.4f} m > l2 + l3 = {robot.l2 + robot.l3:.4f} m"
-        else:
-            why = f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(robot.l2 - robot.l3):.4f} m"
-        lines = [
-            f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°: "
-            "the robot cannot be assembled.",
-            why + " (the dashed circles about P2 and P4 do not meet).",
-            "Move θ1 or θ4 until the circles meet again.",
-        ]
-    lines.append(f"course_lib says: {err}")
-    return Readout("unreachable", tuple(lines))
 
 
 # ---------------------------------------------------------------------------- any declared mechanism
@@ -1218,16 +1073,13 @@ def mechanism_explorer(
     step = 1.0 if angle else (high - low) / 200 or 1.0
     label = f"{name.replace('theta', 'θ')} ({'°' if angle else 'm'})"
     controls = {key: _slider(label, first, low, high, step, ".0f" if angle else ".4f")}
-    figure = _figure(width, height)  # margins in inches, for the labels and the title:
-    ax = figure.add_axes((0.75 / width, 0.5 / height, 1 - 0.9 / width, 1 - 0.8 / height))
-    ax.set(xlabel="x (m)", ylabel="y (m)", title=title)
-    ax.grid(True, linestyle="--", alpha=0.5)
+    figure = Figure(figsize=(width, height), dpi=80)  # margins in inches, for the labels and the title:
+    ax = _grid(figure.add_axes((0.75 / width, 0.5 / height, 1 - 0.9 / width, 1 - 0.8 / height)),
+               xlabel="x (m)", ylabel="y (m)", title=title)
     box, _ = _motion_background(ax, mechanism.joints(motion), ground, trace)
     _set_equal_limits(ax, *box)
     drawing = LinkageArtist(ax, mechanism.links, blocks=blocks, styles=styles, animated=True)
-    artists = {**drawing.artists,
-               "failure": ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR,
-                                  fontsize=10, fontweight="bold", animated=True)}
+    artists = {**drawing.artists, "failure": _failure_text(ax)}
     converged = np.flatnonzero(np.asarray(motion.converged, dtype=bool))
     start = converged[0]  # a bad ``rates`` is refused here, by name, rather than at the first event
     mechanism.solve({name: sweep[start]}, rates=rates,

@@ -206,8 +206,7 @@ def choice(answer: Any, correct: str, why_not: Mapping[str, str], message: str) 
     letters = sorted({*why_not, correct})
     letter = word(letters, f"answer with one letter among {', '.join(letters)} (a string).")(answer)
     if isinstance(letter, Feedback):
-        missing = unanswered(answer)
-        return letter if missing is None else missing
+        return letter if (missing := unanswered(answer)) is None else missing
     return right(message) if letter == correct else wrong(why_not[letter])
 
 
@@ -246,12 +245,11 @@ def in_degrees(value, reference) -> bool:
 def _holds(matches: Callable[[Any, Any], bool], answer: Any, candidate: Any) -> bool:
     """Whether a rule's candidate fits the answer; one that cannot be computed or compared does not."""
     try:
-        with np.errstate(all="ignore"):
-            if isinstance(candidate, list):
-                return any(_holds(matches, answer, each) for each in candidate)
-            if isinstance(candidate, types.FunctionType):
-                return bool(candidate(answer))
-            return bool(matches(answer, candidate))
+        if isinstance(candidate, list):
+            return any(_holds(matches, answer, each) for each in candidate)
+        if isinstance(candidate, types.FunctionType):
+            return bool(candidate(answer))
+        return bool(matches(answer, candidate))
     except Exception:
         return False
 
@@ -261,9 +259,7 @@ def diagnose(answer: Any, matches: Callable[[Any, Any], bool], rules, otherwise:
     for the first rule, a hint ("Not yet: …") for the others; the hint ``otherwise`` when none fits."""
     for index, (candidate, verdict) in enumerate(rules):
         if _holds(matches, answer, candidate):
-            if isinstance(verdict, Feedback):
-                return verdict
-            return right(verdict) if index == 0 else wrong(verdict)
+            return verdict if isinstance(verdict, Feedback) else (wrong if index else right)(verdict)
     return wrong(otherwise)
 
 
@@ -321,12 +317,9 @@ def proportional(expr, reference, names: Sequence[str]) -> bool:
     import sympy as sp
 
     (a, _), (b, _) = _evaluate(expr, names), _evaluate(reference, names)
-    if np.any(np.abs(b) < 1e-9) or not np.all(np.isfinite(a)):
-        return False
     ratio = a / b
-    if not 1e-12 < abs(ratio[0]) or abs(ratio[0].imag) >= 1e-12:
-        return False
-    if not np.allclose(ratio, ratio[0], rtol=1e-9, atol=0):
+    if (np.any(np.abs(b) < 1e-9) or not np.all(np.isfinite(a)) or not 1e-12 < abs(ratio[0])
+            or abs(ratio[0].imag) >= 1e-12 or not np.allclose(ratio, ratio[0], rtol=1e-9, atol=0)):
         return False
     return same(expr, sp.nsimplify(ratio[0].real, rational=True) * reference, names)
 

@@ -50,8 +50,7 @@ class Feedback:
     def __str__(self) -> str:
         return ("✔ " if self.ok else "✘ ") + self.message
 
-    def __repr__(self) -> str:
-        return str(self)
+    __repr__ = __str__
 
     def __bool__(self) -> bool:
         return self.ok

@@ -134,8 +134,8 @@ SHAPER = ShaperDrawing()
 
 
 def _loop_rows(answer: Any):
-    """The scalar equations of an answer, as sympy expressions in plain real symbols: 2×1 matrices,
-    expressions or Eqs, in a list (nested once at most), or a declared ``Mechanism``; else the feedback."""
+    """The answer's scalar equations (see :func:`check_shaper_loops`) as sympy expressions in plain real
+    symbols (rows of matrices in a list nested once at most, Eqs read as differences); else the feedback."""
     import sympy as sp
 
     if isinstance(getattr(answer, "equations", None), sp.MatrixBase):

@@ -13,12 +13,10 @@ when an axis' limits change); the *geometry layer*, what depends on a length, br
 changes; and the moving links, drawn over the second at every event (blitting).  Limits are kept
 while the picture fits them, so changing a control costs about as much as moving a slider.
 
-No value a student can pass to ``update`` makes it raise: a value that is not one of a toggle's
-options, or not a finite number, is refused (the control keeps its value, the status says
-``"invalid"`` and why); a slider value outside its range is clamped, and an angle outside
-[−180°, 180°] wrapped, with a line in the readout that says so.  An input for which the mechanism
-cannot be assembled is explained in the readout and on the drawing.  A builder's argument outside
-its slider's range raises ``course_lib.errors.InvalidGeometryError`` naming it, its value and the range.
+No value a student can pass to ``update`` makes it raise (:meth:`Explorer.update` says what it
+refuses, clamps or wraps); an input for which the mechanism cannot be assembled is explained in the
+readout and on the drawing.  A builder's argument outside its slider's range raises
+``course_lib.errors.InvalidGeometryError`` naming it, its value and the range.
 
 Displayed in a notebook, an explorer shows the live widget where a widget manager runs (JupyterLab,
 Jupyter Notebook) and a PNG of its current figure, with its readout, everywhere else (GitHub,
@@ -129,9 +127,6 @@ class Explorer:
     image, readout, widget : the ``ipywidgets.Image`` showing the figure, the ``ipywidgets.HTML``
         readout, and the top-level container to display.
     last : the :class:`Readout` of the latest update.
-
-    Displaying an explorer in a notebook displays ``widget``, with a PNG of the figure and the
-    readout as the fallback for frontends without widgets.
     """
 
     name: str
@@ -165,7 +160,6 @@ class Explorer:
         self.widget.add_class("course-explorer")
         self.refresh()
 
-    # ------------------------------------------------------------------ state
     @property
     def state(self) -> dict[str, object]:
         """The current input values by key (a copy).
@@ -211,9 +205,8 @@ class Explorer:
         """
         unknown = sorted(set(state) - set(self.controls))
         if unknown:
-            raise InvalidGeometryError(
-                f"unknown explorer input {unknown[0]!r}; valid inputs: {', '.join(self.controls)}"
-            )
+            raise InvalidGeometryError(f"unknown explorer input {unknown[0]!r}; "
+                                       f"valid inputs: {', '.join(self.controls)}")
         notes, refused = [], False
         self._holding = True
         try:
@@ -245,8 +238,7 @@ class Explorer:
         except (CourseLibError, ArithmeticError, ValueError, TypeError, IndexError) as err:
             # the last safety net for a state the drawing step cannot draw: report, keep the controls working
             self._drawn_geometry = None
-            readout = Readout("error", (f"this state cannot be drawn: {err}",
-                                        "Change an input to continue."))
+            readout = Readout("error", (f"this state cannot be drawn: {err}", "Change an input to continue."))
         if notes or refused:
             readout = Readout("invalid" if refused else readout.status, (*notes, *readout.lines))
         self.last = readout
@@ -254,7 +246,6 @@ class Explorer:
         self.readout.value = self.last.html()
         return self.last
 
-    # ---------------------------------------------------------------- drawing
     def render(self, full: bool = True) -> bytes:
         """The figure as PNG bytes; ``full=True`` redraws every layer, ``full=False`` only what changed.
 
@@ -268,15 +259,13 @@ class Explorer:
         new_limits = self._base is None or limits != self._base_limits  # then a new PNG palette too
         if full or new_limits:
             self.canvas.draw()  # animated artists (geometry layer and moving ones) are skipped here ...
-            self._base = self.canvas.copy_from_bbox(self.figure.bbox)
-            self._base_limits = limits
+            self._base, self._base_limits = self.canvas.copy_from_bbox(self.figure.bbox), limits
             self._background = None
         visible = tuple(artist.get_visible() for artist in self._geometry_layer)
         if self._background is None or geometry_changed or visible != self._background_visible:
             self.canvas.restore_region(self._base)
             self._draw_artists(self._geometry_layer)  # ... the geometry layer over the base, cached ...
-            self._background = self.canvas.copy_from_bbox(self.figure.bbox)
-            self._background_visible = visible
+            self._background, self._background_visible = self.canvas.copy_from_bbox(self.figure.bbox), visible
         else:
             self.canvas.restore_region(self._background)
         self._draw_artists(self._moving)  # ... and the moving artists on top, alone
@@ -297,7 +286,6 @@ class Explorer:
         if not self._holding:
             self.refresh()
 
-    # ------------------------------------------------------------ notebook display
     def _repr_mimebundle_(self, include=None, exclude=None, **kwargs) -> dict:
         """The widget view, a still picture (the figure with the readout under it) and the readout as text.
 
@@ -331,14 +319,12 @@ class Explorer:
         # per character
         lines = [part for line in self.last.lines for part in textwrap.wrap(line, max(20, int(width / 6.4)))]
         height = int(np.ceil(len(lines) * (9.0 * 1.45 / 72 * 80) + 10))
-        text = Figure(figsize=(width / 80, height / 80), dpi=80)
-        canvas = FigureCanvasAgg(text)
-        text.text(8 / width, 1 - 5 / height, "\n".join(lines), fontsize=9.0, va="top", ha="left",
+        canvas = FigureCanvasAgg(Figure(figsize=(width / 80, height / 80), dpi=80))
+        canvas.figure.text(8 / width, 1 - 5 / height, "\n".join(lines), fontsize=9.0, va="top", ha="left",
                   color="black" if self.status == "ok" else _ERROR_COLOR, linespacing=1.45)
         canvas.draw()
-        readout = np.asarray(canvas.buffer_rgba())[..., :3][:, :width]
-        readout = np.pad(readout, ((0, 0), (0, width - readout.shape[1]), (0, 0)),  # (a pixel lost to
-                         constant_values=255)  # rounding the size in inches)
+        readout = np.asarray(canvas.buffer_rgba())[..., :3][:, :width]  # padded where rounding lost a pixel:
+        readout = np.pad(readout, ((0, 0), (0, width - readout.shape[1]), (0, 0)), constant_values=255)
         picture = np.concatenate([figure, readout])
         return _Quantizer(picture).png(picture, compress_level=9)
 
@@ -494,10 +480,6 @@ def _solid_colours(artists) -> list[tuple[int, int, int]]:
     return colours
 
 
-def _finite(*values) -> bool:
-    return all(np.all(np.isfinite(value)) for value in values)
-
-
 def _visible(artists, names: str, shown: bool) -> None:
     for name in names.split():
         artists[name].set_visible(shown)
@@ -587,8 +569,7 @@ def fourbar_explorer(
     def draw(state, geometry_changed: bool) -> Readout:
         """Solve the four-bar at the state's θ2 and move the artists; the plain update step."""
         theta2, branch = np.radians(float(state["theta2_deg"])), state["branch"]
-        four = FourBar(crank=state["crank"], coupler=state["coupler"], rocker=state["rocker"],
-                       ground=state["ground"])
+        four = FourBar(**{key: state[key] for key in ("crank", "coupler", "rocker", "ground")})
         l1, l2, l3, l4 = four.l1, four.l2, four.l3, four.l4
         p, delta = float(state["p"]), np.radians(float(state["delta_deg"]))
         offset = linkage.label_offset = 0.04 * max(l1, l2, l3, l4)
@@ -631,8 +612,8 @@ def fourbar_explorer(
             solution = four.solve(theta2, branch=branch)
             mu = four.transmission_angle(theta2, branch=branch)
             point = four.coupler_point(theta2, p, delta, branch=branch).position
-            failure = (None if _finite(solution.theta3, solution.theta4, mu, point)
-                       else "the closed form returns no number here")
+            finite = np.isfinite(np.hstack([solution.theta3, solution.theta4, mu, point])).all()
+            failure = None if finite else "the closed form returns no number here"
         except CourseLibError as err:
             failure = err
         if failure is not None:
@@ -677,8 +658,7 @@ def fourbar_explorer(
             *lines,
         ))
 
-    geometry = ("ground", "crank", "coupler", "rocker", "branch", "p", "delta_deg")
-    return Explorer("four-bar", controls, figure, artists, draw, geometry,
+    return Explorer("four-bar", controls, figure, artists, draw, (*lengths, "branch", "p", "delta_deg"),
                     geometry_artists=_FOURBAR_GEOMETRY_LAYER)
 
 
@@ -750,9 +730,7 @@ def saw_explorer(
     ax = figure.add_subplot(top[0])
     ax_profile = figure.add_subplot(top[1])
     r1y, r2, r3 = COURSE_SAW.r1y, COURSE_SAW.r2, COURSE_SAW.r3
-    ax.set_xlabel("x (m)", labelpad=1)
-    ax.set_ylabel("y (m)", labelpad=1)
-    ax.grid(True, linestyle="--", alpha=0.5)
+    _grid(ax, xlabel="x (m)", ylabel="y (m)").xaxis.labelpad = ax.yaxis.labelpad = 1
     ax.axhline(r1y, color="0.55", lw=1, linestyle="-.")
     ax.text(-r2 - r3 - 0.015, r1y + 0.006, "slider line y = r1y", fontsize=7, color="0.4")
     crank_circle = np.linspace(0, 2 * np.pi, 100)
@@ -812,16 +790,15 @@ def saw_explorer(
             artists[f"point_{key}"].set_data([t], [values[k]])
         phase = (("α2 rising", "α2 constant", "α2 falling")[min(int(3 * t / turn), 2)] if t < turn
                  else "steady speed")
-        named = {key: _num(value, 5) for (key, _), value in zip(_SAW_PANELS, values, strict=True)}
+        shown = [label.replace(" (", f" = {_num(value, 5)} ")[:-1]  # "r1 (m)" → "r1 = -0.09967 m"
+                 for (_, label), value in zip(_SAW_PANELS, values, strict=True)]
         return Readout("ok", (
             f"t = {t:.3f} s ({'start-up, ' + phase if t < turn else phase}; "
             f"first turn ends at T = {turn:.4f} s)",
             f"motor: θ2 = {_num(theta2, 4)} rad ({np.degrees(theta2):.1f}°), ω2 = {_num(omega2, 4)} rad/s, "
             f"α2 = {_num(alpha2, 4)} rad/s²",
-            f"position: r1 = {named['r1']} m, θ1 = {named['theta1']} rad, θ3 = {named['theta3']} rad",
-            f"velocity: v_r = {named['v_r']} m/s, ω1 = {named['omega1']} rad/s, ω3 = {named['omega3']} rad/s",
-            f"acceleration: a_r = {named['a_r']} m/s², α1 = {named['alpha1']} rad/s², "
-            f"α3 = {named['alpha3']} rad/s²",
+            *(f"{kind}: {', '.join(shown[3 * k:3 * k + 3])}"
+              for k, kind in enumerate(("position", "velocity", "acceleration"))),
         ))
 
     explorer = Explorer("power saw", {"t": time_slider}, figure, artists, draw, (), (play,))
@@ -937,7 +914,7 @@ def fivebar_explorer(
                 x3, y3 = robot.forward(theta1, theta4, mode=int(state["sigma"]))
         except CourseLibError as err:
             return failed(state, err)
-        if not _finite(theta1, theta4, x3, y3):
+        if not np.isfinite(np.hstack([theta1, theta4, x3, y3])).all():
             artists["end_effector"].set_visible(False)
             drawing.move({"P1": P1, "P5": P5})
             artists["failure"].set_text("no position here")
@@ -1081,18 +1058,20 @@ def mechanism_explorer(
     drawing = LinkageArtist(ax, mechanism.links, blocks=blocks, styles=styles, animated=True)
     artists = {**drawing.artists, "failure": _failure_text(ax)}
     converged = np.flatnonzero(np.asarray(motion.converged, dtype=bool))
-    start = converged[0]  # a bad ``rates`` is refused here, by name, rather than at the first event
-    mechanism.solve({name: sweep[start]}, rates=rates,
-                    guess={unknown: float(values[start]) for unknown, values in motion.position.items()})
+
+    def guess(k: int) -> dict:
+        return {unknown: float(values[k]) for unknown, values in motion.position.items()}
+
+    # a bad ``rates`` is refused here, by name, rather than at the first event
+    mechanism.solve({name: sweep[converged[0]]}, rates=rates, guess=guess(converged[0]))
 
     def draw(state, geometry_changed: bool) -> Readout:
         value = math.radians(state[key]) if angle else float(state[key])
         gaps = np.abs((sweep[converged] - value + np.pi) % (2 * np.pi) - np.pi if angle
                       else sweep[converged] - value)
         nearest = converged[int(np.argmin(gaps))]
-        guess = {unknown: float(values[nearest]) for unknown, values in motion.position.items()}
         try:
-            now = mechanism.solve({name: value}, rates=rates, guess=guess)
+            now = mechanism.solve({name: value}, rates=rates, guess=guess(nearest))
         except (ConvergenceError, UnreachableError, SingularJacobianError) as err:
             drawing.move({})
             artists["failure"].set_text(f"no assembly at {name} = {state[key]:g}")

@@ -28,7 +28,6 @@ and :meth:`~Mechanism.simultaneous` are the course's two Newton routes.  SI unit
 from __future__ import annotations
 
 import copy
-import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import wraps
@@ -36,6 +35,8 @@ from types import MappingProxyType
 
 import numpy as np
 import sympy as sp
+from sympy.printing.numpy import NumPyPrinter
+from sympy.printing.precedence import precedence
 
 from .errors import (
     ConvergenceError,
@@ -171,25 +172,38 @@ _BLOCK = 65_536  # points per block of a long sweep's evaluation
 
 
 def _one_instant(function, values, arrays, where, angles_of, known, same_point, seen) -> np.ndarray | None:
-    """A compiled function's terms (k,) at one instant in Python numbers (math's cos and sin give
-    numpy's bits), sharing ``known`` and ``seen`` as the array path does; None where math refuses
-    a value (a domain error, an overflow, a division by zero): the array path then gives inf or NaN."""
+    """A compiled function's terms (k,) at one instant with Python numbers, not 0-d arrays (whose every
+    operation costs a microsecond): numpy's own cos and sin, IEEE arithmetic and :class:`_Printer`'s
+    squares give the array path's bits on any CPU.  ``known`` and ``seen`` as in the array path.  None
+    where Python refuses a value (a division by zero, an overflow, a complex power): the array path
+    then gives inf or NaN."""
     columns = [float(arrays[k][j]) for k, j in where]
     angles = []
     for key, func, index, is_input in angles_of:
         value = None if known is None else known.get(key)
         if value is None:
-            value = (math.cos if func is np.cos else math.sin)(columns[index]) if math.isfinite(
-                columns[index]) else func(columns[index])
+            value = float(func(columns[index]))
             if known is not None and (is_input or same_point):
                 known[key] = value
         angles.append(value)
         if seen is not None:
             seen[key] = value
     try:
-        return np.array(function(*columns, *angles, *values), dtype=float)
+        with np.errstate(all="raise"):
+            return np.array(function(*columns, *angles, *values), dtype=float)
     except (ArithmeticError, ValueError, TypeError):
         return None
+
+
+class _Printer(NumPyPrinter):
+    """numpy's printer, with x**2 written x*x: what numpy computes for an array's square, where a
+    Python number's x**2 calls pow, which differs from x*x in the last bit for about 1 x in 1,000."""
+
+    def _print_Pow(self, expr, rational=False):
+        if expr.exp == 2:
+            base = self.parenthesize(expr.base, precedence(expr), strict=True)
+            return f"({base}*{base})"
+        return super()._print_Pow(expr, rational=rational)
 
 
 def _rows(*arrays) -> tuple[tuple, list[np.ndarray]]:
@@ -366,11 +380,7 @@ class Mechanism:
                 return used[::-1], reduced
 
         arguments = [*symbols, *(dummies[getattr(sp, func)(s)] for func, s in trig), *self.parameters]
-        function = sp.lambdify(arguments, replaced[:len(expressions)], "numpy", cse=cse)
-        try:  # one instant in Python numbers: numpy's per-call cost dominates a single small system
-            one = sp.lambdify(arguments, replaced[:len(expressions)], "math", cse=cse)
-        except Exception:  # a function math lacks: the array path serves one instant too
-            one = None
+        function = sp.lambdify(arguments, replaced[:len(expressions)], "numpy", cse=cse, printer=_Printer)
         inputs = {s.name for s in self.inputs}
         where = [(k, j) for k, group in enumerate(groups) for j in range(len(group))]
         angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
@@ -378,8 +388,8 @@ class Mechanism:
 
         def evaluate(values, *arrays, known=None, same_point=False, seen=None):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
-            if one is not None and all(a.ndim == 1 for a in arrays):
-                terms = _one_instant(one, values, arrays, where, angles_of, known, same_point, seen)
+            if all(a.ndim == 1 for a in arrays):
+                terms = _one_instant(function, values, arrays, where, angles_of, known, same_point, seen)
                 if terms is not None:
                     return terms
             columns = [arrays[k][..., j] for k, j in where]

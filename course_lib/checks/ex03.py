@@ -9,10 +9,6 @@ from .engine import *  # the feedback engine's helpers (engine.__all__)
 __all__ = ["check_fourbar_theta4", "check_omega4_expression", "check_fourbar_rates", "check_toggle_angle"]
 
 
-def _other(branch: str) -> str:
-    return "crossed" if branch == "open" else "open"
-
-
 @reads(number("θ4"))
 def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -> Feedback:
     """Exercise 03, task 1: the rocker angle θ4 (rad) at crank angle ``theta2`` on ``branch``.
@@ -21,7 +17,7 @@ def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -
     >>> check_fourbar_theta4(bar.solve(2.0, branch="crossed").theta4 + 2 * np.pi, bar, 2.0, "crossed").ok
     True
     """
-    other = _other(branch)
+    other = "crossed" if branch == "open" else "open"
     this, that = linkage.solve(theta2, branch=branch), linkage.solve(theta2, branch=other)
     return angle_verdict(answer, this.theta4, [
         (that.theta4, f"that is θ4 of the {other} branch; the task asks for the {branch} one (the other "
@@ -65,13 +61,14 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
     >>> check_fourbar_rates((s.omega4, s.alpha4), bar, 3.5, 15.0, -40.0, "open").ok
     True
     """
-    this, other = (linkage.solve(theta2, omega2, alpha2, branch=b) for b in (branch, _other(branch)))
+    other_branch = "crossed" if branch == "open" else "open"
+    this, other = (linkage.solve(theta2, omega2, alpha2, branch=b) for b in (branch, other_branch))
     omega4, alpha4 = this.omega4, this.alpha4
     return diagnose(answer, near, [
         ((omega4, alpha4), "Correct: the same Jacobian J solves both the velocity and the acceleration "
                            "equations."),
         ((alpha4, omega4), "the two are swapped: give (ω4, α4)."),
-        ((other.omega4, other.alpha4), f"those are the rates of the {_other(branch)} branch; the task is on "
+        ((other.omega4, other.alpha4), f"those are the rates of the {other_branch} branch; the task is on "
                                        f"the {branch} branch."),
         ((omega4, linkage.solve(theta2, 0.0, alpha2, branch=branch).alpha4),  # every ω² term dropped
          "ω4 is right, but α4 misses the ω² (centripetal) terms: A_k = α_k k̂ × R_k − ω_k² R_k for every "

@@ -337,9 +337,7 @@ def _plain_number(value):
     """``value`` as a float if it is a real number (not a bool, not a string), else None."""
     if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
         value = value.item()
-    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
-        return None
-    return float(value)
+    return None if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real) else float(value)
 
 
 def _wrap_degrees(degrees: float) -> float:
@@ -393,9 +391,8 @@ def _number_argument(name: str, value, unit: str, low: float = -math.inf, high: 
     if number is None or not math.isfinite(number):
         raise InvalidGeometryError(f"{name} must be a finite number ({unit}); got {value!r}")
     if not low <= number <= high:
-        raise InvalidGeometryError(
-            f"{name} must be between {low:g} and {high:g} {unit} (its slider's range); got {value!r}"
-        )
+        raise InvalidGeometryError(f"{name} must be between {low:g} and {high:g} {unit} "
+                                   f"(its slider's range); got {value!r}")
     return number
 
 
@@ -406,10 +403,8 @@ def _angle_argument(name: str, value) -> float:
 
 # ---------------------------------------------------------------------------- helpers
 def _slider(description: str, value: float, low: float, high: float, step: float, fmt: str = ".3f"):
-    return widgets.FloatSlider(
-        value=value, min=low, max=high, step=step, description=description, readout_format=fmt,
-        continuous_update=True, style=_STYLE, layout={"width": "340px"},
-    )
+    return widgets.FloatSlider(value=value, min=low, max=high, step=step, description=description,
+                               readout_format=fmt, style=_STYLE, layout={"width": "340px"})
 
 
 def _toggle(description: str, options, name: str, value):
@@ -444,18 +439,13 @@ def _set_equal_limits(ax, xmin: float, xmax: float, ymin: float, ymax: float) ->
 
 
 def _moving_line(ax, *args, **kwargs):
-    (line,) = ax.plot(*args, animated=True, **kwargs)
-    return line
+    return ax.plot(*args, animated=True, **kwargs)[0]
 
 
 def _failure_text(ax, y: float = 0.97):
     """The red text in the drawing's top left corner that says why the linkage is not drawn."""
     return ax.text(0.02, y, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR, fontsize=10,
                    fontweight="bold", animated=True)
-
-
-def _ground_triangle(size: float) -> np.ndarray:
-    return np.array([[0.0, 0.0], [-size, -1.6 * size], [size, -1.6 * size]])
 
 
 def _num(value: float, digits: int) -> str:
@@ -488,6 +478,8 @@ def _visible(artists, names: str, shown: bool) -> None:
 # ---------------------------------------------------------------------------- four-bar
 #: The length sliders' range (m); a builder argument outside it is refused.
 _FOURBAR_LENGTHS = (0.02, 0.40)
+#: The fixed-pivot symbol of unit size (a triangle under the pivot at the origin).
+_TRIANGLE = np.array([[0.0, 0.0], [-1.0, -1.6], [1.0, -1.6]])
 #: The moving links by name: the pairs of points they join (P is the coupler point on plate ABP).
 _FOURBAR_LINKS = {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "plate": ("A", "P"),
                   "plate PB": ("P", "B")}
@@ -558,7 +550,7 @@ def fourbar_explorer(
         "mu_cursor_line": ax_mu.axvline(0.0, color="black", lw=1, animated=True),
         "failure": _failure_text(ax),
         **{f"label_{key}": ax.text(0, 0, key, fontsize=9, animated=True) for key in ("O2", "O4")},
-        **{f"ground_{key}": ax.add_patch(Polygon(_ground_triangle(0.01), closed=True, facecolor="none",
+        **{f"ground_{key}": ax.add_patch(Polygon(_TRIANGLE * 0.01, closed=True, facecolor="none",
                                                  edgecolor="0.3", hatch="///", lw=1, animated=True))
            for key in ("O2", "O4")},
         **{key: ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.45", lw=1,
@@ -589,12 +581,10 @@ def fourbar_explorer(
             if not (fits and max((xmax - xmin) / (x1 - x0), (ymax - ymin) / (y1 - y0)) >= 0.5):
                 margin = 0.08 * max(xmax - xmin, ymax - ymin)
                 _set_equal_limits(ax, xmin - margin, xmax + margin, ymin - margin, ymax + 2.5 * margin)
-            size = 0.035 * max(l1, l2, l4)
-            artists["ground_O2"].set_xy(_ground_triangle(size))
-            artists["ground_O4"].set_xy(_ground_triangle(size) + [l1, 0.0])
             artists["ground"].set_data([0.0, l1], [0.0, 0.0])
-            artists["label_O2"].set_position((offset, offset))
-            artists["label_O4"].set_position((l1 + offset, offset))
+            for key, x in (("O2", 0.0), ("O4", l1)):
+                artists[f"ground_{key}"].set_xy(_TRIANGLE * (0.035 * max(l1, l2, l4)) + [x, 0.0])
+                artists[f"label_{key}"].set_position((x + offset, offset))
         grashof, reach = four.grashof(), four.input_range()
         relation = "<" if grashof.s_plus_l < grashof.p_plus_q else ">" if grashof.name[:3] == "non" else "="
         ranges = " and ".join(f"[{np.degrees(a):.1f}°, {np.degrees(b):.1f}°]" for a, b in reach.intervals)
@@ -706,18 +696,10 @@ def saw_explorer(
         raise InvalidGeometryError(f"interval_ms must be a positive time in ms; got {interval_ms!r}")
     frames, dt = int(count), end / int(count)
     time_slider = _slider("time t (s)", t, 0.0, end, dt, ".3f")
-    play = widgets.Play(value=int(round(t / dt)), min=0, max=frames, step=1, interval=int(round(interval)),
-                        description="play")
-
-    def play_moved(change) -> None:  # frame k → t = k·dt, unless t already rounds to frame k
-        if int(round(time_slider.value / dt)) != change["new"]:
-            time_slider.value = change["new"] * dt
-
-    def slider_moved(change) -> None:  # t → the nearest frame (t itself is kept)
-        play.value = int(round(change["new"] / dt))
-
-    play.observe(play_moved, names="value")
-    time_slider.observe(slider_moved, names="value")
+    play = widgets.Play(min=0, max=frames, step=1, interval=int(round(interval)), description="play")
+    # t → the nearest frame (t itself is kept); frame k → t = k·dt (each change made once, not echoed back)
+    widgets.link((time_slider, "value"), (play, "value"), transform=(lambda t: int(round(t / dt)),
+                                                                     lambda k: k * dt))
 
     sweep_t = np.linspace(0.0, end, 481)
     profile = motor_profile(sweep_t)
@@ -727,8 +709,7 @@ def saw_explorer(
                                top=0.97, hspace=0.2)
     top = grid[0].subgridspec(1, 2, width_ratios=(1.25, 1.0), wspace=0.25)
     bottom = grid[1].subgridspec(3, 3, hspace=0.55, wspace=0.38)
-    ax = figure.add_subplot(top[0])
-    ax_profile = figure.add_subplot(top[1])
+    ax, ax_profile = figure.add_subplot(top[0]), figure.add_subplot(top[1])
     r1y, r2, r3 = COURSE_SAW.r1y, COURSE_SAW.r2, COURSE_SAW.r3
     _grid(ax, xlabel="x (m)", ylabel="y (m)").xaxis.labelpad = ax.yaxis.labelpad = 1
     ax.axhline(r1y, color="0.55", lw=1, linestyle="-.")

@@ -289,9 +289,6 @@ class Explorer:
     def _repr_mimebundle_(self, include=None, exclude=None, **kwargs) -> dict:
         """The widget view, a still picture (the figure with the readout under it) and the readout as text.
 
-        A frontend with a widget manager renders the live widget; every other one (GitHub,
-        ``nbconvert``, JupyterLab before the notebook is run and trusted) shows the picture.
-
         >>> bundle = fourbar_explorer()._repr_mimebundle_()
         >>> sorted(bundle)
         ['application/vnd.jupyter.widget-view+json', 'image/png', 'text/plain']
@@ -859,8 +856,9 @@ def fivebar_explorer(
     }
     curves: dict[tuple[int, int], np.ndarray] = {}  # singularity curve per working mode, computed once
 
-    def angles(state):
-        return np.radians(float(state["theta1_deg"])), np.radians(float(state["theta4_deg"]))
+    def pins(theta1, theta4):  # P2 and P4, the crank pins
+        return (P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)]),
+                P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)]))
 
     def draw(state, geometry_changed: bool) -> Readout:
         """Forward or inverse kinematics of the state and the artists moved; the plain update step."""
@@ -891,18 +889,47 @@ def fivebar_explorer(
                 x3, y3 = float(state["x3"]), float(state["y3"])
                 theta1, theta4 = robot.inverse(x3, y3, modes=modes)
             else:
-                theta1, theta4 = angles(state)
+                theta1, theta4 = (np.radians(float(state[key])) for key in ("theta1_deg", "theta4_deg"))
                 x3, y3 = robot.forward(theta1, theta4, mode=int(state["sigma"]))
-        except CourseLibError as err:
-            return failed(state, err)
+        except CourseLibError as err:  # explain it, and draw the reach circles that fail to meet
+            artists["end_effector"].set_visible(False)
+            if inverse:
+                P3 = np.array([float(state["x3"]), float(state["y3"])])
+                drawing.move({"P1": P1, "P5": P5})
+                artists["target"].set(data=([P3[0]], [P3[1]]), visible=True)
+                artists["failure"].set_text(f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach")
+                lines = [f"P3 = ({P3[0]:.4f}, {P3[1]:.4f}) m cannot be reached:"]
+                for leg, pivot, crank, distal in (("leg 1 (l1, l2)", P1, robot.l1, robot.l2),
+                                                  ("leg 4 (l4, l3)", P5, robot.l4, robot.l3)):
+                    distance, far, near = float(np.hypot(*(P3 - pivot))), crank + distal, abs(crank - distal)
+                    if distance > far:
+                        lines.append(f"{leg}: distance {distance:.4f} m > {far:.4f} m, fully stretched")
+                    elif distance < near:
+                        lines.append(f"{leg}: distance {distance:.4f} m < {near:.4f} m, fully folded")
+                lines.append("Bring the target back into the shaded workspace.")
+            else:
+                P2, P4 = pins(theta1, theta4)
+                drawing.move({"P1": P1, "P2": P2, "P4": P4, "P5": P5})
+                artists["reach_a"].set(center=tuple(P2), radius=robot.l2, visible=True)
+                artists["reach_b"].set(center=tuple(P4), radius=robot.l3, visible=True)
+                distance = float(np.hypot(*(P2 - P4)))
+                artists["failure"].set_text("the distal links cannot meet")
+                if distance > robot.l2 + robot.l3:
+                    why = f"|P2P4| = {distance:.4f} m > l2 + l3 = {robot.l2 + robot.l3:.4f} m"
+                else:
+                    why = f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(robot.l2 - robot.l3):.4f} m"
+                lines = [f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°: "
+                         "the robot cannot be assembled.",
+                         why + " (the dashed circles about P2 and P4 do not meet).",
+                         "Move θ1 or θ4 until the circles meet again."]
+            return Readout("unreachable", (*lines, f"course_lib says: {err}"))
         if not np.isfinite(np.hstack([theta1, theta4, x3, y3])).all():
             artists["end_effector"].set_visible(False)
             drawing.move({"P1": P1, "P5": P5})
             artists["failure"].set_text("no position here")
             return Readout("singular", ("The robot's position is undefined for these inputs "
                                         "(the closed form returns no number).", "Move a slider a little."))
-        P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
-        P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
+        P2, P4 = pins(theta1, theta4)
         artists["end_effector"].set_visible(True)
         drawing.move({"P1": P1, "P2": P2, "P3": np.array([x3, y3]), "P4": P4, "P5": P5})
         artists["end_effector"].set_data([x3], [y3])
@@ -923,46 +950,6 @@ def fivebar_explorer(
             *["near a parallel (type-2) singularity: l2 and l3 almost aligned"] * (abs(parallel) < 0.05),
             *["near a serial (type-1) singularity: a leg almost stretched or folded"] * (serial < 0.05),
         ))
-
-    def failed(state, err) -> Readout:
-        """Explain an unreachable input and draw the reach circles that fail to meet."""
-        artists["end_effector"].set_visible(False)
-        if state["mode"] == "inverse":
-            P3 = np.array([float(state["x3"]), float(state["y3"])])
-            drawing.move({"P1": P1, "P5": P5})
-            artists["target"].set_data([P3[0]], [P3[1]])
-            artists["target"].set_visible(True)
-            artists["failure"].set_text(f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach")
-            lines = [f"P3 = ({P3[0]:.4f}, {P3[1]:.4f}) m cannot be reached:"]
-            for leg, pivot, crank, distal in (("leg 1 (l1, l2)", P1, robot.l1, robot.l2),
-                                              ("leg 4 (l4, l3)", P5, robot.l4, robot.l3)):
-                distance, far, near = float(np.hypot(*(P3 - pivot))), crank + distal, abs(crank - distal)
-                if distance > far:
-                    lines.append(f"{leg}: distance {distance:.4f} m > {far:.4f} m, fully stretched")
-                elif distance < near:
-                    lines.append(f"{leg}: distance {distance:.4f} m < {near:.4f} m, fully folded")
-            lines.append("Bring the target back into the shaded workspace.")
-        else:
-            theta1, theta4 = angles(state)
-            P2 = P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
-            P4 = P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
-            drawing.move({"P1": P1, "P2": P2, "P4": P4, "P5": P5})
-            artists["reach_a"].set(center=tuple(P2), radius=robot.l2, visible=True)
-            artists["reach_b"].set(center=tuple(P4), radius=robot.l3, visible=True)
-            distance = float(np.hypot(*(P2 - P4)))
-            artists["failure"].set_text("the distal links cannot meet")
-            if distance > robot.l2 + robot.l3:
-                why = f"|P2P4| = {distance:.4f} m > l2 + l3 = {robot.l2 + robot.l3:.4f} m"
-            else:
-                why = f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(robot.l2 - robot.l3):.4f} m"
-            lines = [
-                f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°: "
-                "the robot cannot be assembled.",
-                why + " (the dashed circles about P2 and P4 do not meet).",
-                "Move θ1 or θ4 until the circles meet again.",
-            ]
-        lines.append(f"course_lib says: {err}")
-        return Readout("unreachable", tuple(lines))
 
     return Explorer("five-bar", controls, figure, artists, draw, ("mode", "sigma1", "sigma2"),
                     geometry_artists=("singularity",))

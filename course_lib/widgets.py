@@ -486,14 +486,8 @@ _FOURBAR_GEOMETRY_LAYER = ("coupler_curve", "mu_curve", "ground", "ground_O2", "
 
 
 def fourbar_explorer(
-    crank: float = 0.06,
-    coupler: float = 0.18,
-    rocker: float = 0.12,
-    ground: float = 0.20,
-    theta2: float = np.pi / 3,
-    branch: str = "open",
-    p: float | None = None,
-    delta: float = np.radians(30.0),
+    crank: float = 0.06, coupler: float = 0.18, rocker: float = 0.12, ground: float = 0.20,
+    theta2: float = np.pi / 3, branch: str = "open", p: float | None = None, delta: float = np.radians(30.0),
 ) -> Explorer:
     """Explorer of a four-bar linkage (:class:`course_lib.fourbar.FourBar`).
 
@@ -651,11 +645,9 @@ def fourbar_explorer(
 
 # ---------------------------------------------------------------------------- power saw
 #: (key in saw.UNKNOWNS, panel label with units)
-_SAW_PANELS = (
-    ("r1", "r1 (m)"), ("theta1", "θ1 (rad)"), ("theta3", "θ3 (rad)"),
-    ("v_r", "v_r (m/s)"), ("omega1", "ω1 (rad/s)"), ("omega3", "ω3 (rad/s)"),
-    ("a_r", "a_r (m/s²)"), ("alpha1", "α1 (rad/s²)"), ("alpha3", "α3 (rad/s²)"),
-)
+_SAW_PANELS = (("r1", "r1 (m)"), ("theta1", "θ1 (rad)"), ("theta3", "θ3 (rad)"),
+               ("v_r", "v_r (m/s)"), ("omega1", "ω1 (rad/s)"), ("omega3", "ω3 (rad/s)"),
+               ("a_r", "a_r (m/s²)"), ("alpha1", "α1 (rad/s²)"), ("alpha3", "α3 (rad/s²)"))
 
 
 def saw_explorer(
@@ -957,17 +949,9 @@ def fivebar_explorer(
 
 # ---------------------------------------------------------------------------- any declared mechanism
 def mechanism_explorer(
-    mechanism,
-    motion,
-    *,
-    ground=(),
-    trace=(),
-    blocks=(),
-    styles: Mapping | None = None,
-    rates: Mapping | None = None,
-    readout: Callable[[object], Sequence[str]] | None = None,
-    title: str = "mechanism",
-    size: tuple[float, float] = (4.0, 3.6),
+    mechanism, motion, *, ground=(), trace=(), blocks=(), styles: Mapping | None = None,
+    rates: Mapping | None = None, readout: Callable[[object], Sequence[str]] | None = None,
+    title: str = "mechanism", size: tuple[float, float] = (4.0, 3.6),
 ) -> Explorer:
     """Explorer of any declared :class:`~course_lib.mechanism.Mechanism` driven by one input.
 

@@ -363,9 +363,9 @@ class Mechanism:
             return sorted({(f.func.__name__, f.args[0]) for e in among for f in e.atoms(sp.cos, sp.sin)
                            if f.args[0] in symbols}, key=str)
 
-        dummies = {getattr(sp, func)(s): sp.Dummy() for func, s in angles(expressions)}
-        replaced = [e.xreplace(dummies) for e in expressions]
         trig, cse = angles(expressions), True
+        dummies = {getattr(sp, func)(s): sp.Dummy() for func, s in trig}
+        replaced = [e.xreplace(dummies) for e in expressions]
         if keep is not None:
             trig, expressions = angles(expressions[:keep]), expressions[:keep]
 
@@ -396,7 +396,7 @@ class Mechanism:
             shapes = {a.shape[:-1] for a in arrays}
             shape = shapes.pop() if len(shapes) == 1 else np.broadcast_shapes(*shapes)
             if shapes or len(shape) != 1 or shape[0] <= 2 * _BLOCK:
-                blocks = [...]
+                blocks = [Ellipsis]  # one block: the whole
             else:  # a long sweep in blocks: the temporaries stay in the cache and are reused
                 blocks = [slice(start, start + _BLOCK) for start in range(0, shape[0], _BLOCK)]
             angles, missing = [], []

@@ -1,16 +1,6 @@
-"""Pictures for the lessons: linkages with labelled links and numbered joints,
-Newton convergence plots, and animations rendered to HTML (no ffmpeg needed) with a still
-picture for wherever JavaScript does not run.
-
-pyplot is imported only by the functions that make a new figure, so importing this module
-(e.g. for ``LINK_COLORS``) stays cheap.
-
->>> import matplotlib
->>> matplotlib.use("Agg")
->>> ax = draw_linkage([(0, 0), (0.03, 0.04), (0.1, 0.05), (0.1, 0)],
-...                   [(0, 1, "l2"), (1, 2, "l3"), (2, 3, "l4"), (3, 0, "l1")], ground=[0, 3])
->>> [text.get_text() for text in ax.texts][:5]
-['l2', 'l3', 'l4', 'l1', '1']
+"""Pictures for the lessons: linkages with labelled links and numbered joints, Newton convergence plots,
+and animations rendered to HTML (no ffmpeg needed) with a still picture for wherever JavaScript does not
+run.  Only the functions that make a new figure import pyplot, so importing this module stays cheap.
 """
 
 from __future__ import annotations
@@ -58,22 +48,17 @@ def draw_linkage(
     linestyle: str = "-",
     alpha: float = 1.0,
 ) -> Axes:
-    """Draw a planar linkage.
+    """Draw a planar linkage; returns the axes (a new figure's if ``ax`` is None), in equal aspect.
 
-    Parameters
-    ----------
-    points : joint coordinates (x, y) in metres, one row per joint.
-    links : (i, j, label) per link: a bar from joint i to joint j, labelled at its midpoint.
-    joint_labels : text beside each joint (default "1", "2", …).
-    ground : indices of fixed pivots, drawn with a hatched ground symbol.
-    title, grid, linestyle, alpha : cosmetics; ``grid`` draws a dashed grid.
-
-    Returns the axes (created if ``ax`` is None), with equal aspect ratio.
+    ``points`` are the joints' (x, y) in metres, ``links`` (i, j, label) a bar from joint i to joint j
+    labelled at its middle; ``joint_labels`` are written beside the joints (default "1", "2", …), the
+    ``ground`` joints get the hatched fixed-pivot symbol and ``grid`` draws a dashed grid.
 
     >>> import matplotlib; matplotlib.use("Agg")
-    >>> ax = draw_linkage([(0, 0), (1, 0)], [(0, 1, "l1")], title="one bar")
-    >>> ax.get_title()
-    'one bar'
+    >>> ax = draw_linkage([(0, 0), (0.03, 0.04), (0.1, 0.05), (0.1, 0)],
+    ...                   [(0, 1, "l2"), (1, 2, "l3"), (2, 3, "l4"), (3, 0, "l1")], ground=[0, 3], title="4")
+    >>> ax.get_title(), [text.get_text() for text in ax.texts][:5]
+    ('4', ['l2', 'l3', 'l4', 'l1', '1'])
     """
     xy = require_finite("points", points, unit="metres")
     if xy.ndim != 2 or xy.shape[1] != 2 or not len(xy):
@@ -81,8 +66,7 @@ def draw_linkage(
     links = [_link(k, link, len(xy)) for k, link in enumerate(_sequence("links", links))]
     ground = [_index("ground", index, len(xy)) for index in _sequence("ground", ground)]
     labels = joint_labels if joint_labels is not None else [str(k + 1) for k in range(len(xy))]
-    if isinstance(labels, str) or len(_sequence("joint_labels", labels)) != len(xy):
-        raise InvalidGeometryError(f"joint_labels must give one text per joint ({len(xy)}); got {labels!r}")
+    _one_each("joint_labels", labels, len(xy), "text per joint")
     require_choice("linestyle", linestyle, ("-", "--", "-.", ":"))
     alpha = _fraction("alpha", alpha)
     if ax is None:
@@ -94,35 +78,16 @@ def draw_linkage(
     for k, (i, j, label) in enumerate(links):
         color = LINK_COLORS[k % len(LINK_COLORS)]
         segment = xy[[i, j]]
-        ax.plot(
-            segment[:, 0],
-            segment[:, 1],
-            linestyle,
-            color=color,
-            lw=3,
-            alpha=alpha,
-            solid_capstyle="round",
-        )
-        middle = segment.mean(axis=0)
+        ax.plot(*segment.T, linestyle, color=color, lw=3, alpha=alpha, solid_capstyle="round")
         direction = segment[1] - segment[0]
         normal = np.array([-direction[1], direction[0]]) / (np.hypot(*direction) or 1.0)
-        ax.text(
-            *(middle + 0.04 * span * normal),
-            label,
-            color=color,
-            ha="center",
-            va="center",
-            fontsize=10,
-            fontweight="bold",
-            alpha=alpha,
-        )
+        ax.text(*(segment.mean(axis=0) + 0.04 * span * normal), label, color=color, ha="center", va="center",
+                fontsize=10, fontweight="bold", alpha=alpha)
     for index in ground:
         _ground_symbol(ax, xy[index], 0.03 * span)
     ax.plot(xy[:, 0], xy[:, 1], "o", ms=7, mfc="white", mec="black", zorder=3, alpha=alpha)
     for (x, y), label in zip(xy, labels, strict=True):
-        ax.annotate(
-            label, (x, y), xytext=(6, 6), textcoords="offset points", fontsize=9, alpha=alpha
-        )
+        ax.annotate(label, (x, y), xytext=(6, 6), textcoords="offset points", fontsize=9, alpha=alpha)
     ax.set_aspect("equal", adjustable="datalim")
     ax.margins(0.08)
     ax.set_xlabel("x (m)")
@@ -133,6 +98,11 @@ def draw_linkage(
         ax.set_title(title)
     return ax
 
+
+def _one_each(name: str, value, count: int, what: str) -> None:
+    """``value`` must be a list of ``count`` entries, one ``what`` (e.g. "name per variable")."""
+    if isinstance(value, str) or len(_sequence(name, value)) != count:
+        raise InvalidGeometryError(f"{name} must give one {what} ({count}); got {value!r}")
 
 
 def _axes(ax) -> Axes:
@@ -414,8 +384,7 @@ def plot_convergence(
     history = np.asarray(result.history, dtype=float).reshape(len(result.history), -1)
     n = history.shape[1]
     names = [f"x{k + 1}" for k in range(n)] if names is None else names
-    if isinstance(names, str) or len(_sequence("names", names)) != n:
-        raise InvalidGeometryError(f"names must give one name per variable ({n}); got {names!r}")
+    _one_each("names", names, n, "name per variable")
     reference = history[-1] if exact is None else require_finite("exact", exact)
     if exact is not None and reference.size != n:
         raise InvalidGeometryError(f"exact must give one value per variable ({n}); got {exact!r}")

@@ -144,18 +144,15 @@ def _callback(name: str, function: Callable, frame: int):
 
 
 class LinkageArtist:
-    """One artist for a moving linkage on an axes: a line per link in the course's colours, white
-    joint circles, blocks for sliding joints and optional point labels; :meth:`move` puts them all at one
-    configuration.  The explorers and the animations draw every linkage through it.
+    """A moving linkage on an axes, as the explorers and animations draw it: a line per link in the
+    course's colours, white joint circles, slider blocks and point labels; :meth:`move` puts them at
+    one configuration.
 
-    ``links`` maps each link's name to the keys of its two end points (a plain sequence of pairs is
-    named "link 1", "link 2", …).  The keys index the ``points`` given to :meth:`move`: a mapping
-    (e.g. a :class:`~course_lib.mechanism.Mechanism`'s point names) or an array of shape (P, 2).
-    A link whose end point is missing or not finite is hidden, so a linkage that cannot be
-    assembled shows what is known; every known end point gets a joint circle.  ``styles``
-    overrides a link's line properties by name; ``blocks`` are point keys drawn as a slider block;
-    ``labels`` maps point keys to the text written beside them.  ``animated=True`` leaves the
-    artists out of a plain ``canvas.draw`` (the explorers draw them over a cached background).
+    ``links`` maps link names to the keys of their two end points (a sequence of pairs is named "link 1",
+    "link 2", …); the keys index the ``points`` of :meth:`move`, a mapping or a (P, 2) array.  A link
+    with an end point missing or not finite is hidden; each known end point gets a joint circle.
+    ``styles`` overrides line properties by link name, ``blocks`` are keys drawn as slider blocks,
+    ``labels`` maps keys to text; ``animated=True`` keeps the artists out of a plain ``canvas.draw``.
 
     >>> from matplotlib.figure import Figure
     >>> ax = Figure().add_subplot()
@@ -288,12 +285,11 @@ def animate_linkage(
 ) -> AnimationHTML:
     """A linkage moving through the frames of ``points``, as an :func:`animation_html` player.
 
-    ``links`` (name → pair of point keys), ``blocks``, ``labels`` and ``styles`` are those of
-    :class:`LinkageArtist`; ``points`` gives each point's path, a mapping key → array (frames, 2) (a
-    :class:`~course_lib.mechanism.Mechanism`'s ``joints(motion)``) or an array (frames, P, 2) (the
-    course machines' ``joints``).  ``ground`` points get the hatched fixed-pivot symbol, ``trace``
-    points their dotted path; ``caption(frame)`` writes a line in the corner, ``background(ax)``
-    draws anything else that stays still.  Limits fit the whole motion.
+    ``links``, ``blocks``, ``labels`` and ``styles`` are those of :class:`LinkageArtist`; ``points``
+    gives each point's path: a mapping key → (frames, 2) (``Mechanism.joints(motion)``) or an array
+    (frames, P, 2).  ``ground`` points get the fixed-pivot symbol, ``trace`` points their dotted path;
+    ``caption(frame)`` writes a line in the corner, ``background(ax)`` draws what stays still.  The
+    limits fit the whole motion.
 
     >>> html = animate_linkage({"crank": ("O", "A")},
     ...                        {"O": np.zeros((3, 2)), "A": [[1, 0], [0, 1], [-1, 0]]}, ground=["O"])
@@ -330,18 +326,18 @@ def animate_linkage(
 
 def _figure_size(size) -> tuple[float, float]:
     """``size`` as (width, height) in inches: two positive numbers of at most 20, else a named error."""
-    width, height = (_positive_number(f"size[{k}]", value) for k, value in enumerate(_pair("size", size)))
+    if isinstance(size, str) or not isinstance(size, Sequence | np.ndarray) or len(size) != 2:
+        raise InvalidGeometryError(f"size must be a (width, height) pair in inches; got {size!r}")
+    width, height = (_positive_number(f"size[{k}]", value) for k, value in enumerate(size))
     if width > 20 or height > 20:
         raise InvalidGeometryError(f"size must be at most 20 × 20 inches; got {size!r}")
     return width, height
 
 
 def _motion_background(ax: Axes, paths: Mapping, ground: Sequence = (), trace: Sequence = ()):
-    """What stays still while a linkage moves through ``paths`` (point key → (frames, 2)): the dotted
-    paths of the ``trace`` points and the fixed-pivot symbol at the ``ground`` points (their first
-    position).  Returns the box (xmin, xmax, ymin, ymax) holding every finite point with a margin
-    (twice as deep below, for the pivot symbols) and the motion's span (m).
-    """
+    """Draws the dotted paths of the ``trace`` points and the fixed-pivot symbol at the ``ground`` points'
+    first position; returns the box (xmin, xmax, ymin, ymax) holding every finite point of ``paths``
+    with a margin (twice as deep below, for the symbols) and the motion's span (m)."""
     for argument, keys in (("ground", ground), ("trace", trace)):
         for key in _sequence(argument, keys):
             if key not in paths:
@@ -366,11 +362,8 @@ def plot_convergence(
     names: Sequence[str] | None = None,
     title: str | None = None,
 ) -> Figure:
-    """Three panels for one Newton run: iterates per variable, per-variable
-    error, and the error norm on a log axis.
-
-    The error is measured against ``exact`` when given; otherwise against the
-    last iterate (so the last point is dropped from the log plots).
+    """Three panels for one Newton run: iterates per variable, per-variable error and the error norm
+    (log axes).  The error is measured against ``exact``, else against the last iterate (then dropped).
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> from course_lib.newton import newton
@@ -402,18 +395,13 @@ def plot_convergence(
     fig.subplots_adjust(left=0.055, right=0.99, bottom=0.15, top=0.83 if title else 0.9, wspace=0.26)
     for k in range(n):
         axes[0].plot(steps, history[:, k], "o-", label=names[k])
-        axes[1].semilogy(
-            steps[: len(errors)], np.maximum(errors[:, k], 1e-17), "o-", label=names[k]
-        )
+        axes[1].semilogy(steps[: len(errors)], np.maximum(errors[:, k], 1e-17), "o-", label=names[k])
     axes[2].semilogy(steps[: len(errors)], np.maximum(np.linalg.norm(errors, axis=1), 1e-17), "o-k")
-    axes[0].set_title("iterates")
-    axes[1].set_title("error per variable")
-    axes[2].set_title("error norm")
+    for ax, panel in zip(axes, ("iterates", "error per variable", "error norm"), strict=True):
+        ax.set(title=panel, xlabel="iteration n")
+        ax.grid(True, linestyle="--", alpha=0.5)
     for ax in axes[1:]:
         ax.yaxis.set_major_locator(LogLocator(numticks=6))
-    for ax in axes:
-        ax.set_xlabel("iteration n")
-        ax.grid(True, linestyle="--", alpha=0.5)
     axes[0].legend(fontsize=8)
     axes[1].legend(fontsize=8)
     if title:
@@ -422,14 +410,18 @@ def plot_convergence(
 
 
 class AnimationHTML(str):
-    """An animation player's HTML that also displays as a still picture.
-
-    It *is* the player's HTML text (a ``str``, so ``IPython.display.HTML(...)`` still takes it), and
-    displayed directly in a notebook it gives three representations: ``text/html`` (the player,
-    whose HTML shows the still until JavaScript replaces it), ``image/png`` (the still: a filmstrip
-    of a few frames) and a one-line ``text/plain``.
-
+    """An animation player's HTML (a ``str``, so ``IPython.display.HTML(...)`` takes it) that, displayed
+    as a notebook cell's value, gives ``text/html`` (the player, whose HTML shows the still until
+    JavaScript replaces it), ``image/png`` (the still: a filmstrip of a few frames) and ``text/plain``.
     Attributes: ``still_png`` (PNG bytes), ``frame_count``, ``interval_ms``.
+
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(2, 1.5), dpi=40)
+    >>> line, = fig.add_subplot().plot([0, 1], [0, 0])
+    >>> bundle = animation_html(fig, lambda k: line.set_ydata([0, k]), frames=5)._repr_mimebundle_()
+    >>> sorted(bundle), bundle["text/plain"]
+    (['image/png', 'text/html', 'text/plain'], 'animation: 5 frames, 40 ms each')
     """
 
     still_png: bytes
@@ -447,21 +439,7 @@ class AnimationHTML(str):
         printer.text(self._text())
 
     def _repr_mimebundle_(self, include=None, exclude=None, **kwargs) -> dict:
-        """text/html (the player), image/png (the filmstrip) and text/plain.
-
-        >>> import matplotlib; matplotlib.use("Agg")
-        >>> from matplotlib.figure import Figure
-        >>> fig = Figure(figsize=(2, 1.5), dpi=40)
-        >>> line, = fig.add_subplot().plot([0, 1], [0, 0])
-        >>> bundle = animation_html(fig, lambda k: line.set_ydata([0, k]), frames=5)._repr_mimebundle_()
-        >>> sorted(bundle), bundle["text/plain"]
-        (['image/png', 'text/html', 'text/plain'], 'animation: 5 frames, 40 ms each')
-        """
-        return {
-            "text/html": str(self),
-            "image/png": base64.b64encode(self.still_png).decode("ascii"),
-            "text/plain": self._text(),
-        }
+        return {"text/html": str(self), "image/png": _b64(self.still_png), "text/plain": self._text()}
 
 
 #: Frames in a filmstrip (the still of an animation); a row when narrow enough, else a 2 × 2 grid.
@@ -538,21 +516,15 @@ def animation_html(
     max_frames: int = 48,
     dpi: float | None = None,
 ) -> AnimationHTML:
-    """Animate ``fig`` by calling ``update(frame)`` for each frame and return a self-contained
-    HTML/JavaScript player (no ffmpeg needed) that also displays a still picture.
+    """Animate ``fig`` by calling ``update(frame)`` for each frame: a self-contained HTML/JavaScript
+    player (no ffmpeg needed) that, as a notebook cell's value, shows a filmstrip of four frames where
+    JavaScript does not run (GitHub, ``nbconvert``, an untrusted notebook).
 
-    Display the result in a notebook cell (as the cell's last expression) to get the player where
-    JavaScript runs and a filmstrip of four frames everywhere else (GitHub, ``nbconvert`` without
-    scripts, a notebook not yet trusted); ``IPython.display.HTML(result)`` shows the player only.
-
-    Rendering is cheap: the figure is laid out and drawn once; the artists that ``update`` changes
-    (found by matplotlib's *stale* flags) are then drawn, alone, over that cached background for
-    each frame.  The player stores the background once and, per frame, only the box where the
-    frame differs from it, as 256-colour PNGs, and paints them on a canvas.  More than
-    ``max_frames`` frames are thinned to ``max_frames`` evenly spaced ones, shown for
-    proportionally longer, so the animation keeps its duration.  ``dpi`` overrides the figure's
-    resolution.  The figure is closed afterwards (when pyplot manages it), so the notebook shows
-    only the player.
+    The figure is laid out and drawn once; per frame, only the artists ``update`` changes (matplotlib's
+    *stale* flags tell) are drawn over that background, and the player stores the box where the frame
+    differs from it, as a 256-colour PNG.  More than ``max_frames`` frames are thinned to ``max_frames``
+    evenly spaced ones, each shown longer, keeping the duration.  ``dpi`` overrides the figure's.  A
+    pyplot figure is closed afterwards, so the notebook shows only the player.
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> import matplotlib.pyplot as plt
@@ -562,22 +534,25 @@ def animation_html(
     >>> "<script" in html and "frames[1]" in html, html.frame_count
     (True, 2)
     """
-    if isinstance(frames, bool) or not isinstance(frames, int | np.integer) or frames < 1:
-        raise InvalidGeometryError(f"frames must be a positive whole number; got {frames!r}")
+    _count("frames", frames)
     if not isinstance(fig, Figure):
         raise InvalidGeometryError(f"fig must be a matplotlib Figure; got {type(fig).__name__}")
     if not callable(update):
         raise InvalidGeometryError(f"update must be a function of the frame number; got {update!r}")
     interval = _positive_number("interval_ms", interval_ms)
-    if isinstance(max_frames, bool) or not isinstance(max_frames, int | np.integer) or max_frames < 1:
-        raise InvalidGeometryError(f"max_frames must be a positive whole number; got {max_frames!r}")
+    _count("max_frames", max_frames)
     if dpi is not None:
         fig.set_dpi(_dpi(dpi))
     chosen = [int(k) for k in np.arange(min(frames, max_frames)) * frames // min(frames, max_frames)]
-    interval *= frames / len(chosen)
     frames_drawn, backgrounds = _render_frames(fig, update, chosen)
-    _close(fig)
-    return _player(frames_drawn, backgrounds, interval)
+    if "matplotlib.pyplot" in sys.modules:  # (a figure pyplot does not manage needs no closing)
+        sys.modules["matplotlib.pyplot"].close(fig)
+    return _player(frames_drawn, backgrounds, interval * (frames / len(chosen)))
+
+
+def _count(name: str, value) -> None:
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+        raise InvalidGeometryError(f"{name} must be a positive whole number; got {value!r}")
 
 
 def _dpi(value) -> float:
@@ -585,12 +560,6 @@ def _dpi(value) -> float:
     if dpi > 600:
         raise InvalidGeometryError(f"dpi must be at most 600 (dots per inch); got {value!r}")
     return dpi
-
-
-def _pair(name: str, value) -> tuple:
-    if isinstance(value, str) or not isinstance(value, Sequence | np.ndarray) or len(value) != 2:
-        raise InvalidGeometryError(f"{name} must be a (width, height) pair in inches; got {value!r}")
-    return tuple(value)
 
 
 def _positive_number(name: str, value) -> float:
@@ -601,24 +570,24 @@ def _positive_number(name: str, value) -> float:
 
 
 def _render_frames(fig: Figure, update: Callable[[int], object], chosen: list[int]):
-    """Each chosen frame as an RGB array, with the index of its background (what does not move) in
-    the list of backgrounds also returned: one layout and one full draw, then only what moves."""
+    """Each chosen frame as an RGB array with the index of its background (what does not move), and the
+    list of backgrounds: one layout and one full draw, then only what moves."""
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
     _callback("update", update, chosen[0])
     canvas.draw()  # the one layout (constrained, tight, …), then the layout engine is switched off
     engine = fig.get_layout_engine()
     fig.set_layout_engine("none")
-    # the artists update() makes stale are the moving ones
+    # the artists update() makes stale are the moving ones (some, e.g. an empty text or a tick out of
+    # view, stay stale after a draw; setting stale to False propagates to nothing)
     parts = [artist for artist in fig.findobj() if not isinstance(artist, Figure | Axes)]
-    _clear_stale(parts)  # (some, e.g. an empty text or a tick out of view, stay stale after a draw)
+    for artist in parts:
+        artist.stale = False
     if len(chosen) > 1:
         _callback("update", update, chosen[1])
-    moving = [artist for artist in parts if artist.stale]
+    moving = sorted((artist for artist in parts if artist.stale), key=lambda artist: artist.get_zorder())
     was_animated = [artist.get_animated() for artist in moving]
     for artist in moving:
         artist.set_animated(True)
-    moving.sort(key=lambda artist: artist.get_zorder())
-    moving_ids = set(map(id, moving))
     frames, backgrounds, watched, limits, saved = [], [], [], None, None
     try:
         for frame in chosen:
@@ -629,8 +598,9 @@ def _render_frames(fig: Figure, update: Callable[[int], object], chosen: list[in
                 saved, limits = canvas.copy_from_bbox(fig.bbox), now
                 backgrounds.append(_rgb(canvas))
                 watched = [artist for artist in fig.findobj()
-                           if id(artist) not in moving_ids and not isinstance(artist, Figure | Axes)]
-                _clear_stale(watched)  # from here on, stale means update() changed it
+                           if artist not in moving and not isinstance(artist, Figure | Axes)]
+                for artist in watched:
+                    artist.stale = False  # from here on, stale means update() changed it
             else:
                 canvas.restore_region(saved)
             for artist in moving:
@@ -644,53 +614,42 @@ def _render_frames(fig: Figure, update: Callable[[int], object], chosen: list[in
     return frames, backgrounds
 
 
-def _clear_stale(artists) -> None:
-    for artist in artists:
-        artist.stale = False  # (setting False propagates to nothing)
-
-
 def _rgb(canvas: FigureCanvasAgg) -> np.ndarray:
     return np.asarray(canvas.buffer_rgba())[..., :3].copy()
 
 
 class _Quantizer:
-    """Pictures as 256-colour PNGs in one palette: exact for the picture's most frequent colours
-    (white, black, the lines' own colours), the nearest palette colour for anti-aliased blends.
-
-    Made from a first picture; later pictures of the same figure (the same colours, moved) map
-    through a lookup table of 7 bits per channel filled as new colours appear, so a 688 × 528
-    picture maps in a few milliseconds.  (PIL's own mapping to a palette works at 6 bits per
-    channel and turns white into 252 grey; this one is off by at most one level.)
+    """Pictures as PNGs in one palette of at most 255 colours, made from a first picture: its colours,
+    or if too many its 127 most frequent (white, black, the lines' colours) and 128 octree colours for
+    the anti-aliased blends; ``extra`` RGB colours (0…255, at most 64: colours later pictures may show,
+    e.g. of an artist hidden in this one) join exactly.  Pictures map through a lookup table of 7 bits
+    per channel, each cell filled with the palette colour nearest its first pixel: a few milliseconds
+    for 688 × 528 pixels, at most one level off (PIL's mapping has 6 bits and turns white into 252).
     """
 
-    _UNSEEN = 255  # lookup-table value of a cell not met yet; the palette uses entries 0…254
+    _UNSEEN = 255  # the table's value of a cell not met yet; the palette uses entries 0…254
 
     def __init__(self, picture: np.ndarray, extra=()):
-        """The palette of ``picture``, plus the ``extra`` RGB colours (0…255) exactly: colours that
-        later pictures may show (e.g. an artist hidden in this one); at most 64 of them."""
         values, counts = np.unique(_pack(picture), return_counts=True)
-        extra = np.asarray(list(extra), np.uint32).reshape(-1, 3)[:64]
-        extra = np.setdiff1d((extra[:, 0] << 16) | (extra[:, 1] << 8) | extra[:, 2], values)
+        extra = np.setdiff1d(_pack(np.asarray(list(extra), np.uint32).reshape(-1, 3)[:64]), values)
         if len(values) + len(extra) > self._UNSEEN:
             common = values[np.argsort(counts, kind="stable")[::-1][:127 - len(extra)]]
-            octree = Image.fromarray(_rgb_of(picture)).quantize(128, method=Image.Quantize.FASTOCTREE)
-            blends = np.asarray(octree.getpalette()[:384], np.uint32).reshape(-1, 3)
-            blends = (blends[:, 0] << 16) | (blends[:, 1] << 8) | blends[:, 2]
+            octree = Image.fromarray(np.ascontiguousarray(picture[..., :3])).quantize(
+                128, method=Image.Quantize.FASTOCTREE)
+            blends = _pack(np.asarray(octree.getpalette()[:384], np.uint32).reshape(-1, 3))
             values = np.concatenate([common, extra, blends])
         else:
             values = np.concatenate([values, extra])
-        self.colours = np.stack([(values >> 16) & 255, (values >> 8) & 255, values & 255], axis=1)
-        self.colours = self.colours.astype(np.int32)
+        self.colours = ((values[:, None] >> np.array([16, 8, 0], np.uint32)) & 255).astype(np.int32)
         self.table = np.full(1 << 21, self._UNSEEN, np.uint8)
 
     def png(self, picture: np.ndarray, compress_level: int = 1, trim: bool = True) -> bytes:
-        """An RGB or RGBA array (height, width, 3 or 4) as a PNG in this palette; ``trim`` lists
-        only the colours used in the PNG (worth it for small pictures)."""
-        word = _little_endian_word(picture)  # R + 256 G + 65536 B (+ alpha above)
+        """An RGB or RGBA array as a PNG in this palette; ``trim`` keeps only the colours it uses."""
+        word = _pack(picture, little_endian=True)
         cells = ((word >> 1) & 0x7F) | ((word >> 2) & 0x3F80) | ((word >> 3) & 0x1FC000)
         indices = np.take(self.table, cells)
         unseen = indices == self._UNSEEN
-        if unseen.any():  # new colours: each new cell takes the palette colour nearest its first pixel
+        if unseen.any():
             first_cells, first = np.unique(cells[unseen], return_index=True)
             colours = picture[unseen][first, :3].astype(np.int32)
             distances = ((colours[:, None, :] - self.colours[None, :, :]) ** 2).sum(axis=2)
@@ -709,24 +668,14 @@ class _Quantizer:
         return buffer.getvalue()
 
 
-def _little_endian_word(picture: np.ndarray) -> np.ndarray:
-    """Each pixel as one integer R + 256 G + 65536 B (+ 2**24 alpha for RGBA), without copying
-    an RGBA buffer (matplotlib's) on a little-endian machine."""
-    if (picture.ndim == 3 and picture.shape[2] == 4 and picture.dtype == np.uint8
+def _pack(picture: np.ndarray, little_endian: bool = False) -> np.ndarray:
+    """Each pixel's RGB as one integer, 65536 R + 256 G + B, or R + 256 G + 65536 B (+ 2**24 alpha) if
+    ``little_endian``: then a view of a contiguous RGBA buffer (matplotlib's), with no copy."""
+    if (little_endian and picture.ndim == 3 and picture.shape[2] == 4 and picture.dtype == np.uint8
             and picture.flags.c_contiguous and sys.byteorder == "little"):
         return picture.view(np.uint32)[..., 0]
     red, green, blue = (picture[..., k].astype(np.uint32) for k in range(3))
-    return red | (green << 8) | (blue << 16)
-
-
-def _pack(picture: np.ndarray) -> np.ndarray:
-    """Each pixel's RGB as one integer, 65536 R + 256 G + B."""
-    red, green, blue = (picture[..., k].astype(np.uint32) for k in range(3))
-    return (red << 16) | (green << 8) | blue
-
-
-def _rgb_of(picture: np.ndarray) -> np.ndarray:
-    return np.ascontiguousarray(picture[..., :3])
+    return (blue << 16) | (green << 8) | red if little_endian else (red << 16) | (green << 8) | blue
 
 
 def _filmstrip(pictures: list[np.ndarray]) -> np.ndarray:
@@ -737,8 +686,7 @@ def _filmstrip(pictures: list[np.ndarray]) -> np.ndarray:
     gap = 4
     columns = count if count * width <= _STILL_MAX_ROW_PX or count < _STILL_FRAMES else 2
     rows = -(-count // columns)
-    shape = (rows * height + (rows - 1) * gap, columns * width + (columns - 1) * gap, 3)
-    strip = np.full(shape, 200, np.uint8)
+    strip = np.full((rows * (height + gap) - gap, columns * (width + gap) - gap, 3), 200, np.uint8)
     for k, picture in enumerate(chosen):
         top, left = (k // columns) * (height + gap), (k % columns) * (width + gap)
         strip[top:top + height, left:left + width] = picture
@@ -751,25 +699,23 @@ def _b64(data: bytes) -> str:
 
 def _player(frames: list[tuple[np.ndarray, int]], backgrounds: list[np.ndarray], interval: float
             ) -> AnimationHTML:
-    """The HTML/JS player: the backgrounds once, and per frame only the box where it differs from its
-    background (cropped PNG), drawn on a canvas; plus the filmstrip still."""
+    """The HTML/JS player: the backgrounds once and per frame only the (cropped) box where it differs
+    from its background, painted on a canvas; and the filmstrip still."""
     quantizer = _Quantizer(frames[0][0])
     lines, patches = [], []
     for k, (picture, background) in enumerate(frames):
         rows, columns = np.nonzero(np.any(picture != backgrounds[background], axis=2))
         if rows.size:
             top, left, bottom, right = rows.min(), columns.min(), rows.max() + 1, columns.max() + 1
-            patch = quantizer.png(picture[top:bottom, left:right], 6)
-            patches.append(patch)
-            lines.append(f'  frames[{k}] = [{background}, {left}, {top}, "{_b64(patch)}"];')
+            patches.append(quantizer.png(picture[top:bottom, left:right], 6))
+            lines.append(f'  frames[{k}] = [{background}, {left}, {top}, "{_b64(patches[-1])}"];')
         else:
             lines.append(f"  frames[{k}] = [{background}, 0, 0, null];")
-    pictures = [picture for picture, _ in frames]
-    strip = _filmstrip(pictures)
+    strip = _filmstrip([picture for picture, _ in frames])
     still = _Quantizer(strip).png(strip, 9)
     digest = hashlib.sha1(b"".join(patches) + still).hexdigest()[:12]
     element = f"course-animation-{digest}-{next(_players)}"
-    height, width, _ = pictures[0].shape
+    height, width, _ = frames[0][0].shape
     script = _PLAYER_JS % {
         "id": element, "width": width, "height": height, "count": len(frames),
         "interval": f"{interval:.0f}",
@@ -786,9 +732,3 @@ def _player(frames: list[tuple[np.ndarray, int]], backgrounds: list[np.ndarray],
     result = AnimationHTML(html)
     result.still_png, result.frame_count, result.interval_ms = still, len(frames), round(interval, 3)
     return result
-
-
-def _close(fig: Figure) -> None:
-    """Close the figure if pyplot manages it (a bare Figure needs nothing)."""
-    if "matplotlib.pyplot" in sys.modules:
-        sys.modules["matplotlib.pyplot"].close(fig)

@@ -1,13 +1,10 @@
 """The feedback engine every checker shares: read the answer, compare it, diagnose it.
 
-A checker reads the answer with a parser (:func:`vector`, :func:`number`, :func:`integer`,
-:func:`word`, :func:`fields`; sympy answers with :func:`judge_expression`), then hands it to
-:func:`diagnose` with its rules: (candidate, verdict) pairs tried in order.  The first candidate
-is the reference and its verdict the ✔ message; the others are known mistakes (the other branch,
-degrees, a flipped sign …), each with its hint.  A candidate is a value (a tuple with None for
-"any" entries), a list of such values, or a function of the answer returning True; a verdict
-given as a :class:`Feedback` is returned as it is.  No rule prints a reference value, nothing here
-raises on an answer, and sympy is imported only by the functions that judge expressions.
+A parser (:func:`vector`, :func:`number`, :func:`integer`, :func:`word`, :func:`fields`) reads the
+answer; :func:`diagnose` tries (candidate, verdict) rules in order: the reference and its ✔ first,
+then known mistakes with their hints.  A candidate is a value (None in a tuple: any entry), a list
+of values, or a function of the answer; a :class:`Feedback` verdict is returned as it is.  Sympy
+answers go to :func:`judge_expression`; sympy is imported only to judge them.
 """
 
 import functools
@@ -35,10 +32,7 @@ NO_ANSWER = "No answer yet: build your answer in the cell above, then run this c
 
 @dataclass(frozen=True)
 class Feedback:
-    """The verdict on one answer: ``ok`` and a message for the student.
-
-    It prints (and displays in a notebook) as one line starting with ✔ or ✘;
-    ``bool(feedback)`` is ``ok``.
+    """The verdict on one answer: ``ok`` and a message, shown as one line starting with ✔ or ✘.
 
     >>> Feedback(True, "Correct.")
     ✔ Correct.
@@ -203,10 +197,8 @@ def fields(what: str, *parts, keys: Sequence[str] = ()):
 def choice(answer: Any, correct: str, why_not: Mapping[str, str], message: str) -> Feedback:
     """A multiple-choice answer: one letter among the keys of ``why_not`` plus ``correct``."""
     letters = sorted({*why_not, correct})
-    letter = word(letters, f"answer with one letter among {', '.join(letters)} (a string).")(answer)
-    if isinstance(letter, Feedback):
-        return letter if (missing := unanswered(answer)) is None else missing
-    return right(message) if letter == correct else wrong(why_not[letter])
+    read = word(letters, f"answer with one letter among {', '.join(letters)} (a string).")
+    return reads(read)(lambda letter: right(message) if letter == correct else wrong(why_not[letter]))(answer)
 
 
 # ---------------------------------------------------------------- comparing and diagnosing

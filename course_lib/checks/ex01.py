@@ -9,30 +9,25 @@ from .engine import *  # the feedback engine's helpers (engine.__all__)
 __all__ = ["check_mobility", "check_tilted_loop", "check_link_vector", "check_point_velocity",
            "check_redundant_parallelogram"]
 
-#: The six-bar of exercise 01: a four-bar O2-A-B-O4 plus a dyad B-C-O6 pinned at B.
-_SIX_BAR = {"links": 6, "full_joints": 7, "half_joints": 0, "mobility": 1}
-
 
 @reads(fields("(L, J1, J2, M) as a tuple of four integers, or a dict", *map(integer, ("L", "J1", "J2", "M")),
-              keys=tuple(_SIX_BAR)))
+              keys=("links", "full_joints", "half_joints", "mobility")))
 def check_mobility(answer) -> Feedback:
-    """Exercise 01, task 1: counts (L, J1, J2) and mobility M of the six-bar with a triple pin at B.
-
-    ``answer`` is a dict with keys ``links, full_joints, half_joints, mobility`` or a tuple
-    (L, J1, J2, M).
+    """Exercise 01, task 1: counts (L, J1, J2) and mobility M of the six-bar (a four-bar O2-A-B-O4 and
+    a dyad B-C-O6 pinned at B), as a tuple (L, J1, J2, M) or a dict with keys ``links, full_joints,
+    half_joints, mobility``.
 
     >>> check_mobility((6, 6, 0, 3)).ok
     False
     """
     L, J1, J2, M = answer
     return first([
-        (L == _SIX_BAR["links"] - 1, "count the ground (the frame, bancada) as one of the links."),
-        (L != _SIX_BAR["links"], "recount the links: every rigid body, the ground included, counts once."),
+        (L == 5, "count the ground (the frame, bancada) as one of the links."),
+        (L != 6, "recount the links: every rigid body, the ground included, counts once."),
         (J2 != 0, "every joint here is a pin (one relative freedom): a full joint, not a half joint."),
-        (J1 == _SIX_BAR["full_joints"] - 1, "at B three links meet (coupler, rocker and link 5): a pin "
-                                            "joining three links counts as two full joints."),
-        (J1 != _SIX_BAR["full_joints"], "recount the pins; where k links share one pin it counts as k − 1 "
-                                        "joints."),
+        (J1 == 6, "at B three links meet (coupler, rocker and link 5): a pin joining three links counts as "
+                  "two full joints."),
+        (J1 != 7, "recount the pins; where k links share one pin it counts as k − 1 joints."),
         (M != 3 * (L - 1) - 2 * J1 - J2, "the counts are right, but M does not follow from them: "
                                          "M = 3(L − 1) − 2·J1 − J2."),
     ], "Correct: one input (the crank) drives the whole six-bar.")
@@ -40,10 +35,8 @@ def check_mobility(answer) -> Feedback:
 
 @reads()
 def check_tilted_loop(answer) -> Feedback:
-    """Exercise 01, task 2: x and y components of R2 + R3 − R4 − R1 = 0 with the ground tilted by θ1.
-
-    ``answer`` is a pair (x-component, y-component) of sympy expressions in l1…l4, θ1…θ4
-    (each "= 0"; a component multiplied by a constant is the same equation).
+    """Exercise 01, task 2: the pair (x, y components) of R2 + R3 − R4 − R1 = 0, ground tilted by θ1,
+    as sympy expressions in l1…l4, θ1…θ4 (each "= 0", so a component may be scaled).
 
     >>> import sympy as sp
     >>> l1, l2, l3, l4 = sp.symbols("l1:5")
@@ -90,8 +83,7 @@ def check_link_vector(answer, length: float, angle_degrees: float) -> Feedback:
 def check_point_velocity(answer, length: float, angle_degrees: float, speed: float, clockwise: bool
                          ) -> Feedback:
     """Exercise 01, task 3: velocity (vx, vy) in m/s of the tip of a link of ``length`` (m) at
-    ``angle_degrees`` (as the statement gives it), turning at ``speed`` (rad/s, > 0) about a
-    fixed pivot, ``clockwise`` or not.
+    ``angle_degrees``, turning at ``speed`` (rad/s, > 0) about a fixed pivot, ``clockwise`` or not.
 
     >>> check_point_velocity([-0.6, 0.0], 0.1, 90.0, 6.0, clockwise=False).ok
     True

@@ -82,6 +82,7 @@ def check_fivebar_g(answer) -> Feedback:
     ], "expand EcL2 − EcL3: the squares X3², Y3² cancel, leaving an equation linear in X3 and Y3.")
 
 
+#: The answers, in the order of FiveBar.singularity_measures, and what each means.
 _SINGULARITIES = {
     "serial1": "leg 1 is stretched or folded: the point is on the boundary of leg 1's reach, two inverse "
                "solutions (σ1 = ±1) merge, and the end effector cannot move along l1–l2.",
@@ -104,15 +105,13 @@ def check_fivebar_singularity(answer, robot: FiveBar, theta1: float, theta4: flo
     >>> check_fivebar_singularity("none", robot, 1.2, 2.2, x3, y3).ok
     True
     """
-    measures = robot.singularity_measures(theta1, theta4, x3, y3)
-    values = {"serial1": measures.serial_leg1, "serial4": measures.serial_leg4, "parallel": measures.parallel}
-    found = [name for name, value in values.items() if abs(value) < 1e-6] or ["none"]
-    missed = answer not in found
+    measures = zip(_SINGULARITIES, robot.singularity_measures(theta1, theta4, x3, y3), strict=False)
+    found = [name for name, value in measures if abs(value) < 1e-6] or ["none"]
     return first([
-        (missed and answer == "none", "compute robot.singularity_measures(...): one of them is zero here."),
-        (missed and "serial" in answer and any("serial" in name for name in found),
+        (answer == "none", "compute robot.singularity_measures(...): one of them is zero here."),
+        ("serial" in answer and any("serial" in name for name in found),
          "a serial singularity, yes — but of the other leg."),
-        (missed and answer == "parallel", "the distal links l2 and l3 are not aligned here; look at the "
-                                          "crank–distal angles."),
-        (missed, "that measure is not zero here; compute all three with robot.singularity_measures(...)."),
-    ], "Correct: " + _SINGULARITIES[answer])
+        (answer == "parallel", "the distal links l2 and l3 are not aligned here; look at the crank–distal "
+                               "angles."),
+        (True, "that measure is not zero here; compute all three with robot.singularity_measures(...)."),
+    ] if answer not in found else [], "Correct: " + _SINGULARITIES[answer])

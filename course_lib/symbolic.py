@@ -59,13 +59,8 @@ def d_dt(expr: sp.Expr, order: int = 1) -> sp.Expr:
     alpha2*cos(theta2) - omega2**2*sin(theta2)
     """
     derivative = sp.diff(expr, TIME, order)
-    replacements = {}
-    for function in derivative.atoms(sp.Derivative):
-        base = function.expr
-        count = sum(c for _, c in function.variable_count)
-        name = base.func.__name__
-        replacements[function] = sp.Symbol(rate_name(name, count), real=True)
-    return derivative.xreplace(replacements)
+    return derivative.xreplace({d: sp.Symbol(rate_name(d.expr.func.__name__, d.derivative_count), real=True)
+                                for d in derivative.atoms(sp.Derivative)})
 
 
 def static(expr):
@@ -89,12 +84,8 @@ def half_angle(expr: sp.Expr, angle: sp.Expr, tangent: sp.Symbol) -> sp.Expr:
     >>> sp.simplify(half_angle(sp.sin(th)**2 + sp.cos(th)**2, th, u))
     1
     """
-    return expr.subs(
-        {
-            sp.cos(angle): (1 - tangent**2) / (1 + tangent**2),
-            sp.sin(angle): 2 * tangent / (1 + tangent**2),
-        }
-    )
+    below = 1 + tangent**2
+    return expr.subs({sp.cos(angle): (1 - tangent**2) / below, sp.sin(angle): 2 * tangent / below})
 
 
 def jacobian(expressions: Sequence[sp.Expr], variables: Sequence[sp.Expr]) -> sp.Matrix:

@@ -36,18 +36,10 @@ def _ground_symbol(ax: Axes, point: np.ndarray, size: float) -> None:
     ax.fill(triangle[:, 0], triangle[:, 1], facecolor="none", edgecolor="0.3", hatch="///", lw=1)
 
 
-def draw_linkage(
-    points: Sequence[Sequence[float]],
-    links: Sequence[tuple[int, int, str]],
-    ax: Axes | None = None,
-    *,
-    joint_labels: Sequence[str] | None = None,
-    ground: Sequence[int] = (),
-    title: str | None = None,
-    grid: bool = True,
-    linestyle: str = "-",
-    alpha: float = 1.0,
-) -> Axes:
+def draw_linkage(points: Sequence[Sequence[float]], links: Sequence[tuple[int, int, str]],
+                 ax: Axes | None = None, *, joint_labels: Sequence[str] | None = None,
+                 ground: Sequence[int] = (), title: str | None = None, grid: bool = True,
+                 linestyle: str = "-", alpha: float = 1.0) -> Axes:
     """Draw a planar linkage; returns the axes (a new figure's if ``ax`` is None), in equal aspect.
 
     ``points`` are the joints' (x, y) in metres, ``links`` (i, j, label) a bar from joint i to joint j
@@ -68,7 +60,10 @@ def draw_linkage(
     labels = joint_labels if joint_labels is not None else [str(k + 1) for k in range(len(xy))]
     _one_each("joint_labels", labels, len(xy), "text per joint")
     require_choice("linestyle", linestyle, ("-", "--", "-.", ":"))
-    alpha = _fraction("alpha", alpha)
+    number = _numbers("alpha", alpha, "a number from 0 to 1")
+    if number.ndim or not 0 <= number <= 1:
+        raise InvalidGeometryError(f"alpha must be a number from 0 to 1; got {alpha!r}")
+    alpha = float(number)
     if ax is None:
         import matplotlib.pyplot as plt
 
@@ -88,10 +83,8 @@ def draw_linkage(
     ax.plot(xy[:, 0], xy[:, 1], "o", ms=7, mfc="white", mec="black", zorder=3, alpha=alpha)
     for (x, y), label in zip(xy, labels, strict=True):
         ax.annotate(label, (x, y), xytext=(6, 6), textcoords="offset points", fontsize=9, alpha=alpha)
-    ax.set_aspect("equal", adjustable="datalim")
+    ax.set(aspect="equal", adjustable="datalim", xlabel="x (m)", ylabel="y (m)")
     ax.margins(0.08)
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
     if grid:
         ax.grid(True, linestyle="--", alpha=0.5)
     if title is not None:
@@ -105,14 +98,12 @@ def _one_each(name: str, value, count: int, what: str) -> None:
         raise InvalidGeometryError(f"{name} must give one {what} ({count}); got {value!r}")
 
 
-def _axes(ax) -> Axes:
+def _axes(ax) -> None:
     if not isinstance(ax, Axes):
         raise InvalidGeometryError(f"ax must be a matplotlib Axes; got {ax!r}")
-    return ax
 
 
 def _index(name: str, value, count: int) -> int:
-    """A joint index: a whole number from 0 to count − 1."""
     whole = isinstance(value, int | np.integer) and not isinstance(value, bool | np.bool_)
     if not whole or not 0 <= value < count:
         raise InvalidGeometryError(f"{name} must hold joint numbers from 0 to {count - 1}; got {value!r}")
@@ -120,17 +111,9 @@ def _index(name: str, value, count: int) -> int:
 
 
 def _link(k: int, link, count: int) -> tuple[int, int, str]:
-    """A link of :func:`draw_linkage`: (i, j, label) with i, j joint numbers."""
     if isinstance(link, str) or not isinstance(link, Sequence) or len(link) != 3:
         raise InvalidGeometryError(f"links[{k}] must be (i, j, label); got {link!r}")
     return _index(f"links[{k}]", link[0], count), _index(f"links[{k}]", link[1], count), str(link[2])
-
-
-def _fraction(name: str, value) -> float:
-    number = _numbers(name, value, "a number from 0 to 1")
-    if number.ndim or not 0 <= number <= 1:
-        raise InvalidGeometryError(f"{name} must be a number from 0 to 1; got {value!r}")
-    return float(number)
 
 
 def _callback(name: str, function: Callable, frame: int):
@@ -144,15 +127,13 @@ def _callback(name: str, function: Callable, frame: int):
 
 
 class LinkageArtist:
-    """A moving linkage on an axes, as the explorers and animations draw it: a line per link in the
-    course's colours, white joint circles, slider blocks and point labels; :meth:`move` puts them at
-    one configuration.
+    """A moving linkage on an axes (the explorers' and animations'): a line per link in the course's
+    colours, white joint circles, slider ``blocks`` and point ``labels``; :meth:`move` puts them at one
+    configuration, hiding a link with an end point missing or not finite.
 
-    ``links`` maps link names to the keys of their two end points (a sequence of pairs is named "link 1",
-    "link 2", …); the keys index the ``points`` of :meth:`move`, a mapping or a (P, 2) array.  A link
-    with an end point missing or not finite is hidden; each known end point gets a joint circle.
-    ``styles`` overrides line properties by link name, ``blocks`` are keys drawn as slider blocks,
-    ``labels`` maps keys to text; ``animated=True`` keeps the artists out of a plain ``canvas.draw``.
+    ``links`` maps link names to their end points' keys (pairs in a list are "link 1", "link 2", …),
+    which index the ``points`` of :meth:`move`: a mapping or a (P, 2) array.  ``styles`` overrides line
+    properties by link name; ``animated=True`` keeps the artists out of a plain ``canvas.draw``.
 
     >>> from matplotlib.figure import Figure
     >>> ax = Figure().add_subplot()
@@ -266,23 +247,12 @@ def _paths(points) -> dict:
     return paths
 
 
-def animate_linkage(
-    links,
-    points,
-    *,
-    ground: Sequence = (),
-    trace: Sequence = (),
-    blocks: Sequence = (),
-    labels: Mapping | None = None,
-    styles: Mapping[str, Mapping] | None = None,
-    caption: Callable[[int], str] | None = None,
-    background: Callable[[Axes], object] | None = None,
-    title: str | None = None,
-    size: tuple[float, float] = (4.2, 3.0),
-    dpi: float = 60,
-    interval_ms: float = 80,
-    max_frames: int = 48,
-) -> AnimationHTML:
+def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (), blocks: Sequence = (),
+                    labels: Mapping | None = None, styles: Mapping[str, Mapping] | None = None,
+                    caption: Callable[[int], str] | None = None,
+                    background: Callable[[Axes], object] | None = None, title: str | None = None,
+                    size: tuple[float, float] = (4.2, 3.0), dpi: float = 60, interval_ms: float = 80,
+                    max_frames: int = 48) -> AnimationHTML:
     """A linkage moving through the frames of ``points``, as an :func:`animation_html` player.
 
     ``links``, ``blocks``, ``labels`` and ``styles`` are those of :class:`LinkageArtist`; ``points``
@@ -356,12 +326,8 @@ def _motion_background(ax: Axes, paths: Mapping, ground: Sequence = (), trace: S
     return (xmin - margin, xmax + margin, ymin - 2 * margin, ymax + margin), span
 
 
-def plot_convergence(
-    result: NewtonResult,
-    exact: Sequence[float] | float | None = None,
-    names: Sequence[str] | None = None,
-    title: str | None = None,
-) -> Figure:
+def plot_convergence(result: NewtonResult, exact: Sequence[float] | float | None = None,
+                     names: Sequence[str] | None = None, title: str | None = None) -> Figure:
     """Three panels for one Newton run: iterates per variable, per-variable error and the error norm
     (log axes).  The error is measured against ``exact``, else against the last iterate (then dropped).
 
@@ -507,24 +473,14 @@ _PLAYER_JS = """(function () {
 })();"""
 
 
-def animation_html(
-    fig: Figure,
-    update: Callable[[int], object],
-    frames: int,
-    interval_ms: float = 40,
-    *,
-    max_frames: int = 48,
-    dpi: float | None = None,
-) -> AnimationHTML:
+def animation_html(fig: Figure, update: Callable[[int], object], frames: int, interval_ms: float = 40, *,
+                   max_frames: int = 48, dpi: float | None = None) -> AnimationHTML:
     """Animate ``fig`` by calling ``update(frame)`` for each frame: a self-contained HTML/JavaScript
     player (no ffmpeg needed) that, as a notebook cell's value, shows a filmstrip of four frames where
-    JavaScript does not run (GitHub, ``nbconvert``, an untrusted notebook).
-
-    The figure is laid out and drawn once; per frame, only the artists ``update`` changes (matplotlib's
-    *stale* flags tell) are drawn over that background, and the player stores the box where the frame
-    differs from it, as a 256-colour PNG.  More than ``max_frames`` frames are thinned to ``max_frames``
-    evenly spaced ones, each shown longer, keeping the duration.  ``dpi`` overrides the figure's.  A
-    pyplot figure is closed afterwards, so the notebook shows only the player.
+    JavaScript does not run (GitHub, ``nbconvert``, an untrusted notebook).  The figure is drawn in full
+    once, then per frame only the artists ``update`` changes (*stale*).  More than ``max_frames`` frames
+    are thinned to ``max_frames`` evenly spaced ones, shown longer to keep the duration.  ``dpi``
+    overrides the figure's; a pyplot figure is closed afterwards, so the notebook shows only the player.
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> import matplotlib.pyplot as plt

@@ -84,31 +84,19 @@ def motor_profile(t, alpha_max: float = ALPHA_MAX) -> MotorProfile:
     [0.0, 6.283185]
     """
     A = _check_alpha_max(alpha_max)
-    time = require_finite("t", t, unit="seconds")
-    for bad, rule in ((time < 0, "t must be >= 0 s (the motor starts at t = 0)"),
-                      (time > MAX_TIME, f"t must be <= {MAX_TIME:.0e} s")):
+    s = require_finite("t", t, unit="seconds")
+    for bad, rule in ((s < 0, "t must be >= 0 s (the motor starts at t = 0)"),
+                      (s > MAX_TIME, f"t must be <= {MAX_TIME:.0e} s")):
         if np.any(bad):
-            raise InvalidGeometryError(f"{rule}; got {time.ravel()[np.flatnonzero(bad)[0]]}")
+            raise InvalidGeometryError(f"{rule}; got {s.ravel()[np.flatnonzero(bad)[0]]}")
     T = first_turn_time(A)
-    s = time
     phase = np.select([s < T / 3, s < 2 * T / 3, s < T], [0, 1, 2], default=3)
-    alpha2 = np.choose(phase, [3 * A * s / T, np.full_like(s, A), 3 * A - 3 * A * s / T, np.zeros_like(s)])
-    omega2 = np.choose(
-        phase,
-        [
-            3 * A * s**2 / (2 * T),
-            A * s - A * T / 6,
-            3 * A * s - 3 * A * s**2 / (2 * T) - 5 * A * T / 6,
-            np.full_like(s, 2 * A * T / 3),
-        ],
-    )
-    theta2 = np.choose(
-        phase,
-        [
-            A * s**3 / (2 * T),
-            A * s**2 / 2 - A * T * s / 6 + A * T**2 / 54,
-            A * T**2 / 6 - 5 * A * T * s / 6 + 3 * A * s**2 / 2 - A * s**3 / (2 * T),
-            2 * A * T * s / 3 - A * T**2 / 3,
-        ],
-    )
+    pieces = [  # (α2, ω2, θ2) on each interval, the rows of the table above
+        (3 * A * s / T, 3 * A * s**2 / (2 * T), A * s**3 / (2 * T)),
+        (np.full_like(s, A), A * s - A * T / 6, A * s**2 / 2 - A * T * s / 6 + A * T**2 / 54),
+        (3 * A - 3 * A * s / T, 3 * A * s - 3 * A * s**2 / (2 * T) - 5 * A * T / 6,
+         A * T**2 / 6 - 5 * A * T * s / 6 + 3 * A * s**2 / 2 - A * s**3 / (2 * T)),
+        (np.zeros_like(s), np.full_like(s, 2 * A * T / 3), 2 * A * T * s / 3 - A * T**2 / 3),
+    ]
+    alpha2, omega2, theta2 = (np.choose(phase, column) for column in zip(*pieces, strict=True))
     return MotorProfile(theta2=theta2, omega2=omega2, alpha2=alpha2)

@@ -206,14 +206,10 @@ def _loop_hint(row, k: int, turned: str, moves: bool) -> str:
 
 @reads(_loop_rows)
 def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 1: the two vector loops of the shaper, four scalar equations (each = 0) in
-    θ2, θ4, r4, θ5, x and r2, d, l4, l5, h — as a list of two 2×1 sympy matrices, four expressions,
-    or a ``Mechanism`` declared with them.  Time functions θ(t) are read as symbols.
-
-    Judged by evaluating them, not by their form: accepted when every equation vanishes at the
-    drawn configuration (found by geometry alone) for eight crank angles and the four together fix
-    θ4, r4, θ5, x there (their Jacobian has full rank); each is then the same equation as a correct
-    one up to sign, scale, order or combination.
+    """Exercise 06, task 1: the two vector loops, four scalar equations (each = 0) in θ2, θ4, r4, θ5,
+    x and r2, d, l4, l5, h — two 2×1 sympy matrices, four expressions, or a ``Mechanism``.  Accepted
+    when every equation vanishes at the drawn configuration for eight crank angles and the four fix
+    θ4, r4, θ5, x there (full-rank Jacobian): sign, scale, order or combination do not matter.
 
     >>> import sympy as sp
     >>> th2, th4, r4, th5, x, r2, d, l4, l5, h = sp.symbols("theta2 theta4 r4 theta5 x r2 d l4 l5 h")
@@ -250,9 +246,8 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
                                              q + np.pi * np.array([n == name for n in UNKNOWNS])[:, None]
                                              )[k:k + 1], scale[k:k + 1])[0]), "")
         return wrong(_loop_hint(rows[k], k + 1, turned, bool(scale[k] > 0)))
-    # the Jacobian in the unknowns by central differences, (probe, row, unknown), each row in units of
-    # its own size off the configuration: scaling a row changes nothing, and a squared row (zero
-    # gradient at the configuration) counts as zero
+    # the Jacobian (probe, row, unknown) by central differences, each row in units of its size off the
+    # configuration: scaling a row changes nothing, and a squared row (zero gradient) counts as zero
     J = np.stack([(evaluate(theta2, q + step) - evaluate(theta2, q - step)).real / 2e-6
                   for step in 1e-6 * np.eye(4)[:, :, None]], axis=2).swapaxes(0, 1)
     singular_values = np.linalg.svd(J / scale[None, :, None], compute_uv=False)
@@ -293,10 +288,8 @@ def _position_matches(values, candidate) -> bool:
 
 @reads(_by_name(UNKNOWNS, "the position"))
 def check_shaper_position(answer, theta2: float, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 2: the position (θ4, r4, θ5, x) at crank angle ``theta2`` (rad), on the
-    drawn assembly (C to the right of B) — four numbers in that order, or a dict keyed by those
-    names such as ``motion.position``.  The same point written with r4 < 0 and θ4 turned by π is
-    accepted.
+    """Exercise 06, task 2: the position (θ4, r4, θ5, x) at crank angle ``theta2`` (rad), C to the
+    right of B as drawn — four numbers, or a dict keyed by those names such as ``motion.position``.
 
     >>> check_shaper_position(SHAPER.configuration(1.0), 1.0).ok
     True
@@ -328,9 +321,8 @@ def check_shaper_position(answer, theta2: float, shaper: ShaperDrawing = SHAPER)
 @reads(_by_name(("v_x", "a_x"), "the ram's velocity and acceleration"))
 def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
                      shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 3: the ram's velocity and acceleration (ẋ, ẍ) in m/s and m/s² at crank
-    angle ``theta2`` (rad), turning at ``omega2`` rad/s with ``alpha2`` rad/s² — two numbers, or a
-    dict with keys ``v_x`` and ``a_x``.
+    """Exercise 06, task 3: the ram's (ẋ, ẍ) in m/s and m/s² at crank angle ``theta2`` (rad), ``omega2``
+    (rad/s) and ``alpha2`` (rad/s²) — two numbers, or a dict with keys ``v_x`` and ``a_x``.
 
     >>> velocity, acceleration = SHAPER.rates(1.0, 8.0)
     >>> check_ram_motion((velocity[3], acceleration[3]), 1.0, 8.0).ok
@@ -381,10 +373,8 @@ def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
 
 
 def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -> Feedback:
-    """Lesson 12, Try it: the time ratio (slow stroke / fast stroke, > 1) of the slotted-lever quick
-    return with crank r2 = ``crank`` and pivots a distance ``pivot_distance`` apart.  A value found
-    on a grid of crank angles is accepted to 0.5 %.  The lengths must make a quick return
-    (``InvalidGeometryError`` otherwise).
+    """Lesson 12, Try it: the time ratio (slow stroke / fast stroke, > 1, to 0.5 %) of the slotted-lever
+    quick return with crank r2 = ``crank``, pivots ``pivot_distance`` apart (else ``InvalidGeometryError``).
 
     >>> check_quick_return_time_ratio(2.0, 0.05, 0.10).ok, check_quick_return_time_ratio(0.5, 0.05, 0.10).ok
     (True, False)
@@ -395,9 +385,8 @@ def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -
 
 @reads(vector(2, "(stroke, time_ratio)"))
 def check_ram_stroke(answer, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 4: (stroke, time_ratio) — the ram's travel in m between its two stops,
-    and the crank angle of the slow stroke over that of the fast one.  Values found on a grid of
-    crank angles are accepted to 0.5 %.
+    """Exercise 06, task 4: (stroke, time_ratio) — the ram's travel (m) between its stops and the slow
+    stroke's crank angle over the fast one's, each to 0.5 %.
 
     >>> check_ram_stroke((SHAPER.stroke(), SHAPER.time_ratio())).ok
     True

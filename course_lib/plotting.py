@@ -214,15 +214,13 @@ def _sequence(name: str, value) -> list:
 
 def _known_points(points) -> dict:
     """Finite points by key, from a mapping key → (x, y) or an array (P, 2)."""
-    if isinstance(points, Mapping):
-        items = points.items()
-    else:
+    if not isinstance(points, Mapping):
         array = _numbers("points", points, "(x, y) pairs of numbers")
         if array.ndim != 2 or array.shape[1] != 2:
             raise InvalidGeometryError(f"points must be (x, y) pairs, shape (P, 2); got shape {array.shape}")
-        items = enumerate(array)
+        points = dict(enumerate(array))
     known = {}
-    for key, xy in items:
+    for key, xy in points.items():
         xy = _numbers(f"points[{key!r}]", xy, "an (x, y) pair of numbers").reshape(-1)
         if xy.shape != (2,):
             raise InvalidGeometryError(f"points[{key!r}] must be one (x, y) pair; got {xy.tolist()!r}")

@@ -101,26 +101,20 @@ class OffsetSliderCrank:
         (-0.05, 0.0)
         """
         require_choice("branch", branch, BRANCHES)
-        theta2 = require_finite("theta2", theta2, unit="rad")
-        omega2 = require_finite("omega2", omega2, unit="rad/s")
-        alpha2 = require_finite("alpha2", alpha2, unit="rad/s²")
-        theta2, omega2, alpha2 = require_broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)
+        theta2, omega2, alpha2 = require_broadcast(theta2=require_finite("theta2", theta2, unit="rad"),
+                                                   omega2=require_finite("omega2", omega2, unit="rad/s"),
+                                                   alpha2=require_finite("alpha2", alpha2, unit="rad/s²"))
         a2, b3 = self.crank, self.rod
         s2, c2 = np.sin(theta2), np.cos(theta2)
         height = self.offset - a2 * s2  # vertical rise of the rod from A to B
-        report_unreachable(
-            np.abs(height) > b3,
-            {"theta2": theta2},
-            f"the rod ({b3:g} m) cannot reach the slider line y = {self.offset:g} m",
-        )
+        report_unreachable(np.abs(height) > b3, {"theta2": theta2},
+                           f"the rod ({b3:g} m) cannot reach the slider line y = {self.offset:g} m")
         reach = np.sqrt(np.maximum(b3**2 - height**2, 0.0))  # horizontal run of the rod, ≥ 0
-        if np.any(reach <= 1e-6 * b3):
-            first = float(theta2[reach <= 1e-6 * b3].ravel()[0])
-            raise SingularJacobianError(
-                f"the rod is perpendicular to the slider line at theta2={first:.6g} "
-                "(cos(theta3) = 0): the velocity equations are singular there",
-                x=first,
-            )
+        if np.any(perpendicular := reach <= 1e-6 * b3):
+            first = float(theta2[perpendicular].ravel()[0])
+            raise SingularJacobianError(f"the rod is perpendicular to the slider line at theta2={first:.6g} "
+                                        "(cos(theta3) = 0): the velocity equations are singular there",
+                                        x=first)
         run = reach if branch == "right" else -reach
         x = a2 * c2 + run
         theta3 = np.arctan2(height, run)

@@ -1,15 +1,12 @@
 """Checkers for the exercise notebooks and the lessons' "Try it" cells: take a student's answer,
 return friendly feedback.
 
-Each checker returns a :class:`Feedback` (``ok`` and a ``message``) for any answer; it never
-raises on one.  The message names what looks wrong — a wrong branch or working mode, degrees
-instead of radians, a sign error, missing ω² terms, millimetres instead of metres — and never
-prints the reference value.  Equivalent answers are accepted: angles modulo 2π, algebraically
-equal sympy expressions, an equation multiplied by a constant, either order where order does
-not matter.  SI units (m, s) and radians throughout; nothing is printed.
+Each checker returns a :class:`Feedback` (``ok`` and a ``message``) for any answer, never raising.
+The message names what looks wrong — the other branch, degrees, a sign, missing ω² terms, mm — and
+never the reference value.  Equivalent answers pass: angles modulo 2π, equal sympy expressions, an
+equation times a constant, either order where order does not matter.  SI units and radians.
 
-One module per exercise set (``ex01`` … ``ex06``) and one for the lessons (``lessons``), all on
-the shared feedback engine (``engine``: read the answer, compare it, diagnose it).
+One module per exercise set (``ex01`` … ``ex06``) and one for the lessons, on the shared ``engine``.
 
 >>> check_mobility({"links": 6, "full_joints": 7, "half_joints": 0, "mobility": 1}).ok
 True

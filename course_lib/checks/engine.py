@@ -286,10 +286,8 @@ def _evaluate(expr, names: Sequence[str], count: int = 6) -> tuple[np.ndarray, l
 
 
 def same(expr, reference, names: Sequence[str]) -> bool:
-    """Algebraically equal, decided by evaluation: equal at random points in double precision,
-    then at three of them with 40 significant digits.  Two different trigonometric-rational
-    expressions do not agree to 30 digits at random points.  (``sympy.simplify`` is not used:
-    its run time depends on the hash seed and can explode on these expressions.)"""
+    """Algebraically equal: equal at random points in double precision, then at three of them to 30
+    digits (evaluated with 40).  Not ``sympy.simplify``: its run time depends on the hash seed."""
     import sympy as sp
 
     (a, points), (b, _) = _evaluate(expr, names), _evaluate(reference, names)

@@ -16,9 +16,8 @@ __all__ = ["check_crank_angle_for_rocker", "check_rocker_pin_speed", "check_moto
 
 @reads(number("θ2"))
 def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Feedback:
-    """Lesson 02: the crank angle θ2 in (0, π) (rad) at which ``linkage`` has its rocker at ``theta4``.
-
-    Judged by the loop itself: the crank pin A must be exactly l3 from the rocker pin B.
+    """Lesson 02: the crank angle θ2 in (0, π) (rad) at which ``linkage`` has its rocker at ``theta4``,
+    judged by the loop: the crank pin A must be exactly l3 from the rocker pin B.
 
     >>> bar = FourBar(crank=0.10, coupler=0.25, rocker=0.20, ground=0.30)
     >>> theta4 = bar.solve(1.0).theta4

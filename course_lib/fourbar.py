@@ -1,33 +1,24 @@
 """The four-bar linkage: position, velocity and acceleration from one vector loop.
 
-Notation of the course notes: l1 = ground, l2 = crank (input, angle θ2), l3 = coupler
-(θ3), l4 = rocker (θ4).  Ground pivots O2 = (0, 0) and O4 = (l1, 0); the crank pin is
-A = O2 + R2 and the coupler–rocker pin is B = O4 + R4.  The loop
+Course notation: l1 = ground, l2 = crank (input angle θ2), l3 = coupler (θ3), l4 = rocker (θ4);
+pivots O2 = (0, 0), O4 = (l1, 0); pins A = O2 + R2, B = O4 + R4.  The loop
 
     R2 + R3 − R4 − R1 = 0,   Rk = lk (cos θk î + sin θk ĵ),   R1 = l1 î
 
-is solved in closed form by the tangent half-angle substitution (a quadratic in
-tan(θ4/2), exactly as Norton, *Design of Machinery*, §4.5), θ3 then follows from the
-loop.  The loop is also declared on :mod:`course_lib.mechanism` (:attr:`FourBar.mechanism`), which
-derives its time derivatives J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b' (the same 2×2 position
-Jacobian J) and solves them: the rates of :meth:`FourBar.solve` come from there.
+is solved in closed form by the tangent half-angle substitution (a quadratic in tan(θ4/2), Norton,
+*Design of Machinery*, §4.5), θ3 then from the loop; the rates J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b'
+come from the loop declared on :mod:`course_lib.mechanism` (:attr:`FourBar.mechanism`).
 
-Branches (Norton's "open" and "crossed" circuits).  For a given θ2 the point B is one
-of the two intersections of the circle of radius l3 about A and the circle of radius l4
-about O4; the two are mirror images in the line A–O4.
+Branches (Norton's circuits), the two mirror-image places of B on the line A–O4:
 
-* ``"open"``: B lies to the *left* of the directed line A → O4, i.e.
-  (O4 − A) × (B − A) · k̂ > 0.  It is Norton's root with the minus sign,
-  θ4 = 2·atan2(−B − √(B² − 4AC), 2A).  With the crank up (0 < θ2 < π) the links do not
-  cross; a parallelogram linkage (l2 = l4, l1 = l3) is a parallelogram on this branch.
-* ``"crossed"``: B to the right of A → O4 (Norton's plus sign); coupler and rocker cross.
+* ``"open"``: B left of the directed line A → O4, (O4 − A) × (B − A) · k̂ > 0; Norton's minus sign,
+  θ4 = 2·atan2(−B − √(B² − 4AC), 2A).  A parallelogram linkage is one on this branch.
+* ``"crossed"``: B to the right (Norton's plus sign); coupler and rocker cross.
 
-The sign of that cross product changes only where coupler and rocker are collinear
-(a toggle, where J is singular), so each branch is one continuous circuit as long as no
-toggle is met — always the case for a Grashof crank-rocker driven by its crank.
+Each is one continuous circuit up to a toggle (coupler and rocker collinear, J singular), which a
+Grashof crank-rocker driven by its crank never meets.
 
-SI units: lengths in metres, angles in radians (from +x, counter-clockwise),
-ω in rad/s, α in rad/s².  Every angle-valued input may be a numpy array (broadcast).
+SI units (m, rad from +x counter-clockwise, rad/s, rad/s²); angle inputs may be arrays (broadcast).
 
 >>> linkage = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
 >>> solution = linkage.solve(np.pi / 2, omega2=10.0)
@@ -55,14 +46,7 @@ from .errors import (
 )
 from .planar import Unpacks, cross_k, scalar_or_array, wrap_angle
 
-__all__ = [
-    "BRANCHES",
-    "FourBar",
-    "FourBarSolution",
-    "GrashofResult",
-    "InputRange",
-    "CouplerPointMotion",
-]
+__all__ = ["BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRange", "CouplerPointMotion"]
 
 #: The two assembly circuits, named as in Norton's *Design of Machinery*.
 BRANCHES = ("open", "crossed")
@@ -70,25 +54,25 @@ BRANCHES = ("open", "crossed")
 #: |sin(θ3 − θ4)| below this counts as a toggle: J = l3·l4·sin(θ3 − θ4) is singular.
 SINGULAR_TOL = 1e-7
 
-#: A toggle angle closer than this (rad) to π or 0 is the change point of a full turn, not a limit.
-TOGGLE_TOL = 1e-7  # the square root of rounding in |AO4|² at a change point
+#: A toggle angle this close (rad) to π or 0 is the change point of a full turn, not a limit (the
+#: square root of rounding in |AO4|² there).
+TOGGLE_TOL = 1e-7
 
-#: A discriminant more negative than this fraction of B² + (A − C)² means "cannot close";
-#: smaller negative values are rounding at a toggle and are taken as zero.
+#: A discriminant more negative than this fraction of B² + (A − C)² means "cannot close"; smaller
+#: negative values are rounding at a toggle and count as zero.
 DISCRIMINANT_TOL = 1e-12
 
-#: |sin(θ3 − θ4)| that a whole block provably stays above (read off its smallest discriminant, with
-#: room for rounding) lets it skip the toggle test: far from SINGULAR_TOL, as a working linkage is.
+#: |sin(θ3 − θ4)| that a whole block provably stays above (read off its smallest discriminant) lets
+#: it skip the toggle test.
 TOGGLE_FREE = 1e-3
 
-#: Crank angles per block of an array solve: one block's working arrays stay in cache, and the memory
-#: beyond the results does not grow with the number of angles.
+#: Crank angles per block of an array solve: a block's work stays in cache and the memory beyond the
+#: results does not grow with the number of angles.
 BLOCK = 1 << 16
 
 
 def _finite(name: str, value, unit: str):
-    """One finite Python float as it is (one instant, the common case, checked at no cost), anything
-    else through :func:`~course_lib.errors.require_finite` (a float array, or its named error)."""
+    """A finite Python float as it is (one instant, checked at no cost), else :func:`require_finite`."""
     if type(value) is float and math.isfinite(value):
         return value
     return require_finite(name, value, unit)
@@ -120,19 +104,15 @@ class FourBarSolution(Unpacks):
     theta3, theta4 : angles of coupler and rocker, rad, wrapped into (−π, π].
     omega3, omega4 : angular velocities, rad/s.
     alpha3, alpha4 : angular accelerations, rad/s².
-    mask : True where the loop cannot close (entries are NaN there; only with
-        ``on_unreachable="nan"``, otherwise all False): the entries a ``numpy.ma`` mask hides.
-        ``reachable`` is its complement, named as every other mask of the library.
-    singular : True where the linkage sits at a toggle (J singular) while ω2 or α2 ≠ 0 (rates
-        are NaN there), or where the position is not determined — the crank pin on O4 with
-        coupler = rocker, B free on a circle (everything NaN there); only with
-        ``on_unreachable="nan"``, otherwise such inputs raise ``SingularJacobianError``.
+    mask : True where the loop cannot close (NaN entries; only with ``on_unreachable="nan"``,
+        otherwise all False), as a ``numpy.ma`` mask; ``reachable`` is its complement.
+    singular : True at a toggle (J singular) while ω2 or α2 ≠ 0 (NaN rates), or where the position is
+        not determined — crank pin on O4 with coupler = rocker (all NaN); only with
+        ``on_unreachable="nan"``, otherwise these raise ``SingularJacobianError``.
     branch : ``"open"`` or ``"crossed"``.
 
     Unpacks as ``theta3, theta4, omega3, omega4, alpha3, alpha4``; ``np.array`` gives (6, ...).
 
-    >>> FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0]).theta4.shape
-    (2,)
     >>> np.array(FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0])).shape
     (6, 2)
     """
@@ -166,10 +146,9 @@ class GrashofResult:
     ----------
     name : "Grashof crank-rocker", "Grashof double-crank", "Grashof double-rocker",
         "change-point" or "non-Grashof triple-rocker".
-    s_plus_l : shortest + longest length, m.
-    p_plus_q : sum of the other two lengths, m.
-    shortest, longest : which link ("ground", "crank", "coupler", "rocker"; the first in
-        that order when lengths tie).
+    s_plus_l, p_plus_q : shortest + longest length, sum of the other two, m.
+    shortest, longest : which link ("ground", "crank", "coupler", "rocker"; the first in that order
+        on a tie).
     is_grashof : s + l ≤ p + q (some link can turn fully relative to another).
 
     >>> result = FourBar(0.06, 0.18, 0.12, 0.20).grashof()
@@ -192,8 +171,8 @@ class InputRange:
     Attributes
     ----------
     full_rotation : True when every θ2 assembles (the input is a crank).
-    intervals : closed intervals (start, end) of θ2 in rad, start < end; ((0, 2π),)
-        for a full rotation, () when the linkage cannot be assembled at all.
+    intervals : closed intervals (start, end) of θ2 in rad, start < end; ((0, 2π),) for a full
+        rotation, () when the linkage cannot be assembled at all.
     toggle_angles : the θ2 at the ends of the intervals (coupler and rocker collinear).
 
     >>> r = FourBar(crank=0.12, coupler=0.06, rocker=0.18, ground=0.20).input_range()
@@ -208,9 +187,8 @@ class InputRange:
 
 @dataclass(frozen=True)
 class CouplerPointMotion(Unpacks):
-    """Position, velocity and acceleration of a coupler point, each of shape (..., 2).
-
-    Units m, m/s, m/s².  Unpacks as ``position, velocity, acceleration``.
+    """Position, velocity and acceleration of a coupler point, each (..., 2), in m, m/s, m/s².
+    Unpacks as ``position, velocity, acceleration``.
 
     >>> motion = FourBar(0.06, 0.18, 0.12, 0.20).coupler_point(0.0, p=0.09, delta=0.0)
     >>> motion.position.shape, motion.velocity.tolist()
@@ -243,7 +221,6 @@ class FourBar:
         for name in ("crank", "coupler", "rocker", "ground"):
             object.__setattr__(self, name, require_positive(name, getattr(self, name)))
 
-    # the course's names for the lengths (m): l1 = |O2O4|, l2 = |O2A|, l3 = |AB|, l4 = |O4B|
     l1 = property(lambda self: self.ground, doc="Ground length l1 (m) = |O2O4|.")
     l2 = property(lambda self: self.crank, doc="Crank length l2 (m) = |O2A|.")
     l3 = property(lambda self: self.coupler, doc="Coupler length l3 (m) = |AB|.")
@@ -251,7 +228,7 @@ class FourBar:
 
     @cached_property
     def mechanism(self):
-        """The loop declared on :class:`~course_lib.mechanism.Mechanism` with these lengths (its rates and
+        """The loop declared on :class:`~course_lib.mechanism.Mechanism` with these lengths (the rates of
         :meth:`solve` come from there; points O2, A, B, O4 for drawing).
 
         >>> loop = FourBar(0.06, 0.18, 0.12, 0.20).mechanism
@@ -260,12 +237,10 @@ class FourBar:
         """
         return _declaration().with_parameters({"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4})
 
-    # ------------------------------------------------------------------ loop
     def loop_residual(self, theta2, theta3, theta4) -> np.ndarray:
         """R2 + R3 − R4 − R1 as (x, y) components, shape (..., 2); zero when the loop closes.
 
-        >>> r = FourBar(0.06, 0.18, 0.12, 0.20).loop_residual(0.0, 0.0, np.pi / 2)
-        >>> np.round(r, 12).tolist()
+        >>> np.round(FourBar(0.06, 0.18, 0.12, 0.20).loop_residual(0.0, 0.0, np.pi / 2), 12).tolist()
         [0.04, -0.12]
         """
         q = np.stack(require_broadcast(**{name: require_finite(name, value, "rad") for name, value in
@@ -273,12 +248,10 @@ class FourBar:
         return self.mechanism.residual(q[..., :2], q[..., 2:])
 
     def loop_jacobian(self, theta3, theta4) -> np.ndarray:
-        """J = ∂(loop)/∂(θ3, θ4) = [[−l3 sin θ3, l4 sin θ4], [l3 cos θ3, −l4 cos θ4]], shape (..., 2, 2).
+        """J = ∂(loop)/∂(θ3, θ4) = [[−l3 sin θ3, l4 sin θ4], [l3 cos θ3, −l4 cos θ4]], shape (..., 2, 2);
+        det J = l3·l4·sin(θ3 − θ4) is zero when coupler and rocker are collinear (a toggle).
 
-        det J = l3·l4·sin(θ3 − θ4): zero when coupler and rocker are collinear (a toggle).
-
-        >>> J = FourBar(1.0, 2.0, 3.0, 4.0).loop_jacobian(np.pi / 2, 0.0)
-        >>> np.round(J, 12).tolist()
+        >>> np.round(FourBar(1.0, 2.0, 3.0, 4.0).loop_jacobian(np.pi / 2, 0.0), 12).tolist()
         [[-2.0, 0.0], [0.0, -3.0]]
         """
         q = np.stack(require_broadcast(theta3=require_finite("theta3", theta3, "rad"),
@@ -291,26 +264,22 @@ class FourBar:
         return _declaration().with_parameters(dict(zip(("l1", "l2", "l3", "l4"), self._unit_lengths(),
                                                        strict=True)))
 
-    # ------------------------------------------------------------- position
     def _unit_lengths(self) -> tuple[float, float, float, float]:
-        """l1 … l4 divided by the longest: angles and angular rates do not depend on the scale, and
-        lengths of order 1 keep every square and product below overflow and above underflow."""
+        """l1 … l4 divided by the longest: the angles and rates do not depend on the scale, and lengths of
+        order 1 keep every square and product clear of overflow and underflow."""
         longest = max(self.l1, self.l2, self.l3, self.l4)
         return self.l1 / longest, self.l2 / longest, self.l3 / longest, self.l4 / longest
 
     def _block_positions(self, theta2: np.ndarray, branch: str, theta3: np.ndarray, theta4: np.ndarray,
                          unreachable: np.ndarray):
-        """The closed form on one block of crank angles (1-d), worked in place: θ3, θ4 into ``theta3``,
-        ``theta4`` (NaN where unreachable or undetermined) and the unreachable mask into ``unreachable``.
+        """The closed form on one block of crank angles (1-d), in place: θ3, θ4 into ``theta3``,
+        ``theta4`` (NaN where unreachable or undetermined), the unreachable mask into ``unreachable``.
+        Returns the undetermined mask (None unless coupler = rocker), the mask of NaN positions (None
+        if none), (cos, sin) of θ2, θ3, θ4, and whether the block is provably toggle-free
+        (:data:`TOGGLE_FREE`).
 
-        Returns the undetermined mask (None when coupler ≠ rocker: it cannot occur), the mask of NaN
-        positions (None when there is none), (cos, sin) of θ2, θ3, θ4, and whether every angle of the
-        block is so far from a toggle that the toggle test cannot find one (see :data:`TOGGLE_FREE`).
-
-        Norton's A, B, C of A·t² + B·t + C = 0, t = tan(θ4/2), are used times 2·l2·l4 (> 0: same
-        roots): with K1 = l1/l2, K2 = l1/l4, K3 = (l2² − l3² + l4² + l1²)/(2 l2 l4) Norton writes
-        A = cos θ2 − K1 − K2 cos θ2 + K3, B = −2 sin θ2, C = K1 − (K2 + 1) cos θ2 + K3; multiplied out
-        no ratio of lengths is formed, so a very short crank cannot overflow them.
+        Norton's A, B, C (t = tan(θ4/2)) are used times 2·l2·l4 > 0 (the same roots): multiplied out no
+        ratio of lengths is formed, so a very short crank cannot overflow them.
         """
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
@@ -336,8 +305,7 @@ class FourBar:
         toggle_free = smallest >= max(16 * l3**2 * l4**2 * TOGGLE_FREE**2, 1e-9)
         if clean:
             unreachable[...] = False
-        else:
-            # B² + (A − C)² = 16 l4² |AO4|² sets the scale (B² − 4AC is 16 l4² (|AO4|² − (l2 S)²))
+        else:  # the scale: B² + (A − C)² = 16 l4² |AO4|²
             np.subtract(A, C, out=work)
             work *= work
             work += square
@@ -345,8 +313,7 @@ class FourBar:
             np.less(discriminant, work, out=unreachable)
             np.maximum(discriminant, 0.0, out=discriminant)
         bad, undetermined = unreachable, None
-        if abs(l3 - l4) < SINGULAR_TOL**2:
-            # the crank pin A on O4 with coupler = rocker: B may be anywhere on a circle (a change point)
+        if abs(l3 - l4) < SINGULAR_TOL**2:  # crank pin A on O4 with coupler = rocker: B anywhere on a circle
             distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
             undetermined = distance_AO4 < SINGULAR_TOL**2
             unreachable &= ~undetermined
@@ -392,11 +359,15 @@ class FourBar:
         coupler_y /= l3
         return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4), toggle_free
 
-    def _one_position(self, theta2: float, branch: str):
-        """:meth:`_block_positions` for one crank angle, in Python numbers: the same operations in the
-        same order (cos, sin and arctan2 are numpy's, whose kernels differ from CPU to CPU), so the same
-        bits, without the cost of arrays.  Returns θ3, θ4, unreachable, undetermined and (cos, sin) of
-        θ2, θ3, θ4."""
+    def _core_rates(self, q, u, u_rate, u_acceleration, trig, toggle):
+        """(ω3, ω4) and (α3, α4), each (n, 2), from :meth:`Mechanism.rates` of the declared loop for
+        q = (θ3, θ4), u = θ2 and its rates, with the closed form's (cos, sin) ``trig`` and toggle mask."""
+        pairs = {"theta2": trig[:2], "theta3": trig[2:4], "theta4": trig[4:]}
+        return self._unit_mechanism.rates(q, u, u_rate, u_acceleration, trig=pairs, singular=toggle)[:2]
+
+    def _solve_one(self, theta2: float, omega2: float, alpha2: float, branch: str):
+        """θ3, θ4, ω3, ω4, α3, α4 and the masks of :meth:`solve` for one instant: :meth:`_block_positions`
+        in Python numbers, operation for operation (and numpy's cos, sin, arctan2), so the same bits."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
         cos2, sin2 = float(np.cos(theta2)), float(np.sin(theta2))
@@ -423,23 +394,8 @@ class FourBar:
         coupler_x = l4 * cos4 + l1 - l2 * cos2
         coupler_y = l4 * sin4 - l2 * sin2
         theta3 = float(np.arctan2(coupler_y, coupler_x))
-        trig = (cos2, sin2, coupler_x / l3, coupler_y / l3, cos4, sin4)
-        return theta3, theta4, unreachable, undetermined, trig
-
-    def _core_rates(self, q, u, u_rate, u_acceleration, trig, toggle):
-        """q̇ = (ω3, ω4) and q̈ = (α3, α4), each (n, 2), from :meth:`Mechanism.rates` of the declared loop
-        (:attr:`mechanism`) for q = (θ3, θ4) (n, 2), u = θ2, u̇ = ω2, ü = α2 (n or 1, 1), with the closed
-        form's sines and cosines ``trig`` (six arrays (n,)) and its toggle mask (n,)."""
-        cos2, sin2, cos3, sin3, cos4, sin4 = trig
-        q_rate, q_acc, _ = self._unit_mechanism.rates(
-            q, u, u_rate, u_acceleration, trig={"theta2": (cos2, sin2), "theta3": (cos3, sin3),
-                                                "theta4": (cos4, sin4)}, singular=toggle)
-        return q_rate, q_acc
-
-    def _solve_one(self, theta2: float, omega2: float, alpha2: float, branch: str):
-        """θ3, θ4, ω3, ω4, α3, α4 and the masks of :meth:`solve` for one instant, in Python numbers."""
-        theta3, theta4, unreachable, undetermined, trig = self._one_position(theta2, branch)
-        cos2, sin2, cos3, sin3, cos4, sin4 = trig
+        cos3, sin3 = coupler_x / l3, coupler_y / l3
+        trig = (cos2, sin2, cos3, sin3, cos4, sin4)
         toggle = abs(sin3 * cos4 - cos3 * sin4) < SINGULAR_TOL  # det J = l3·l4·sin(θ3 − θ4)
         moving = omega2 != 0 or alpha2 != 0
         singular = toggle and moving and not (unreachable or undetermined)
@@ -456,10 +412,9 @@ class FourBar:
 
     def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, toggle_free: bool,
                      moving_any: bool, omegas: np.ndarray, alphas: np.ndarray, singular: np.ndarray) -> None:
-        """(ω3, ω4) and (α3, α4) of one block into ``omegas`` and ``alphas`` (n, 2) from the loop declared
-        on the core (:attr:`mechanism`): J·[ω3, ω4] = b and J·[α3, α4] = b' with the closed form's sines
-        and cosines; NaN at a toggle while moving (flagged in ``singular``), and where ``bad`` (a mask
-        or None) marks a position that is NaN.  ``omega2``, ``alpha2``: numbers or arrays like ``theta2``."""
+        """(ω3, ω4) and (α3, α4) of one block into ``omegas`` and ``alphas`` (n, 2), by
+        :meth:`_core_rates`; NaN at a toggle while moving (flagged in ``singular``) and where ``bad``
+        (a mask or None) marks a NaN position.  ``omega2``, ``alpha2``: numbers or arrays like ``theta2``."""
         cos2, sin2, cos3, sin3, cos4, sin4 = trig
         if not moving_any:  # at rest: no rates to solve for, nothing singular
             singular[...] = False
@@ -487,35 +442,23 @@ class FourBar:
             omegas[at_rest], alphas[at_rest] = 0.0, 0.0
             omegas[singular], alphas[singular] = np.nan, np.nan
 
-    # ---------------------------------------------------------------- solve
-    def solve(
-        self,
-        theta2,
-        omega2=0.0,
-        alpha2=0.0,
-        branch: str = "open",
-        on_unreachable: str = "raise",
-    ) -> FourBarSolution:
+    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open",
+              on_unreachable: str = "raise") -> FourBarSolution:
         """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²).
 
-        Inputs broadcast together.  Position: closed form (half-angle quadratic);
-        rates: J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b' from the declared loop (:attr:`mechanism`).
-        Arrays are worked through in blocks of :data:`BLOCK` angles, so the memory beyond the
-        results does not grow with their size.
+        Inputs broadcast together.  Position: closed form (half-angle quadratic); rates from the declared
+        loop (:attr:`mechanism`).  Arrays are worked through in blocks of :data:`BLOCK` angles.
 
         Raises
         ------
         InvalidGeometryError : unknown ``branch`` / ``on_unreachable``, non-finite inputs.
-        UnreachableError : the loop cannot close at some θ2 (message names θ2; for
-            arrays how many and the first).  With ``on_unreachable="nan"`` those entries
-            are NaN and flagged in ``mask`` instead.
-        SingularJacobianError : a toggle position (coupler and rocker collinear) with
-            ω2 ≠ 0 or α2 ≠ 0, or a position that is not determined (crank pin on O4 with
-            coupler = rocker); with ``on_unreachable="nan"`` they are NaN and flagged in
-            ``singular``.
+        UnreachableError : the loop cannot close at some θ2 (named; for arrays how many and the first).
+        SingularJacobianError : a toggle (coupler and rocker collinear) with ω2 ≠ 0 or α2 ≠ 0, or an
+            undetermined position (crank pin on O4 with coupler = rocker).
+        With ``on_unreachable="nan"`` neither of the last two raises: the entries are NaN and flagged
+        in ``mask`` or ``singular``.
 
-        >>> linkage = FourBar(0.06, 0.18, 0.12, 0.20)
-        >>> crossed = linkage.solve(np.pi / 2, branch="crossed")
+        >>> crossed = FourBar(0.06, 0.18, 0.12, 0.20).solve(np.pi / 2, branch="crossed")
         >>> round(crossed.theta3, 6), round(crossed.theta4, 6)
         (-0.901761, -2.398416)
         """
@@ -539,20 +482,15 @@ class FourBar:
             any_unreachable, any_singular = unreachable, singular
             first_undetermined = 0 if undetermined else None
         if any_unreachable:
-            report_unreachable(
-                np.reshape(unreachable, shape),
-                {"theta2": theta2},
-                f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle quadratic)",
-                on_unreachable,
-            )
+            what = f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle " \
+                "quadratic)"
+            report_unreachable(np.reshape(unreachable, shape), {"theta2": theta2}, what, on_unreachable)
         if on_unreachable == "raise" and first_undetermined is not None:
             at = np.broadcast_to(theta2, shape)[np.unravel_index(first_undetermined, shape)]
             raise SingularJacobianError(
                 f"at theta2={at:.6g} the crank pin A lands on O4 and coupler = rocker, so B "
                 "may be anywhere on a circle of radius l3: the position is not determined (a change "
-                "point; any other theta2 is fine)",
-                x=float(at),
-            )
+                "point; any other theta2 is fine)", x=float(at))
         if on_unreachable == "raise" and any_singular:  # a toggle while moving (nothing else is left)
             first = int(np.flatnonzero(singular)[0])
             index = np.unravel_index(first, shape)
@@ -562,9 +500,7 @@ class FourBar:
             raise SingularJacobianError(
                 f"the loop Jacobian is singular at theta2={at[0]:.6g} (coupler and rocker "
                 f"collinear: a toggle position), so omega3, omega4 are undefined for "
-                f"omega2={at[1]:.6g}, alpha2={at[2]:.6g}{count}",
-                x=float(at[0]),
-            )
+                f"omega2={at[1]:.6g}, alpha2={at[2]:.6g}{count}", x=float(at[0]))
         if shape:
             values = [v.reshape(shape) for v in values]
             unreachable, singular = unreachable.reshape(shape), singular.reshape(shape)
@@ -601,7 +537,6 @@ class FourBar:
         values = [angles3, angles4, omegas[:, 0], omegas[:, 1], alphas[:, 0], alphas[:, 1]]
         return values, unreachable, singular, first_undetermined
 
-    # --------------------------------------------------------------- derived
     def joints(self, theta2, branch: str = "open", on_unreachable: str = "raise") -> np.ndarray:
         """Coordinates of O2, A, B, O4 (m) for drawing, shape (..., 4, 2).
 
@@ -616,17 +551,13 @@ class FourBar:
         B = O4 + np.stack([self.l4 * np.cos(theta4), self.l4 * np.sin(theta4)], axis=-1)
         return np.stack([O2, A, B, O4], axis=-2)
 
-    def transmission_angle(
-        self, theta2, branch: str = "open", acute: bool = True, on_unreachable: str = "raise"
-    ):
-        """Transmission angle μ (rad) between coupler and rocker.
-
-        The joint angle at B is |θ4 − θ3| folded into [0, π]; with ``acute=True``
-        (Norton's design value) it is further folded into [0, π/2].  Good force
+    def transmission_angle(self, theta2, branch: str = "open", acute: bool = True,
+                           on_unreachable: str = "raise"):
+        """Transmission angle μ (rad) between coupler and rocker: the joint angle at B, |θ4 − θ3| folded
+        into [0, π], and with ``acute=True`` (Norton's design value) into [0, π/2].  Good force
         transmission wants μ ≥ 40° or so.
 
-        >>> mu = FourBar(0.06, 0.18, 0.12, 0.20).transmission_angle(np.pi / 2)
-        >>> round(float(np.degrees(mu)), 4)
+        >>> round(float(np.degrees(FourBar(0.06, 0.18, 0.12, 0.20).transmission_angle(np.pi / 2))), 4)
         85.752
         """
         solution = self.solve(theta2, branch=branch, on_unreachable=on_unreachable)
@@ -635,20 +566,11 @@ class FourBar:
         mu = np.minimum(joint_angle, np.pi - joint_angle) if acute else joint_angle
         return scalar_or_array(mu)
 
-    def coupler_point(
-        self,
-        theta2,
-        p: float,
-        delta: float,
-        omega2=0.0,
-        alpha2=0.0,
-        branch: str = "open",
-        on_unreachable: str = "raise",
-    ) -> CouplerPointMotion:
-        """Motion of the coupler point P at distance p (m) from A along AB turned by δ (rad).
-
-        r = p(cos(θ3 + δ), sin(θ3 + δ)); P = A + r; V_P = V_A + ω3 k̂×r;
-        A_P = A_A + α3 k̂×r − ω3² r, with V_A = ω2 k̂×R2 and A_A = α2 k̂×R2 − ω2² R2.
+    def coupler_point(self, theta2, p: float, delta: float, omega2=0.0, alpha2=0.0, branch: str = "open",
+                      on_unreachable: str = "raise") -> CouplerPointMotion:
+        """Motion of the coupler point P at distance p (m) from A along AB turned by δ (rad):
+        r = p(cos(θ3 + δ), sin(θ3 + δ)); P = A + r; V_P = V_A + ω3 k̂×r; A_P = A_A + α3 k̂×r − ω3² r,
+        with V_A = ω2 k̂×R2 and A_A = α2 k̂×R2 − ω2² R2.
 
         >>> motion = FourBar(1.0, 1.0, 1.0, 1.0).coupler_point(np.pi / 2, p=0.5, delta=0.0, omega2=1.0)
         >>> motion.position.round(12).tolist(), motion.velocity.round(12).tolist()
@@ -657,13 +579,9 @@ class FourBar:
         p = require_positive("p", p, allow_zero=True)
         delta = float(require_finite("delta", delta, "rad"))
         solution = self.solve(theta2, omega2, alpha2, branch=branch, on_unreachable=on_unreachable)
-        theta2, omega2, alpha2, theta3, omega3, alpha3 = (
-            np.asarray(a, dtype=float)[..., None]
-            for a in np.broadcast_arrays(
-                np.asarray(theta2, float), np.asarray(omega2, float), np.asarray(alpha2, float),
-                solution.theta3, solution.omega3, solution.alpha3,
-            )
-        )
+        columns = np.broadcast_arrays(*(np.asarray(v, float) for v in (theta2, omega2, alpha2)),
+                                      solution.theta3, solution.omega3, solution.alpha3)
+        theta2, omega2, alpha2, theta3, omega3, alpha3 = (np.asarray(a, float)[..., None] for a in columns)
         R2 = self.l2 * np.concatenate([np.cos(theta2), np.sin(theta2)], axis=-1)
         r = p * np.concatenate([np.cos(theta3 + delta), np.sin(theta3 + delta)], axis=-1)
         position = R2 + r
@@ -671,13 +589,12 @@ class FourBar:
         acceleration = alpha2 * cross_k(R2) - omega2**2 * R2 + alpha3 * cross_k(r) - omega3**2 * r
         return CouplerPointMotion(position=position, velocity=velocity, acceleration=acceleration)
 
-    # -------------------------------------------------------------- Grashof
     def grashof(self) -> GrashofResult:
-        """Grashof class: compare s + l (shortest + longest) with p + q (the other two).
+        """Grashof class from s + l (shortest + longest) against p + q (the other two).
 
-        s + l < p + q: Grashof — crank-rocker if the shortest link is the crank or the
-        rocker, double-crank if it is the ground, double-rocker if it is the coupler;
-        s + l = p + q: change-point; s + l > p + q: non-Grashof triple-rocker.
+        s + l < p + q: Grashof — crank-rocker if the shortest link is the crank or the rocker,
+        double-crank if it is the ground, double-rocker if it is the coupler; s + l = p + q:
+        change-point; s + l > p + q: non-Grashof triple-rocker.
 
         >>> FourBar(crank=0.12, coupler=0.18, rocker=0.20, ground=0.06).grashof().name
         'Grashof double-crank'
@@ -691,27 +608,17 @@ class FourBar:
             name = "change-point"
         elif s_plus_l > p_plus_q:
             name = "non-Grashof triple-rocker"
-        elif shortest == "ground":
-            name = "Grashof double-crank"
-        elif shortest == "coupler":
-            name = "Grashof double-rocker"
         else:
-            name = "Grashof crank-rocker"
-        return GrashofResult(
-            name=name,
-            s_plus_l=s_plus_l,
-            p_plus_q=p_plus_q,
-            shortest=shortest,
-            longest=longest,
-            is_grashof=name != "non-Grashof triple-rocker",
-        )
+            name = {"ground": "Grashof double-crank", "coupler": "Grashof double-rocker"}.get(
+                shortest, "Grashof crank-rocker")
+        return GrashofResult(name, s_plus_l, p_plus_q, shortest, longest, name != "non-Grashof triple-rocker")
 
     def input_range(self) -> InputRange:
         """The crank angles θ2 (rad) at which the loop closes, and the toggle angles.
 
-        The distance |AO4|² = l1² + l2² − 2 l1 l2 cos θ2 must lie between (l3 − l4)² and
-        (l3 + l4)²; each bound that binds gives a toggle angle by the law of cosines
-        (coupler and rocker collinear: extended at l3 + l4, folded at |l3 − l4|).
+        |AO4|² = l1² + l2² − 2 l1 l2 cos θ2 must lie between (l3 − l4)² and (l3 + l4)²; each bound that
+        binds gives a toggle angle by the law of cosines (coupler and rocker collinear: extended at
+        l3 + l4, folded at |l3 − l4|).
 
         >>> r = FourBar(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20).input_range()
         >>> r.full_rotation, [round(a, 6) for a in r.toggle_angles]
@@ -720,8 +627,7 @@ class FourBar:
         l1, l2, l3, l4 = self._unit_lengths()
 
         def toggle(reach):  # θ2 in [0, π] where |AO4| = reach, or None when |AO4| never equals it
-            # 1 − cos θ2 = (reach² − (l1 − l2)²)/(2 l1 l2), 1 + cos θ2 = ((l1 + l2)² − reach²)/(2 l1 l2):
-            # as products of differences, accurate even where θ2 is near 0 or π
+            # 1 ∓ cos θ2 as products of differences, accurate even where θ2 is near 0 or π
             below, above = (reach - l1 + l2) * (reach + l1 - l2), (l1 + l2 - reach) * (l1 + l2 + reach)
             if below < 0 or above < 0:
                 return None
@@ -738,13 +644,8 @@ class FourBar:
         upper, lower = theta_max < np.pi - TOGGLE_TOL, theta_min > TOGGLE_TOL
         if not upper and not lower:
             return InputRange(full_rotation=True, intervals=((0.0, 2 * np.pi),), toggle_angles=())
-        if upper and not lower:
-            return InputRange(False, ((-theta_max, theta_max),), (-theta_max, theta_max))
-        if lower and not upper:
-            end = 2 * np.pi - theta_min
-            return InputRange(False, ((theta_min, end),), (theta_min, end))
-        return InputRange(
-            False,
-            ((-theta_max, -theta_min), (theta_min, theta_max)),
-            (-theta_max, -theta_min, theta_min, theta_max),
-        )
+        if upper and lower:
+            intervals = ((-theta_max, -theta_min), (theta_min, theta_max))
+        else:
+            intervals = ((-theta_max, theta_max),) if upper else ((theta_min, 2 * np.pi - theta_min),)
+        return InputRange(False, intervals, sum(intervals, ()))

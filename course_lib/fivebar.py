@@ -1,22 +1,18 @@
-"""The five-bar parallel robot of the course: forward and inverse kinematics,
-velocities, singularities and workspace.
+"""The five-bar parallel robot of the course: forward and inverse kinematics, velocities,
+singularities and workspace.
 
-Geometry (the course's): the base pivots are P1 = (+l5/2, 0) and P5 = (−l5/2, 0).
-Crank l1 turns about P1 with angle θ1, crank l4 about P5 with angle θ4 (both from
-+x, counter-clockwise).  The distal link l2 joins P2 to the end effector
-P3 = (X3, Y3) and the distal link l3 joins P4 to P3.  Lengths in metres, angles in
-radians, rates in rad/s and m/s.
-
-The two constraint equations are the course's EcL2 and EcL3::
+Geometry (the course's): base pivots P1 = (+l5/2, 0) and P5 = (−l5/2, 0); crank l1 turns about P1
+(angle θ1), crank l4 about P5 (θ4), both from +x counter-clockwise; distal link l2 joins P2 to the
+end effector P3 = (X3, Y3), distal link l3 joins P4 to P3.  Metres, radians, rad/s, m/s.  The
+constraint equations are the course's EcL2 and EcL3::
 
     |P3 − P2|² − l2² = 0,      |P3 − P4|² − l3² = 0.
 
-Forward kinematics (θ1, θ4 → X3, Y3) follows the course's route: subtracting the
-equations gives X3 = g·Y3 + f; substituting into EcL3 gives a·Y3² + b·Y3 + c = 0 and
-Y3 = (−b + σ√(b² − 4ac))/2a with σ = +1 "arms up" (brazos arriba, the larger Y3)
-and σ = −1 "arms down" (brazos abajo).  Inverse kinematics (X3, Y3 → θ1, θ4)
-uses the tangent half-angle substitution: θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1)
-and θ4 likewise with σ2 — four working modes (σ1, σ2).
+Forward kinematics (θ1, θ4 → X3, Y3), the course's route: their difference gives X3 = g·Y3 + f, and
+EcL3 then a·Y3² + b·Y3 + c = 0, Y3 = (−b + σ√(b² − 4ac))/2a with σ = +1 "arms up" (brazos arriba,
+the larger Y3) or −1 "arms down" (brazos abajo).  Inverse kinematics (X3, Y3 → θ1, θ4) by the
+tangent half-angle substitution: θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1), θ4 likewise with σ2 —
+four working modes (σ1, σ2).
 
 >>> robot = FiveBar(l1=0.10, l2=0.15, l3=0.15, l4=0.10, l5=0.08)
 >>> x3, y3 = robot.forward(1.2, 1.9, mode=+1)
@@ -47,15 +43,8 @@ from .errors import (
 from .newton import linear_solver
 from .planar import Unpacks, scalar_or_array, wrap_angle
 
-__all__ = [
-    "FiveBar",
-    "ForwardResult",
-    "InverseResult",
-    "SingularityMeasures",
-    "WorkspaceMap",
-    "WORKING_MODES",
-    "SINGULAR_TOL",
-]
+__all__ = ["FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures", "WorkspaceMap",
+           "WORKING_MODES", "SINGULAR_TOL"]
 
 #: The four working modes (σ1, σ2) of the inverse kinematics, in the course's order.
 WORKING_MODES = ((1, 1), (-1, 1), (1, -1), (-1, -1))
@@ -69,12 +58,11 @@ LENGTH_RANGE = (1e-60, 1e60)
 #: Relative slack for a discriminant that is negative only by rounding (clipped to zero).
 _DISCRIMINANT_SLACK = 1e-12
 
-#: Points per block of the closed forms over large arrays: the temporaries of one block stay in the
-#: processor's cache and the memory beyond the results stays flat in the number of points.
+#: Points per block of the closed forms over large arrays: a block's temporaries stay in cache and
+#: the memory beyond the results does not grow with the number of points.
 _BLOCK = 65_536
 
-#: Up to this many points the closed forms run on the whole arrays at once, the plain way (their
-#: temporaries are small and a few calls cost less than the blocks' bookkeeping); beyond, in blocks.
+#: Up to this many points the closed forms run on whole arrays (cheaper than the blocks' bookkeeping).
 _SMALL = 4096
 
 
@@ -162,9 +150,8 @@ def _stacked(*values) -> np.ndarray:
 
 
 def _configuration(theta1, theta4, x3, y3) -> list[np.ndarray]:
-    """θ1, θ4 (rad) and x3, y3 (m) as float arrays broadcast together; ``InvalidGeometryError`` naming the
-    argument and showing its value for an entry that is not a finite number (NaN, ±inf, text, …), or
-    naming them with their shapes when they do not broadcast."""
+    """θ1, θ4 (rad), x3, y3 (m) as float arrays broadcast together, or the named error of
+    :mod:`course_lib.errors` (an entry not a finite number, or shapes that do not broadcast)."""
     return require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                              theta4=require_finite("theta4", theta4, "rad"),
                              x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
@@ -184,23 +171,17 @@ def _working_mode(modes) -> tuple[int, int]:
 
 def _in_blocks(inputs, outputs) -> np.nditer:
     """An iterator over the float arrays ``inputs`` broadcast together, in blocks of at most ``_BLOCK``
-    entries (C order), that yields each input's block and a block of each new result array, of the
-    dtypes ``outputs``; ``iterator.operands[len(inputs):]`` are the results, of the broadcast shape.
-    A scalar input stays one number: its block is a view with stride 0, never a copy."""
-    return np.nditer(
-        [*inputs, *(None for _ in outputs)],
-        flags=["external_loop", "buffered", "zerosize_ok"],
-        op_flags=[["readonly"]] * len(inputs) + [["writeonly", "allocate"]] * len(outputs),
-        op_dtypes=[float] * len(inputs) + list(outputs),
-        order="C",
-        buffersize=_BLOCK,
-    )
+    entries (C order), yielding each input's block and a block of each new result of dtypes ``outputs``
+    (``iterator.operands[len(inputs):]``, of the broadcast shape).  A scalar input is never copied."""
+    return np.nditer([*inputs, *(None for _ in outputs)], flags=["external_loop", "buffered", "zerosize_ok"],
+                     op_flags=[["readonly"]] * len(inputs) + [["writeonly", "allocate"]] * len(outputs),
+                     op_dtypes=[float] * len(inputs) + list(outputs), order="C", buffersize=_BLOCK)
 
 
 class _Scratch:
-    """Arrays of one block's length for the temporaries of the block kernels, allocated at the first
-    block and handed out again at every later one (a fresh array of 64K doubles costs the operating
-    system's page faults, more than the arithmetic on it).  ``points``: how many the call has."""
+    """Arrays of one block's length for the block kernels' temporaries, allocated at the first block
+    and handed out again at every later one (fresh arrays would cost page faults).  ``points``: how
+    many the call has."""
 
     def __init__(self, points: int) -> None:
         self._length = max(1, min(points, _BLOCK))
@@ -222,16 +203,11 @@ class _Scratch:
 
 
 def _half_angle_root(a, b, c, sigma):
-    """θ = 2·atan((−b + σ√Δ)/2a) without dividing by a small number.
-
-    The root α = (−b + σ√Δ)/(2a) equals 2c/(−b − σ√Δ) (same σ).  Of the two
-    fractions the one with the larger numerator/denominator pair is used, as
-    2·atan2(numerator, denominator), which equals 2·atan(α) modulo 2π and stays
-    right when a → 0 (θ = ±π).  Returns θ in (−π, π] and two masks: the discriminant is
-    negative beyond rounding (out of reach; √Δ is taken as 0 there) and the angle is
-    undetermined (a = b = c = 0).  A point so far away (|x3| or |y3| above about 1e150 m)
-    that b² or 4ac overflow is out of reach too.
-    """
+    """θ = 2·atan((−b + σ√Δ)/2a) without dividing by a small number: the root also equals
+    2c/(−b − σ√Δ), and of the two fractions the one with the larger numerator/denominator pair is
+    used, as 2·atan2(numerator, denominator) (right also when a → 0, θ = ±π).  Returns θ in (−π, π]
+    and two masks: out of reach (Δ negative beyond rounding, or b² or 4ac overflow: |x3| or |y3|
+    above about 1e150 m) and undetermined (a = b = c = 0)."""
     discriminant = b * b - 4 * a * c
     slack = _DISCRIMINANT_SLACK * (b * b + 4 * np.abs(a * c))
     root = np.sqrt(np.clip(discriminant, 0.0, None))
@@ -248,8 +224,7 @@ def _half_angle_root(a, b, c, sigma):
 
 
 def _half_angle_root_in_place(a, b, c, sigma, scratch: _Scratch):
-    """``_half_angle_root`` for the arrays a, b, c of one block, operation for operation (the same
-    numbers), worked in place in arrays from ``scratch``."""
+    """``_half_angle_root`` on one block, operation for operation (the same numbers), in place."""
     b_squared = np.multiply(b, b, out=scratch.take())
     discriminant = np.multiply(4, a, out=scratch.take())
     discriminant *= c
@@ -291,12 +266,9 @@ def _half_angle_root_in_place(a, b, c, sigma, scratch: _Scratch):
 
 
 def _wrap_in_place(angle: np.ndarray, scratch: _Scratch) -> np.ndarray:
-    """``wrap_angle`` of a doubled atan2 (in [−2π, 2π]), in place: into (−π, π]; NaN stays NaN.
-
-    The same numbers as ``np.mod(angle + π, 2π) − π`` (then −π → π), without its division: on
-    [−π, 3π], where angle + π lies, the remainder is one subtraction of 2π at and above 2π (exact)
-    or one addition of 2π below 0, and adding or subtracting 0 elsewhere changes nothing.
-    """
+    """``wrap_angle`` of a doubled atan2 (in [−2π, 2π]), in place, into (−π, π]; NaN stays NaN.  The
+    same numbers as ``np.mod(angle + π, 2π) − π`` without its division: on [−π, 3π] the remainder is
+    one exact subtraction of 2π at and above 2π, or one addition of 2π below 0."""
     full_turn = 2 * np.pi
     flag, step = scratch.take(bool), scratch.take()
     angle += np.pi
@@ -312,7 +284,9 @@ def _wrap_in_place(angle: np.ndarray, scratch: _Scratch) -> np.ndarray:
 class FiveBar:
     """A five-bar parallel robot: cranks l1 (at P1 = (+l5/2, 0)) and l4 (at P5 = (−l5/2, 0)),
     distal links l2 (P2–P3) and l3 (P4–P3), base l5.  Lengths in metres; l1…l4 > 0, l5 ≥ 0
-    (l5 = 0: both cranks on one pivot).
+    (l5 = 0: both cranks on one pivot).  Every method raises ``InvalidGeometryError`` naming the
+    argument for an input that is not a finite number (NaN, ±inf, text, …): an unreachable
+    configuration's NaN angles included.
 
     >>> FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).l5
     0.08
@@ -329,13 +303,10 @@ class FiveBar:
             length = require_positive(name, getattr(self, name), allow_zero=name == "l5")
             # the closed forms hold fourth powers of the lengths: keep them clear of under- and overflow
             if not (length == 0 or LENGTH_RANGE[0] <= length <= LENGTH_RANGE[1]):
-                raise InvalidGeometryError(
-                    f"{name} must lie between {LENGTH_RANGE[0]:.0e} m and {LENGTH_RANGE[1]:.0e} m; "
-                    f"got {length!r}"
-                )
+                raise InvalidGeometryError(f"{name} must lie between {LENGTH_RANGE[0]:.0e} m and "
+                                           f"{LENGTH_RANGE[1]:.0e} m; got {length!r}")
             object.__setattr__(self, name, length)
 
-    # ------------------------------------------------------------------ geometry
     def _cranks(self, theta1, theta4):
         """P2 and P4 (each (x, y) arrays broadcast together)."""
         half = self.l5 / 2
@@ -344,15 +315,11 @@ class FiveBar:
         return np.broadcast_arrays(p2x, p2y, p4x, p4y)
 
     def joints(self, theta1, theta4, x3, y3) -> np.ndarray:
-        """Joint coordinates P1 … P5 (metres), shape (..., 5, 2), for crank angles (rad)
-        and the end effector (x3, y3); no solving, so any (consistent) configuration works.
+        """Joint coordinates P1 … P5 (metres), shape (..., 5, 2), for crank angles (rad) and the end
+        effector (x3, y3); no solving, so any (consistent) configuration works.
 
-        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> np.round(robot.joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
+        >>> np.round(FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
-
-        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf):
-        an unreachable configuration has no joints to give.
         """
         return self._joints(*_configuration(theta1, theta4, x3, y3))
 
@@ -370,24 +337,19 @@ class FiveBar:
         shape (..., 2); both zero when the robot is assembled.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> x3, y3 = robot.forward(0.5, 2.5)
-        >>> bool(np.abs(robot.constraints(0.5, 2.5, x3, y3)).max() < 1e-15)
+        >>> bool(np.abs(robot.constraints(0.5, 2.5, *robot.forward(0.5, 2.5))).max() < 1e-15)
         True
-
-        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf).
         """
         return self._constraints(*_configuration(theta1, theta4, x3, y3))
 
     def _constraints(self, theta1, theta4, x3, y3) -> np.ndarray:
         p = _stacked(x3, y3, theta1, theta4)
-        return self._core().residual(p[..., :2], p[..., 2:])
+        return self._cores["forward"].residual(p[..., :2], p[..., 2:])
 
-    # ------------------------------------------------------- forward kinematics
     def forward_coefficients(self, theta1, theta4) -> dict[str, np.ndarray]:
-        """The course's forward-kinematics coefficients (file 000: X3 = g·Y3 + f substituted
-        into EcL3): ``f``, ``g``, ``a`` = 1 + g², ``b``, ``c``, and the denominator
-        ``D`` = l5 + l1 cos θ1 − l4 cos θ4.  Where D = 0 the route breaks down: f, g, b, c
-        are ±inf/NaN there (``forward`` handles that case by another route).
+        """The course's forward-kinematics coefficients (file 000: X3 = g·Y3 + f substituted into EcL3):
+        ``f``, ``g``, ``a`` = 1 + g², ``b``, ``c``, and the denominator ``D`` = l5 + l1 cos θ1 − l4 cos θ4;
+        f, g, b, c are ±inf/NaN where D = 0 (``forward`` takes another route there).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> k = robot.forward_coefficients(np.pi / 2, np.pi / 2)
@@ -410,18 +372,15 @@ class FiveBar:
     def forward(self, theta1, theta4, mode: int = 1, on_unreachable: str = "raise") -> ForwardResult:
         """End effector P3 = (X3, Y3) (metres) from the crank angles θ1, θ4 (rad).
 
-        ``mode`` is the course's σ: +1 "arms up" gives the larger Y3 of the two
-        assemblies, −1 "arms down" the smaller.  Where |D| ≥ |E| (D = l5 + l1 cos θ1 −
-        l4 cos θ4 = P2x − P4x, E = P2y − P4y) the course's route is used: X3 = g·Y3 + f,
-        a·Y3² + b·Y3 + c = 0.  Elsewhere — in particular where D = 0 and the route would
-        divide by zero — the swapped relation Y3 = g'·X3 + f' is solved for X3 instead,
-        and σ still picks the larger Y3.  When D = 0 exactly the two assemblies have equal
-        Y3; σ = +1 then takes the limit from D > 0 (P3 to the left of the line P4 → P2).
-        Note that the course's σ therefore switches between the two assemblies where D
-        changes sign (the distal-link "elbow" at P3 flips side relative to P4 → P2).
+        ``mode`` is the course's σ: +1 "arms up" gives the larger Y3 of the two assemblies, −1 "arms
+        down" the smaller.  Where |D| ≥ |E| (D = l5 + l1 cos θ1 − l4 cos θ4 = P2x − P4x, E = P2y − P4y)
+        the course's route X3 = g·Y3 + f, a·Y3² + b·Y3 + c = 0 is used; elsewhere (D = 0 included) the
+        swapped Y3 = g'·X3 + f' is solved for X3, σ still picking the larger Y3.  At D = 0 exactly
+        both have equal Y3 and σ = +1 takes the limit from D > 0 (P3 left of the line P4 → P2), so the
+        course's σ switches assemblies where D changes sign (the "elbow" at P3 flips side).
 
-        Raises ``UnreachableError`` where |P2 − P4| > l2 + l3 or < |l2 − l3| (or P2 = P4),
-        unless ``on_unreachable="nan"``; ``InvalidGeometryError`` for a mode other than ±1.
+        Raises ``UnreachableError`` where |P2 − P4| > l2 + l3 or < |l2 − l3| (or P2 = P4), unless
+        ``on_unreachable="nan"``; ``InvalidGeometryError`` for a mode other than ±1.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> up, down = robot.forward(1.0, 2.0, +1), robot.forward(1.0, 2.0, -1)
@@ -474,7 +433,6 @@ class FiveBar:
         x3, y3 = np.where(bad, np.nan, x3), np.where(bad, np.nan, y3)
         return ForwardResult(scalar_or_array(x3), scalar_or_array(y3), scalar_or_array(~bad))
 
-    # ------------------------------------------------------- inverse kinematics
     def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:
         """The course's half-angle coefficients: a1·α1² + b1·α1 + c1 = 0 with α1 = tan(θ1/2)
         and a2·α2² + b2·α2 + c2 = 0 with α2 = tan(θ4/2), for the end effector (x3, y3) in metres.
@@ -500,20 +458,17 @@ class FiveBar:
             "c2": -(l3**2) + l4**2 - l4 * l5 - 2 * l4 * X + l5 * X + common,
         }
 
-    def inverse(
-        self, x3, y3, modes: tuple[int, int] = (1, 1), on_unreachable: str = "raise"
-    ) -> InverseResult:
+    def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1),
+                on_unreachable: str = "raise") -> InverseResult:
         """Crank angles θ1, θ4 (rad, in (−π, π]) that put the end effector at (x3, y3) (metres).
 
-        ``modes`` = (σ1, σ2), the course's signs in θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1)
-        and θ4 = 2·atan((−b2 + σ2√(b2² − 4a2c2))/2a2): the four working modes.  The same
-        roots are computed without dividing by a small a1 or a2 (where θ → ±π).
+        ``modes`` = (σ1, σ2), the course's signs in θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1) and
+        θ4 = 2·atan((−b2 + σ2√(b2² − 4a2c2))/2a2): the four working modes (computed without dividing
+        by a small a1 or a2, where θ → ±π).  Arrays of more than 4096 points go in blocks of 65,536.
 
-        Raises ``UnreachableError`` where a leg cannot reach (x3, y3) (negative
-        discriminant) or its crank angle is undetermined (P3 on P1 with l1 = l2, or on P5
-        with l4 = l3), unless ``on_unreachable="nan"``; ``InvalidGeometryError`` for a bad mode
-        or a non-finite x3, y3.  Arrays of more than 4096 points are worked through in blocks
-        of 65,536, so the memory beyond the results does not grow with their size.
+        Raises ``UnreachableError`` where a leg cannot reach (x3, y3) or its crank angle is
+        undetermined (P3 on P1 with l1 = l2, or on P5 with l4 = l3), unless ``on_unreachable="nan"``;
+        ``InvalidGeometryError`` for a bad mode.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(+1, -1))
@@ -538,9 +493,8 @@ class FiveBar:
         return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(reachable))
 
     def _inverse_whole(self, X, Y, sigma1: int, sigma2: int):
-        """The closed-form inverse kinematics on whole arrays (or numbers) X, Y at once: θ1, θ4 (NaN
-        where out of reach) and the masks: leg 1 cannot reach, leg 4 cannot reach, a crank angle is
-        undetermined."""
+        """The closed-form inverse kinematics on whole arrays (or numbers) X, Y: θ1, θ4 (NaN where out of
+        reach) and the masks: leg 1 cannot reach, leg 4 cannot reach, a crank angle is undetermined."""
         k = self._inverse_coefficients(X, Y)
         theta1, far1, free1 = _half_angle_root(k["a1"], k["b1"], k["c1"], sigma1)
         theta4, far4, free4 = _half_angle_root(k["a2"], k["b2"], k["c2"], sigma2)
@@ -560,33 +514,24 @@ class FiveBar:
             return blocks.operands[2:]
 
     def _inverse_block(self, x, y, sigma1: int, sigma2: int, scratch: _Scratch):
-        """The closed-form inverse kinematics on one block of points: θ1, θ4 (NaN where out of reach)
-        and the masks: leg 1 cannot reach, leg 4 cannot reach, a crank angle is undetermined; all of
-        them arrays of ``scratch``, good until its next block.
-
-        The coefficients are ``inverse_coefficients``', operation for operation (so the same
-        numbers), worked in place.
-        """
+        """``_inverse_whole`` on one block, operation for operation (the same numbers), in place; the
+        results are arrays of ``scratch``, good until its next block."""
         l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
         common = np.multiply(x, x, out=scratch.take())
         common += np.multiply(y, y, out=scratch.take())
         common += l5**2 / 4
-        l5_x = np.multiply(l5, x, out=scratch.take())
         zero_x = np.multiply(0, x, out=scratch.take())   # 0·x: a zero b gets the sign it has there
         roots = []
         for crank, distal, sign, sigma in ((l1, l2, -1, sigma1), (l4, l3, 1, sigma2)):
             # leg 1: a1 = l1² − l2² − l1·l5 + 2·l1·X − l5·X + common, c1 = … + l1·l5 − 2·l1·X − l5·X + …
             # leg 4: a2 = −l3² + l4² + l4·l5 + 2·l4·X + l5·X + common, c2 = … − l4·l5 − 2·l4·X + l5·X + …
-            first = crank**2 - distal**2 if sign < 0 else -(distal**2) + crank**2
+            first = crank**2 - distal**2
             two_crank_x = np.multiply(2 * crank, x, out=scratch.take())
             a = np.add(two_crank_x, first + sign * crank * l5, out=scratch.take())
             c = np.subtract(first - sign * crank * l5, two_crank_x, out=two_crank_x)
-            if sign < 0:
-                a -= l5_x
-                c -= l5_x
-            else:
-                a += l5_x
-                c += l5_x
+            signed_l5_x = np.multiply(sign * l5, x, out=scratch.take())   # ∓l5·X
+            a += signed_l5_x
+            c += signed_l5_x
             a += common
             c += common
             b = np.multiply(-4 * crank, y, out=scratch.take())
@@ -602,7 +547,6 @@ class FiveBar:
             theta4[bad] = np.nan
         return theta1, theta4, far1, far4, free
 
-    # ------------------------------------------------------- Jacobians and rates
     @cached_property
     def _cores(self) -> dict:
         """EcL2, EcL3 declared on the core with these lengths: "forward" (unknowns X3, Y3; inputs θ1, θ4)
@@ -610,13 +554,10 @@ class FiveBar:
         lengths = {"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4, "l5": self.l5}
         return {kind: core.with_parameters(lengths) for kind, core in _declarations().items()}
 
-    def _core(self, unknowns: str = "forward"):
-        return self._cores[unknowns]
-
     def _terms(self, theta1, theta4, x3, y3):
         """A = ∂(EcL2, EcL3)/∂(X3, Y3) and B = ∂(EcL2, EcL3)/∂(θ1, θ4), each (..., 2, 2), from the core."""
         p = _stacked(x3, y3, theta1, theta4)
-        return self._core()._rate_terms(p[..., :2], p[..., 2:])
+        return self._cores["forward"]._rate_terms(p[..., :2], p[..., 2:])
 
     def jacobian_end_effector(self, theta1, theta4, x3, y3) -> np.ndarray:
         """A = ∂(EcL2, EcL3)/∂(X3, Y3) = 2·[[X3 − P2x, Y3 − P2y], [X3 − P4x, Y3 − P4y]] (m),
@@ -625,20 +566,16 @@ class FiveBar:
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> np.round(robot.jacobian_end_effector(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[-0.28, 0.2], [0.28, 0.2]]
-
-        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf).
         """
         return self._terms(*_configuration(theta1, theta4, x3, y3))[0]
 
     def jacobian_cranks(self, theta1, theta4, x3, y3) -> np.ndarray:
-        """B = ∂(EcL2, EcL3)/∂(θ1, θ4) (m²/rad), shape (..., 2, 2); diagonal, because EcL2
-        holds only θ1 and EcL3 only θ4.  A zero diagonal entry is a serial (type-1) singularity.
+        """B = ∂(EcL2, EcL3)/∂(θ1, θ4) (m²/rad), shape (..., 2, 2); diagonal, because EcL2 holds only θ1
+        and EcL3 only θ4.  A zero diagonal entry is a serial (type-1) singularity.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> (np.round(robot.jacobian_cranks(0.0, np.pi, 0.0, 0.1), 3) + 0.0).tolist()
         [[-0.02, 0.0], [0.0, 0.02]]
-
-        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf).
         """
         return self._terms(*_configuration(theta1, theta4, x3, y3))[1]
 
@@ -651,9 +588,7 @@ class FiveBar:
         >>> round(m.serial_leg1, 4), round(m.serial_leg4, 4), round(m.parallel, 4)
         (0.9529, -0.9529, -0.9793)
 
-        Raises ``InvalidGeometryError`` naming the argument for a value that is not finite (NaN, ±inf),
-        e.g. the NaN angles of an unreachable point: ``workspace`` maps the measures over a grid with
-        NaN where the point is out of reach.
+        For the measures over a grid, NaN where out of reach, see ``workspace``.
         """
         leg1, leg4, parallel = self._measures(*_configuration(theta1, theta4, x3, y3))
         return SingularityMeasures(scalar_or_array(leg1), scalar_or_array(leg4), scalar_or_array(parallel))
@@ -668,8 +603,7 @@ class FiveBar:
         return leg1, leg4, parallel
 
     def _measures_block(self, theta1, theta4, x3, y3, scratch: _Scratch, leg1, leg4, parallel) -> None:
-        """``_measures`` on one block, operation for operation (the same numbers), written into the
-        arrays leg1, leg4, parallel, with the temporaries from ``scratch``."""
+        """``_measures`` on one block, operation for operation (the same numbers), in place."""
         half = self.l5 / 2
         p2x, p2y = np.cos(theta1, out=scratch.take()), np.sin(theta1, out=scratch.take())
         p4x, p4y = np.cos(theta4, out=scratch.take()), np.sin(theta4, out=scratch.take())
@@ -699,10 +633,9 @@ class FiveBar:
         scale = max(self.l1, self.l2, self.l3, self.l4, self.l5) ** 2
         if not np.all(residual <= 1e-8 * scale):
             index = np.unravel_index(int(np.argmax(residual)), residual.shape)
-            raise InvalidGeometryError(
-                f"the configuration is not assembled: constraint residual {residual[index]:.3g} m² "
-                "(x3, y3 must be the end effector for theta1, theta4, e.g. from forward)"
-            )
+            raise InvalidGeometryError(f"the configuration is not assembled: constraint residual "
+                                       f"{residual[index]:.3g} m² (x3, y3 must be the end effector for "
+                                       "theta1, theta4, e.g. from forward)")
 
     def _singular(self, kind, on_singular, theta1, theta4, x3, y3):
         """The mask of a "parallel" or "serial" singularity; raises there unless on_singular="nan".
@@ -728,9 +661,9 @@ class FiveBar:
 
     def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = "raise") -> np.ndarray:
         """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4), by linear solves (no inverse).
-        Raises ``SingularJacobianError`` at a parallel singularity (``on_singular="nan"`` gives NaN
-        there instead) and ``InvalidGeometryError`` when (x3, y3) is not the end effector of (θ1, θ4) or
-        an input is not finite, naming it (the same holds for the two rate functions below).
+        Raises ``SingularJacobianError`` at a parallel singularity (``on_singular="nan"``: NaN there)
+        and ``InvalidGeometryError`` when (x3, y3) is not the end effector of (θ1, θ4); so do the two
+        rate functions below.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
@@ -746,8 +679,8 @@ class FiveBar:
         return np.where(singular[..., None, None], np.nan, J)
 
     def end_effector_velocity(self, theta1, theta4, x3, y3, omega1, omega4, on_singular: str = "raise"):
-        """(Ẋ3, Ẏ3) in m/s from the crank rates ω1, ω4 (rad/s): the velocity system A·ṗ = −B·ω of the
-        forward declaration.  Shape (..., 2).  Raises ``SingularJacobianError`` at a parallel singularity.
+        """(Ẋ3, Ẏ3) in m/s, shape (..., 2), from the crank rates ω1, ω4 (rad/s): A·ṗ = −B·ω of the forward
+        declaration; ``SingularJacobianError`` at a parallel singularity.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
@@ -758,12 +691,12 @@ class FiveBar:
         omega = [require_finite("omega1", omega1, "rad/s"), require_finite("omega4", omega4, "rad/s")]
         singular = self._singular("parallel", on_singular, theta1, theta4, x3, y3)
         p = _stacked(x3, y3, theta1, theta4, *omega)
-        return self._core("forward").rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
+        return self._cores["forward"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     def crank_rates(self, theta1, theta4, x3, y3, vx, vy, on_singular: str = "raise"):
-        """(ω1, ω4) in rad/s that give the end-effector velocity (vx, vy) in m/s: the velocity system
-        B·ω = −A·ṗ of the inverse declaration.  Shape (..., 2).  Raises ``SingularJacobianError`` at a
-        serial (type-1) singularity, where a leg is stretched or folded.
+        """(ω1, ω4) in rad/s, shape (..., 2), that give the end-effector velocity (vx, vy) in m/s:
+        B·ω = −A·ṗ of the inverse declaration; ``SingularJacobianError`` at a serial (type-1)
+        singularity, where a leg is stretched or folded.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
@@ -774,14 +707,12 @@ class FiveBar:
         velocity = [require_finite(name, value, "m/s") for name, value in (("vx", vx), ("vy", vy))]
         singular = self._singular("serial", on_singular, theta1, theta4, x3, y3)
         p = _stacked(theta1, theta4, x3, y3, *velocity)
-        return self._core("inverse").rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
+        return self._cores["inverse"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
-    # ------------------------------------------------------------ maps and drawing
     def workspace(self, x, y, modes: tuple[int, int] = (1, 1)) -> WorkspaceMap:
-        """Inverse kinematics of working mode ``modes`` = (σ1, σ2) over the grid spanned by the
-        1-D coordinate vectors ``x``, ``y`` (metres): reachable mask, crank angles and the three
-        singularity measures (see ``WorkspaceMap``).  Points out of reach get NaN angles and
-        measures; large grids are worked through in blocks, as in ``inverse``.
+        """Inverse kinematics of working mode ``modes`` = (σ1, σ2) over the grid of the 1-D vectors ``x``,
+        ``y`` (metres): reachable mask, crank angles and the three singularity measures (see
+        ``WorkspaceMap``), NaN out of reach; large grids go in blocks, as in ``inverse``.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> w = robot.workspace(np.linspace(-0.3, 0.3, 61), np.linspace(-0.3, 0.3, 61))
@@ -797,7 +728,6 @@ class FiveBar:
         with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
             if X.size <= _SMALL:
                 theta1, theta4, far1, far4, free = self._inverse_whole(X, Y, sigma1, sigma2)
-                # NaN angles where out of reach give NaN measures there
                 maps = (~(far1 | far4 | free), theta1, theta4, *self._measures(theta1, theta4, X, Y))
             else:
                 maps = self._workspace_blocks(X, Y, sigma1, sigma2)
@@ -819,9 +749,8 @@ class FiveBar:
 
     def draw(self, theta1: float, theta4: float, x3: float, y3: float, ax=None, title: str | None = None,
              **style):
-        """Draw the robot as the course does: links l1…l5 labelled at their midpoints, joints
-        numbered 1…5, base pivots hatched, axes and a dashed grid (``course_lib.plotting.draw_linkage``).
-        Returns the axes.
+        """Draw the robot as the course does (links l1…l5 labelled, joints numbered 1…5, base pivots
+        hatched, dashed grid: ``course_lib.plotting.draw_linkage``); returns the axes.
 
         >>> import matplotlib; matplotlib.use("Agg")
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
@@ -833,8 +762,7 @@ class FiveBar:
 
         points = self.joints(theta1, theta4, x3, y3)
         if points.shape != (5, 2):
-            raise InvalidGeometryError(
-                f"draw takes one configuration (scalars); got joints of shape {points.shape}"
-            )
+            raise InvalidGeometryError(f"draw takes one configuration (scalars); got joints of shape "
+                                       f"{points.shape}")
         links = [(0, 1, "l1"), (1, 2, "l2"), (2, 3, "l3"), (3, 4, "l4"), (4, 0, "l5")]
         return draw_linkage(points, links, ax, ground=(0, 4), title=title, **style)

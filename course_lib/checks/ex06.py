@@ -9,8 +9,6 @@ link BC (l5) drives the ram, whose pin C runs on the horizontal line y = h, at x
 """
 # ruff: noqa: F403, F405
 
-from __future__ import annotations
-
 import math
 from collections.abc import Mapping
 from dataclasses import astuple, dataclass

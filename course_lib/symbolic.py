@@ -47,12 +47,8 @@ def rate_name(name: str, order: int) -> str:
 
 
 def d_dt(expr: sp.Expr, order: int = 1) -> sp.Expr:
-    """Time derivative of ``expr`` with θ' → ω and θ'' → α substituted.
-
-    Each time-dependent function named ``thetaK`` gets rates ``omegaK`` and
-    ``alphaK``; any other (e.g. ``r1``) gets ``v_r1`` and ``a_r1``.  The rates
-    are plain symbols, so take the second derivative with ``order=2`` on the
-    position expression (as the course does), not by applying ``d_dt`` twice.
+    """Time derivative of ``expr`` with the rates as plain symbols (:func:`rate_name`: θ' → ω, θ'' → α,
+    r1' → v_r1, r1'' → a_r1); take a second derivative with ``order=2``, not ``d_dt`` twice.
 
     >>> theta, = time_symbols("theta2")
     >>> static(d_dt(sp.sin(theta), 2))
@@ -64,9 +60,7 @@ def d_dt(expr: sp.Expr, order: int = 1) -> sp.Expr:
 
 
 def static(expr):
-    """Replace every θ(t)-style function of time by a plain symbol of the same name.
-
-    Use it to display an equation compactly or to lambdify it.
+    """Replace every θ(t)-style function of time by a plain symbol of the same name (to display or lambdify).
 
     >>> theta, = time_symbols("theta4")
     >>> static(sp.cos(theta) + 1)

@@ -54,20 +54,16 @@ BRANCHES = ("open", "crossed")
 #: |sin(θ3 − θ4)| below this counts as a toggle: J = l3·l4·sin(θ3 − θ4) is singular.
 SINGULAR_TOL = 1e-7
 
-#: A toggle angle this close (rad) to π or 0 is the change point of a full turn, not a limit (the
-#: square root of rounding in |AO4|² there).
+#: A toggle angle this close (rad) to π or 0 is a full turn's change point (rounding), not a limit.
 TOGGLE_TOL = 1e-7
 
-#: A discriminant more negative than this fraction of B² + (A − C)² means "cannot close"; smaller
-#: negative values are rounding at a toggle and count as zero.
+#: A discriminant below −(this)·(B² + (A − C)²) cannot close; above, it is rounding and counts as 0.
 DISCRIMINANT_TOL = 1e-12
 
-#: |sin(θ3 − θ4)| that a whole block provably stays above (read off its smallest discriminant) lets
-#: it skip the toggle test.
+#: A block whose smallest discriminant proves |sin(θ3 − θ4)| above this skips the toggle test.
 TOGGLE_FREE = 1e-3
 
-#: Crank angles per block of an array solve: a block's work stays in cache and the memory beyond the
-#: results does not grow with the number of angles.
+#: Crank angles per block of an array solve (cache-sized; the memory beyond the results stays flat).
 BLOCK = 1 << 16
 
 
@@ -275,12 +271,8 @@ class FourBar:
         """The closed form on one block of crank angles (1-d), in place: θ3, θ4 into ``theta3``,
         ``theta4`` (NaN where unreachable or undetermined), the unreachable mask into ``unreachable``.
         Returns the undetermined mask (None unless coupler = rocker), the mask of NaN positions (None
-        if none), (cos, sin) of θ2, θ3, θ4, and whether the block is provably toggle-free
-        (:data:`TOGGLE_FREE`).
-
-        Norton's A, B, C (t = tan(θ4/2)) are used times 2·l2·l4 > 0 (the same roots): multiplied out no
-        ratio of lengths is formed, so a very short crank cannot overflow them.
-        """
+        if none), (cos, sin) of θ2, θ3, θ4, and whether the block is provably toggle-free.  Norton's
+        A, B, C are used times 2·l2·l4 > 0 (same roots, no ratio of lengths that could overflow)."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
         cos2, sin2 = np.cos(theta2), np.sin(theta2)

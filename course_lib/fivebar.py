@@ -129,8 +129,7 @@ class WorkspaceMap:
 
 @cache
 def _declarations() -> dict:
-    """EcL2 and EcL3 on the core, once for forward (unknowns X3, Y3) and once for inverse kinematics
-    (unknowns θ1, θ4): the same two equations with unknowns and inputs swapped."""
+    """EcL2 and EcL3 on the core for forward (unknowns X3, Y3) and inverse kinematics (unknowns θ1, θ4)."""
     import sympy as sp
 
     from .mechanism import Mechanism
@@ -321,10 +320,7 @@ class FiveBar:
         >>> np.round(FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
         """
-        return self._joints(*_configuration(theta1, theta4, x3, y3))
-
-    def _joints(self, theta1, theta4, x3, y3) -> np.ndarray:
-        """``joints`` without the input checks: NaN in, NaN out."""
+        theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         p2x, p2y, p4x, p4y, x3, y3 = np.broadcast_arrays(*self._cranks(theta1, theta4), x3, y3)
         half = self.l5 / 2
         zeros = np.zeros_like(p2x)
@@ -383,8 +379,7 @@ class FiveBar:
         ``on_unreachable="nan"``; ``InvalidGeometryError`` for a mode other than ±1.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> up, down = robot.forward(1.0, 2.0, +1), robot.forward(1.0, 2.0, -1)
-        >>> bool(up.y3 > down.y3)
+        >>> bool(robot.forward(1.0, 2.0, +1).y3 > robot.forward(1.0, 2.0, -1).y3)
         True
         >>> short = FiveBar(0.10, 0.10, 0.10, 0.10, 0.08)   # distal links too short for θ1 = 0, θ4 = π
         >>> r = short.forward([np.pi / 2, 0.0], [np.pi / 2, np.pi], on_unreachable="nan")
@@ -419,9 +414,8 @@ class FiveBar:
         far = (discriminant < -_DISCRIMINANT_SLACK * (B * B + 4 * np.abs(A * C))) & ~coincident
         inputs = {"theta1": theta1, "theta4": theta4}
         report_unreachable(far, inputs, "the distal links l2, l3 cannot meet", on_unreachable)
-        report_unreachable(
-            coincident, inputs, "P2 and P4 coincide, so the end effector is undetermined", on_unreachable
-        )
+        report_unreachable(coincident, inputs, "P2 and P4 coincide, so the end effector is undetermined",
+                           on_unreachable)
         bad = far | coincident
         root = np.sqrt(np.clip(discriminant, 0.0, None))
         # on the swapped route the larger Y3 is the larger X3 when g' > 0 (tie D = 0: D → 0⁺)

@@ -12,7 +12,7 @@ link BC (l5) drives the ram, whose pin C runs on the horizontal line y = h, at x
 import math
 from collections.abc import Mapping
 from dataclasses import astuple, dataclass
-from functools import cached_property
+from functools import cached_property, partial
 from itertools import permutations
 from typing import Any
 
@@ -33,6 +33,7 @@ _PROBE_DEGREES = (10.0, 55.0, 100.0, 145.0, 190.0, 235.0, 280.0, 325.0)
 _NUDGE = np.array([0.05, 0.02, -0.04, 0.03])
 #: Time ratios and strokes found on a grid of crank angles are accepted to this relative error.
 SWEEP_TOL = 5e-3
+_within = partial(close, rtol=SWEEP_TOL, atol=0.0)
 
 
 def quick_return_time_ratio(crank: float, pivot_distance: float) -> float:
@@ -348,10 +349,6 @@ def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
        "(radians) and the assembly (C right of B).")
 
 
-def _within(value: float, target: float, tolerance: float = SWEEP_TOL) -> bool:
-    return abs(value - target) <= tolerance * abs(target)
-
-
 @reads(number("the time ratio"))
 def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
     """A time ratio against ``reference``: ✔ ``correct``, or the usual slips."""
@@ -363,7 +360,7 @@ def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
          "that is the fast stroke over the slow one; the time ratio is slow over fast (> 1)."),
         (list(angles), "that is a crank angle; the time ratio divides the crank angle of the slow stroke by "
                        "that of the fast one."),
-        (lambda v: _within(v, reference, 0.05),
+        (lambda v: _within(v, reference, rtol=0.05),
          "close, but not to 0.5 %: find the crank angles where ω4 changes sign more precisely (interpolate "
          "between samples, or use the condition that O4A ⟂ O2A there)."),
     ], "not the time ratio: the lever stops where ω4 = 0 (O4A ⟂ O2A); divide the crank angle turned between "

@@ -1,29 +1,26 @@
 """Interactive explorers (ipywidgets): move a slider, watch the mechanism move.
 
-Each builder — :func:`fourbar_explorer`, :func:`saw_explorer`, :func:`fivebar_explorer` —
-returns an :class:`Explorer`: the controls (sliders, toggles), **one** matplotlib figure that
-is reused for every event, a readout, and the plain update step ``update(**state)``.  The
-figure is a bare ``matplotlib.figure.Figure`` on an Agg canvas (never registered with pyplot,
-so it is never shown twice and never leaks); each event moves the artists' data and renders the
-figure to PNG bytes, which become the value of an ``ipywidgets.Image``.
+Each builder — :func:`fourbar_explorer`, :func:`saw_explorer`, :func:`fivebar_explorer`,
+:func:`mechanism_explorer` — returns an :class:`Explorer`: the controls (sliders, toggles), **one**
+matplotlib figure reused for every event, a readout, and the update step ``update(**state)``.  The
+figure is a bare ``Figure`` on an Agg canvas (never registered with pyplot, so never shown twice nor
+leaked); each event moves the artists' data and renders the figure to PNG bytes for an ``ipywidgets.Image``.
 
-The picture is drawn in three layers, each cached: the axes, ticks and fixed curves (redrawn only
-when an axis' limits change); the *geometry layer*, what depends on a length, branch or mode
-(coupler curve, singularity curve, ground pivots), redrawn over the first when one of those
-changes; and the moving links, drawn over the second at every event (blitting).  Limits are kept
-while the picture fits them, so changing a control costs about as much as moving a slider.
+The picture is drawn in three cached layers: the axes, ticks and fixed curves (redrawn only when an
+axis' limits change, and limits are kept while the picture fits them); the *geometry layer*, what
+depends on a length, branch or mode (coupler curve, singularity curve, ground pivots); and the moving
+links, drawn at every event (blitting).  So changing a control costs about as much as moving a slider.
 
-No value a student can pass to ``update`` makes it raise (:meth:`Explorer.update` says what it
-refuses, clamps or wraps); an input for which the mechanism cannot be assembled is explained in the
-readout and on the drawing.  A builder's argument outside its slider's range raises
+No value a student passes to ``update`` makes it raise (:meth:`Explorer.update` says what it refuses,
+clamps or wraps); an input for which the mechanism cannot be assembled is explained in the readout and
+on the drawing.  A builder's argument outside its slider's range raises
 ``course_lib.errors.InvalidGeometryError`` naming it, its value and the range.
 
-Displayed in a notebook, an explorer shows the live widget where a widget manager runs (JupyterLab,
-Jupyter Notebook) and a PNG of its current figure, with its readout, everywhere else (GitHub,
-``nbconvert``, a notebook opened before it is run).
+In a notebook an explorer shows the live widget where a widget manager runs (JupyterLab, Jupyter
+Notebook), and a PNG of its figure with its readout everywhere else (GitHub, ``nbconvert``).
 
-Units: lengths in metres, time in seconds; the sliders show angles in degrees (the state keys
-say so: ``theta2_deg``), the library underneath works in radians.
+Units: metres and seconds; the sliders show angles in degrees (the state keys say so:
+``theta2_deg``), the library underneath works in radians.
 
 >>> explorer = fourbar_explorer()
 >>> explorer.update(theta2_deg=90.0).status
@@ -73,13 +70,9 @@ _ERROR_COLOR = "#b00020"
 
 @dataclass(frozen=True)
 class Readout:
-    """What one update step reports.
-
-    Attributes
-    ----------
-    status : ``"ok"``, or a short word for why the picture is not the requested state
-        (``"unreachable"``, ``"singular"``, ``"invalid"`` for a refused input, ``"error"``).
-    lines : the readout, one plain-text line each (shown in the widget as HTML).
+    """What one update step reports: its ``status``, ``"ok"`` or a short word for why the picture is
+    not the requested state (``"unreachable"``, ``"singular"``, ``"invalid"`` for a refused input,
+    ``"error"``), and the readout ``lines`` of plain text (shown in the widget as HTML).
 
     >>> Readout("ok", ("θ3 = 10°",)).text
     'θ3 = 10°'
@@ -112,21 +105,15 @@ class Readout:
 class Explorer:
     """Controls + one reused figure + readout, tied together by a plain update step.
 
-    Attributes
-    ----------
-    name : which mechanism ("four-bar", "power saw", "five-bar").
-    controls : the input widgets by state key (e.g. ``"theta2_deg"``); their values are the state.
-    figure : the one matplotlib Figure (Agg canvas) every event redraws.
-    artists : the artists the update step changes, by name (lines, markers, texts), for tests and
-        for curious users.  Those created ``animated`` are drawn at every event; the rest belong to
-        the cached picture.
-    draw : ``draw(state, geometry_changed) -> Readout`` — computes the mechanism and moves the artists.
-    geometry_keys : state keys whose change alters the geometry layer (lengths, branch, mode).
-    geometry_artists : names of the artists of the geometry layer (changed only by those keys).
-    extra : further widgets shown under the controls (e.g. the Play button); not part of the state.
-    image, readout, widget : the ``ipywidgets.Image`` showing the figure, the ``ipywidgets.HTML``
-        readout, and the top-level container to display.
-    last : the :class:`Readout` of the latest update.
+    ``name``: the mechanism ("four-bar", "power saw", "five-bar"); ``controls``: the input widgets by
+    state key (e.g. ``"theta2_deg"``), whose values are the state; ``figure``: the one Figure (Agg
+    canvas) every event redraws; ``artists``: what the update step changes, by name — those created
+    ``animated`` are drawn at every event, the rest belong to the cached picture; ``draw(state,
+    geometry_changed) -> Readout``: computes the mechanism and moves the artists; ``geometry_keys``:
+    the state keys that alter the geometry layer, made of the ``geometry_artists``; ``extra``: further
+    widgets under the controls (e.g. the Play button), not part of the state.  Made here: ``image``
+    and ``readout`` (``ipywidgets.Image`` and ``HTML``), ``widget`` (the container to display) and
+    ``last``, the :class:`Readout` of the latest update.
     """
 
     name: str
@@ -145,7 +132,7 @@ class Explorer:
         for artist in self._geometry_layer:
             artist.set_animated(True)  # left out of the base picture, drawn into the cached background
         moving = [artist for name, artist in self.artists.items()
-                  if name not in self.geometry_artists and getattr(artist, "get_animated", lambda: False)()]
+                  if name not in self.geometry_artists and artist.get_animated()]
         self._moving = sorted(moving, key=lambda artist: artist.get_zorder())  # stable: ties keep their order
         self._base = self._background = self._base_limits = self._background_visible = None
         self._palette = self._drawn_geometry = None
@@ -207,18 +194,16 @@ class Explorer:
         if unknown:
             raise InvalidGeometryError(f"unknown explorer input {unknown[0]!r}; "
                                        f"valid inputs: {', '.join(self.controls)}")
-        notes, refused = [], False
+        checked = [(key, *_control_value(key, self.controls[key], value)) for key, value in state.items()]
         self._holding = True
         try:
-            for key, value in state.items():
-                accepted, note = _control_value(key, self.controls[key], value)
-                notes += [note] if note else []
-                refused = refused or accepted is _REFUSED
+            for key, accepted, _ in checked:
                 if accepted is not _REFUSED:
                     self.controls[key].value = accepted
         finally:
             self._holding = False
-        return self.refresh(notes=notes, refused=refused)
+        return self.refresh(notes=[note for *_, note in checked if note],
+                            refused=any(accepted is _REFUSED for _, accepted, _ in checked))
 
     def refresh(self, notes=(), refused: bool = False) -> Readout:
         """Recompute and redraw from the current widget values; returns the :class:`Readout`.
@@ -269,9 +254,8 @@ class Explorer:
         else:
             self.canvas.restore_region(self._background)
         self._draw_artists(self._moving)  # ... and the moving artists on top, alone
-        # An opaque 256-colour PNG: line art looks the same and encodes fast and small.  The palette is
-        # made for the first picture of new axis limits (with every colour the changing artists can take,
-        # shown or not), and reused while only positions change.
+        # An opaque 256-colour PNG (line art looks the same, encodes fast and small); the palette, with every
+        # colour the artists can take, shown or not, is made for new axis limits and kept while they stay.
         pixels = np.asarray(self.canvas.buffer_rgba())
         if new_limits or self._palette is None:
             self._palette = _Quantizer(pixels, _solid_colours(self.artists.values()))
@@ -312,8 +296,7 @@ class Explorer:
         """
         figure = np.asarray(PILImage.open(io.BytesIO(self.image.value)).convert("RGB"))
         width = figure.shape[1]
-        # the readout's lines, wrapped to fit, as in the widget: 9 points at the figures' 80 dpi, about 6 px
-        # per character
+        # the readout's lines wrapped to fit, as in the widget: 9 points at 80 dpi, about 6 px per character
         lines = [part for line in self.last.lines for part in textwrap.wrap(line, max(20, int(width / 6.4)))]
         height = int(np.ceil(len(lines) * (9.0 * 1.45 / 72 * 80) + 10))
         canvas = FigureCanvasAgg(Figure(figsize=(width / 80, height / 80), dpi=80))
@@ -343,20 +326,14 @@ def _wrap_degrees(degrees: float) -> float:
 
 
 def _option(value, labels, values):
-    """The option ``value`` stands for: equal to an option's value, or (text) to a label or value
-    in any letter case; ``_REFUSED`` if none."""
-    number = _plain_number(value)
-    for option in values:
-        if isinstance(option, str) and isinstance(value, str) and value == option:
-            return option
-        if not isinstance(option, str) and number is not None and number == option:
-            return option
+    """The option ``value`` stands for: a number equal to an option's value, or a text equal to a label
+    or value in any letter case; ``_REFUSED`` if none."""
     if isinstance(value, str):
         wanted = value.strip().casefold()
-        for label, option in zip(labels, values, strict=True):
-            if wanted in (str(label).strip().casefold(), str(option).strip().casefold()):
-                return option
-    return _REFUSED
+        return next((option for label, option in zip(labels, values, strict=True)
+                     if wanted in (str(label).casefold(), str(option).casefold())), _REFUSED)
+    number = _plain_number(value)
+    return next((option for option in values if number is not None and number == option), _REFUSED)
 
 
 def _control_value(key: str, control, value) -> tuple[object, str]:
@@ -426,13 +403,12 @@ def _grid(ax, **properties):
 
 def _set_equal_limits(ax, xmin: float, xmax: float, ymin: float, ymax: float) -> None:
     """Limits covering the box with equal x and y scales, for the axes' fixed size on the figure."""
-    box = ax.get_position()
-    width_in, height_in = ax.figure.get_size_inches()
+    box, (width_in, height_in) = ax.get_position(), ax.figure.get_size_inches()
     box_width, box_height = box.width * width_in, box.height * height_in
     scale = max((xmax - xmin) / box_width, (ymax - ymin) / box_height)
     x_mid, y_mid = (xmin + xmax) / 2, (ymin + ymax) / 2
-    ax.set_xlim(x_mid - scale * box_width / 2, x_mid + scale * box_width / 2)
-    ax.set_ylim(y_mid - scale * box_height / 2, y_mid + scale * box_height / 2)
+    ax.set(xlim=(x_mid - scale * box_width / 2, x_mid + scale * box_width / 2),
+           ylim=(y_mid - scale * box_height / 2, y_mid + scale * box_height / 2))
 
 
 def _moving_line(ax, *args, **kwargs):
@@ -473,31 +449,21 @@ def _visible(artists, names: str, shown: bool) -> None:
 
 
 # ---------------------------------------------------------------------------- four-bar
-#: The length sliders' range (m); a builder argument outside it is refused.
-_FOURBAR_LENGTHS = (0.02, 0.40)
 #: The fixed-pivot symbol of unit size (a triangle under the pivot at the origin).
 _TRIANGLE = np.array([[0.0, 0.0], [-1.0, -1.6], [1.0, -1.6]])
-#: The moving links by name: the pairs of points they join (P is the coupler point on plate ABP).
-_FOURBAR_LINKS = {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "plate": ("A", "P"),
-                  "plate PB": ("P", "B")}
-#: Artists that change only with a length, the branch or the coupler point (the cached geometry layer).
-_FOURBAR_GEOMETRY_LAYER = ("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4", "label_O2",
-                           "label_O4")
 
 
 def fourbar_explorer(
     crank: float = 0.06, coupler: float = 0.18, rocker: float = 0.12, ground: float = 0.20,
     theta2: float = np.pi / 3, branch: str = "open", p: float | None = None, delta: float = np.radians(30.0),
 ) -> Explorer:
-    """Explorer of a four-bar linkage (:class:`course_lib.fourbar.FourBar`).
+    """Explorer of a four-bar linkage (:class:`course_lib.fourbar.FourBar`); arguments are the initial
+    values (m, rad), lengths within the sliders' range 0.02…0.40 m.
 
-    Sliders: ground l1, crank l2, coupler l3, rocker l4 (m), crank angle θ2 (°), coupler point
-    P at distance p (m) from A, turned δ (°) from AB; toggle: branch open / crossed.
-    Drawing: the linkage at θ2, the coupler curve of P over every θ2 that assembles, and the
-    transmission angle μ(θ2) with a cursor.  Readout: Grashof class, θ3, θ4, μ, input range.
-    At a θ2 where the loop cannot close (outside a non-Grashof linkage's input range) the readout
-    says why — |AO4| against l3 + l4 and |l3 − l4| — and the drawing shows the two circles that
-    fail to meet.  Arguments are the initial values, SI units and radians.
+    Sliders: lengths l1…l4 (m), crank angle θ2 (°), coupler point P at p (m) from A turned δ (°) from
+    AB; toggle: branch.  Drawing: the linkage at θ2 (on plate ABP), the coupler curve of P, and the
+    transmission angle μ(θ2) with a cursor.  Readout: Grashof class, θ3, θ4, μ, input range; where the
+    loop cannot close, why (|AO4| against l3 + l4 and |l3 − l4|), with the two circles that fail to meet.
 
     >>> explorer = fourbar_explorer(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20)
     >>> explorer.update(theta2_deg=120.0).status
@@ -505,19 +471,19 @@ def fourbar_explorer(
     >>> "outside the input range" in explorer.message
     True
     """
-    low, high = _FOURBAR_LENGTHS
+    low, high = 0.02, 0.40
     named = (("ground", "ground l1", ground), ("crank", "crank l2", crank),
              ("coupler", "coupler l3", coupler), ("rocker", "rocker l4", rocker))
     lengths = {key: _number_argument(key, value, "m", low, high) for key, _, value in named}
     p = 0.5 * lengths["coupler"] if p is None else _number_argument("p", p, "m", 0.0, high)
     branch_toggle = _toggle("branch", BRANCHES, "branch", branch)
-    controls = {key: _slider(f"{label} (m)", lengths[key], low, high, 0.005) for key, label, _ in named}
-    controls.update({
+    controls = {
+        **{key: _slider(f"{label} (m)", lengths[key], low, high, 0.005) for key, label, _ in named},
         "theta2_deg": _slider("θ2 (°)", _angle_argument("theta2", theta2), -180.0, 180.0, 1.0, ".0f"),
         "branch": branch_toggle,
         "p": _slider("point P: p (m)", p, 0.0, high, 0.005),
         "delta_deg": _slider("point P: δ (°)", _angle_argument("delta", delta), -180.0, 180.0, 5.0, ".0f"),
-    })
+    }
     figure = Figure(figsize=(8.6, 3.8), dpi=80)
     grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,
                                top=0.97, wspace=0.22)
@@ -529,8 +495,10 @@ def fourbar_explorer(
     curve_line, = ax.plot([], [], color="tab:purple", lw=1.2, label="coupler curve of P")
     mu_line, = ax_mu.plot([], [], color="tab:purple", lw=1.5)
     plate = {"color": LINK_COLORS[1], "lw": 1, "alpha": 0.6}
-    linkage = LinkageArtist(ax, _FOURBAR_LINKS, styles={"plate": plate, "plate PB": plate},
-                            labels={"A": "A", "B": "B", "P": "P"}, animated=True)
+    linkage = LinkageArtist(ax, {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"),
+                                 "plate": ("A", "P"), "plate PB": ("P", "B")},
+                            styles={"plate": plate, "plate PB": plate}, labels={"A": "A", "B": "B", "P": "P"},
+                            animated=True)
     artists = {
         "coupler_curve": curve_line,
         "mu_curve": mu_line,
@@ -640,7 +608,8 @@ def fourbar_explorer(
         ))
 
     return Explorer("four-bar", controls, figure, artists, draw, (*lengths, "branch", "p", "delta_deg"),
-                    geometry_artists=_FOURBAR_GEOMETRY_LAYER)
+                    geometry_artists=("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4",
+                                      "label_O2", "label_O4"))
 
 
 # ---------------------------------------------------------------------------- power saw
@@ -656,11 +625,9 @@ def saw_explorer(
     """Explorer of the course's power saw (:mod:`course_lib.saw`) over the motor's start-up profile.
 
     A time slider t (s) over [0, ``t_end``] (default two crank turns, 2T ≈ 3.88 s) in ``frames`` steps,
-    with an ``ipywidgets.Play`` button linked to it (``interval_ms`` per frame).  Drawing: the saw at
-    t (crank r2, rod r3, slider on y = r1y, the vector r1 dashed), the motor profile θ2, ω2, α2
-    (:func:`course_lib.profile.motor_profile`) and the nine unknowns r1, θ1, θ3, v_r, ω1, ω3, a_r,
-    α1, α3 over time, each with a cursor at t.  Curves and cursor values come from the closed form
-    :func:`course_lib.saw.analytic` (which the lessons check against both Newton routes).
+    linked to an ``ipywidgets.Play`` button (``interval_ms`` per frame).  Drawing: the saw at t (the
+    vector r1 dashed), the motor profile θ2, ω2, α2 (:func:`course_lib.profile.motor_profile`) and the
+    nine unknowns over time, each with a cursor at t, from the closed form :func:`course_lib.saw.analytic`.
 
     >>> explorer = saw_explorer()
     >>> explorer.update(t=1.0).status
@@ -711,9 +678,8 @@ def saw_explorer(
                                    ("θ2 (rad)", "ω2 (rad/s)", "α2 (rad/s²)"), strict=True):
         ax_profile.plot(sweep_t, curve, color=color, label=label)
     ax_profile.axvline(turn, color="0.5", linestyle=":", lw=1)
-    _grid(ax_profile, xlim=(0, end))
+    _grid(ax_profile, xlim=(0, end)).set_title("motor profile", fontsize=9, pad=3)
     ax_profile.set_xlabel("t (s)", labelpad=1)
-    ax_profile.set_title("motor profile", fontsize=9, pad=3)
     ax_profile.legend(fontsize=7, loc="upper left")
     drawing = LinkageArtist(ax, {"r1": ("O2", "B"), "crank": ("O2", "A"), "rod": ("A", "B")}, blocks=["B"],
                             styles={"r1": {"color": "tab:purple", "lw": 1.2, "linestyle": "--"},
@@ -786,15 +752,14 @@ def fivebar_explorer(
     mode: str = "forward", theta1: float = 1.2, theta4: float = 1.9, sigma: int = 1,
     x3: float = 0.0, y3: float = 0.2, sigma1: int = 1, sigma2: int = 1,
 ) -> Explorer:
-    """Explorer of the five-bar robot (:class:`course_lib.fivebar.FiveBar`, lengths l1…l5 in metres).
+    """Explorer of the five-bar robot (:class:`course_lib.fivebar.FiveBar`); arguments are the initial
+    values (m, rad).
 
-    Toggle ``mode``: "forward" — sliders θ1, θ4 (°) and the assembly σ (+1 arms up, −1 arms down)
-    give the end effector P3 = (X3, Y3); "inverse" — sliders X3, Y3 (m) and the working mode
-    (σ1, σ2) give the crank angles θ1, θ4.  The reachable workspace (both legs reach P3) is
-    shaded; in inverse mode the parallel (type-2) singularity curve of the chosen working mode is
-    drawn dashed.  Unreachable inputs are explained in the readout — which leg, which distance,
-    which bound — with the failing reach circles drawn.  Arguments are the initial values (angles
-    in radians).
+    Toggle ``mode``: "forward" — sliders θ1, θ4 (°) and the assembly σ (+1 arms up, −1 arms down) give
+    the end effector P3 = (X3, Y3); "inverse" — sliders X3, Y3 (m) and the working mode (σ1, σ2) give
+    θ1, θ4.  The workspace (both legs reach P3) is shaded; in inverse mode the parallel (type-2)
+    singularity curve of the working mode is dotted.  An unreachable input is explained in the readout
+    (which leg, which distance, which bound), with the failing reach circles drawn.
 
     >>> explorer = fivebar_explorer()
     >>> explorer.update(mode="inverse", x3=0.0, y3=0.2).status
@@ -886,7 +851,7 @@ def fivebar_explorer(
         except CourseLibError as err:  # explain it, and draw the reach circles that fail to meet
             artists["end_effector"].set_visible(False)
             if inverse:
-                P3 = np.array([float(state["x3"]), float(state["y3"])])
+                P3 = np.array([x3, y3])
                 drawing.move({"P1": P1, "P5": P5})
                 artists["target"].set(data=([P3[0]], [P3[1]]), visible=True)
                 artists["failure"].set_text(f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach")
@@ -956,16 +921,14 @@ def mechanism_explorer(
     """Explorer of any declared :class:`~course_lib.mechanism.Mechanism` driven by one input.
 
     ``motion``, a sweep of the input solved by ``mechanism.solve`` (one crank turn, say), sets the
-    slider's range, the drawing's limits and the dotted paths of the ``trace`` points, and seeds
-    every event's solve from its nearest instant, so the explorer stays on the sweep's assembly.
-    An angle input (a name starting with "theta") gets a slider in degrees over [−180°, 180°];
-    any other input a slider over the sweep's values.  The linkage is drawn from the declared
-    points and links through :class:`~course_lib.plotting.LinkageArtist`, with the fixed-pivot
-    symbol at the ``ground`` points and slider blocks at the ``blocks`` points (``styles``: line
-    properties by link name, "link 1", "link 2", … in the declared order).  ``rates`` (input → rate) go
-    to each solve, so ``readout(instant)`` (the :class:`~course_lib.mechanism.Motion` at the
-    slider's value → lines of text) can show velocities; by default each unknown is listed.
-    A value where the loops cannot be closed is reported in the readout; nothing raises.
+    slider's range (in degrees over [−180°, 180°] for an input named "theta…"), the drawing's limits
+    and the dotted paths of the ``trace`` points, and seeds each event's solve from its nearest instant,
+    so the explorer stays on the sweep's assembly.  The declared links are drawn by
+    :class:`~course_lib.plotting.LinkageArtist`, with the fixed-pivot symbol at the ``ground`` points,
+    slider blocks at the ``blocks`` points and ``styles`` by link name ("link 1", … in declared order).
+    ``rates`` (input → rate) go to each solve, so ``readout(instant)`` (the
+    :class:`~course_lib.mechanism.Motion` at the slider's value → lines) can show velocities; by default
+    each unknown is listed.  A value where the loops cannot close is reported in the readout.
 
     >>> import sympy as sp
     >>> from course_lib.mechanism import Mechanism

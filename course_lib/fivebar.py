@@ -515,6 +515,7 @@ class FiveBar:
         common += np.multiply(y, y, out=scratch.take())
         common += l5**2 / 4
         zero_x = np.multiply(0, x, out=scratch.take())   # 0·x: a zero b gets the sign it has there
+        signed_l5_x = scratch.take()
         roots = []
         for crank, distal, sign, sigma in ((l1, l2, -1, sigma1), (l4, l3, 1, sigma2)):
             # leg 1: a1 = l1² − l2² − l1·l5 + 2·l1·X − l5·X + common, c1 = … + l1·l5 − 2·l1·X − l5·X + …
@@ -523,7 +524,7 @@ class FiveBar:
             two_crank_x = np.multiply(2 * crank, x, out=scratch.take())
             a = np.add(two_crank_x, first + sign * crank * l5, out=scratch.take())
             c = np.subtract(first - sign * crank * l5, two_crank_x, out=two_crank_x)
-            signed_l5_x = np.multiply(sign * l5, x, out=scratch.take())   # ∓l5·X
+            np.multiply(sign * l5, x, out=signed_l5_x)   # ∓l5·X
             a += signed_l5_x
             c += signed_l5_x
             a += common

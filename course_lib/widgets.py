@@ -956,7 +956,11 @@ def mechanism_explorer(
     if len(mechanism.inputs) != 1 or not mechanism.links:
         raise InvalidGeometryError(f"mechanism must have one input and declared links; got inputs "
                                    f"{[s.name for s in mechanism.inputs]} and links {list(mechanism.links)}")
-    name = mechanism.inputs[0].name
+    name, unknowns = mechanism.inputs[0].name, [s.name for s in mechanism.unknowns]
+    if list(motion.inputs) != [name] or list(motion.position) != unknowns:
+        raise InvalidGeometryError(f"motion must be a sweep of this mechanism (input {name}, unknowns "
+                                   f"{unknowns}); got a Motion of inputs {list(motion.inputs)} and unknowns "
+                                   f"{list(motion.position)}")
     sweep = np.asarray(motion.inputs[name], dtype=float)
     angle = name.startswith("theta")
     key = f"{name}_deg" if angle else name

@@ -31,6 +31,9 @@ SLIDER_CRANK = Mechanism(
             "B": sp.Matrix([X, 0])},
     links=[("O", "A"), ("A", "B")])
 TURN = SLIDER_CRANK.solve({TH: np.radians(np.arange(0, 360, 10))}, guess={"phi": 0.0, X: CRANK + ROD})
+S, Y = sp.symbols("s y")
+#: a sweep of another mechanism (input s, unknown y), the wrong motion for SLIDER_CRANK's explorer
+OTHER_TURN = Mechanism([Y - sp.cos(S)], [Y], [S]).solve({S: np.linspace(0.0, 1.0, 5)}, guess={Y: 1.0})
 
 
 def slider_x(theta):
@@ -136,7 +139,8 @@ MISUSES = {
     "mechanism_explorer": (lambda **kw: mechanism_explorer(**{"mechanism": SLIDER_CRANK, "motion": TURN,
                                                               **kw}), {
         "mechanism": [None, "crank", TURN],
-        "motion": [None, SLIDER_CRANK, SLIDER_CRANK.solve({TH: 0.5}, guess={"phi": 0.0, X: 0.17})],
+        "motion": [None, SLIDER_CRANK, SLIDER_CRANK.solve({TH: 0.5}, guess={"phi": 0.0, X: 0.17}),
+                   OTHER_TURN],
         "ground": [["Q"], "O"],
         "trace": [["Q"]],
         "blocks": ["B"],

@@ -410,11 +410,13 @@ class Mechanism:
                 angles.append(value)
                 if seen is not None:
                     seen[key] = value
-            out = np.empty((len(expressions),) + shape)
+            out, arguments = np.empty((len(expressions),) + shape), [*columns, *angles]  # floats stay floats
             for block in blocks:
                 for func, column, value in missing:
                     func(column[block], out=value[block])
-                inputs = [np.asarray(c)[block] if np.ndim(c) else c for c in (*columns, *angles)]
+                inputs = arguments
+                if block is not Ellipsis:
+                    inputs = [a[block] if np.ndim(a) else a for a in arguments]
                 for k, value in enumerate(function(*inputs, *values)):
                     out[k, block] = value
             return out

@@ -306,6 +306,9 @@ def _solve_one(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
 
 def _settings(tol, max_iter, residual_tol, on_failure) -> tuple[float, int, float]:
     """The checked settings: tol > 0 finite, 1 ≤ max_iter ≤ MAX_ITERATIONS, residual_tol > 0 (inf allowed)."""
+    if (type(tol) is float and 0 < tol < np.inf and residual_tol is None and type(max_iter) is int
+            and 1 <= max_iter <= MAX_ITERATIONS and on_failure in ON_FAILURE):
+        return tol, max_iter, tol  # the common case, at once
     require_choice("on_failure", on_failure, ON_FAILURE)
 
     def number(name, value, allow_inf=False):
@@ -474,7 +477,7 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
         x = np.array(x0, dtype=float)
     except (TypeError, ValueError):
         x = np.array(np.nan)
-    if x.ndim != 2 or not np.all(np.isfinite(x)):
+    if x.ndim != 2 or not (np.isfinite(x.sum()) or np.isfinite(x).all()):  # a finite sum: all finite
         raise InvalidGeometryError(f"x0 must be a finite (N, n) array; got shape {np.shape(x0)}")
     N, n = x.shape
     fixed = None

@@ -364,8 +364,11 @@ class Mechanism:
                            if f.args[0] in symbols}, key=str)
 
         trig, cse = angles(expressions), True
-        dummies = {getattr(sp, func)(s): sp.Dummy() for func, s in trig}
-        replaced = [e.xreplace(dummies) for e in expressions]
+        # cos θ and sin θ become the named symbols _cos_θ, _sin_θ.  A Dummy would make lambdify rename every
+        # argument with fresh Dummies, whose numbers order the printed sums: the bits would then depend on
+        # how many Dummies the process had made before
+        placeholders = {getattr(sp, func)(s): sp.Symbol(f"_{func}_{s.name}") for func, s in trig}
+        replaced = [e.xreplace(placeholders) for e in expressions]
         if keep is not None:
             trig, expressions = angles(expressions[:keep]), expressions[:keep]
 
@@ -379,7 +382,7 @@ class Mechanism:
                         needed |= value.free_symbols
                 return used[::-1], reduced
 
-        arguments = [*symbols, *(dummies[getattr(sp, func)(s)] for func, s in trig), *self.parameters]
+        arguments = [*symbols, *(placeholders[getattr(sp, func)(s)] for func, s in trig), *self.parameters]
         function = sp.lambdify(arguments, replaced[:len(expressions)], "numpy", cse=cse, printer=_Printer)
         inputs = {s.name for s in self.inputs}
         where = [(k, j) for k, group in enumerate(groups) for j in range(len(group))]
@@ -421,6 +424,7 @@ class Mechanism:
                     out[k, block] = value
             return out
 
+        evaluate.function = function  # the lambdified code, for reading
         return evaluate
 
     @_derived

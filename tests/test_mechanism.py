@@ -547,3 +547,21 @@ def test_an_equivalent_position_form_replaces_the_position_rows():
     np.testing.assert_allclose(a.x, b.x, atol=1e-9)
     stages = WIPER.consecutive(*motion, seed, position=swapped)
     np.testing.assert_allclose(stages["velocity"].x, b.x[2:4], atol=1e-9)
+
+
+def test_the_compiled_code_does_not_depend_on_what_the_process_made_before():
+    # a numbered Dummy among lambdify's arguments made it rename them all with Dummies numbered from a
+    # process-wide counter, and those numbers ordered the printed sums: the bits of F could change from
+    # one declaration to the next ("_Dummy_998" sorts after "_Dummy_1003")
+    import inspect
+
+    from course_lib import saw
+
+    sources = []
+    for made_before in (0, 1000):
+        for _ in range(made_before):
+            sp.Dummy()
+        mechanism = saw._declaration.__wrapped__("substituted")
+        sources.append(inspect.getsource(mechanism._newton_fn.function))
+    assert sources[0] == sources[1]
+    assert "r1y" in sources[0] and "Dummy" not in sources[0], sources[0]

@@ -178,21 +178,28 @@ def _one_instant(function, values, arrays, where, angles_of, known, same_point, 
     where Python refuses a value (a division by zero, an overflow, a complex power): the array path
     then gives inf or NaN."""
     columns = [float(arrays[k][j]) for k, j in where]
-    angles = []
-    for key, func, index, is_input in angles_of:
-        value = None if known is None else known.get(key)
-        if value is None:
-            value = float(func(columns[index]))
-            if known is not None and (is_input or same_point):
-                known[key] = value
-        angles.append(value)
-        if seen is not None:
-            seen[key] = value
+    angles = _angles(angles_of, known, same_point, seen, lambda func, index: float(func(columns[index])))
     try:
         with np.errstate(all="raise"):
             return np.array(function(*columns, *angles, *values), dtype=float)
     except (ArithmeticError, ValueError, TypeError):
         return None
+
+
+def _angles(angles_of, known, same_point, seen, make) -> list:
+    """The cos and sin a compiled function takes: each from ``known``, else ``make(func, index)`` — kept
+    in ``known`` if it is an input's (or with ``same_point``) — and every one given to ``seen``."""
+    angles = []
+    for key, func, index, is_input in angles_of:
+        value = None if known is None else known.get(key)
+        if value is None:
+            value = make(func, index)
+            if known is not None and (is_input or same_point):
+                known[key] = value
+        angles.append(value)
+        if seen is not None:
+            seen[key] = value
+    return angles
 
 
 class _Printer(NumPyPrinter):
@@ -402,17 +409,13 @@ class Mechanism:
                 blocks = [Ellipsis]  # one block: the whole
             else:  # a long sweep in blocks: the temporaries stay in the cache and are reused
                 blocks = [slice(start, start + _BLOCK) for start in range(0, shape[0], _BLOCK)]
-            angles, missing = [], []
-            for key, func, index, is_input in angles_of:
-                value = None if known is None else known.get(key)
-                if value is None:
-                    value = np.empty(columns[index].shape)
-                    missing.append((func, columns[index], value))
-                    if known is not None and (is_input or same_point):
-                        known[key] = value
-                angles.append(value)
-                if seen is not None:
-                    seen[key] = value
+            missing = []  # (func, column, array to fill): filled block by block below
+
+            def make(func, index):
+                missing.append((func, columns[index], np.empty(columns[index].shape)))
+                return missing[-1][2]
+
+            angles = _angles(angles_of, known, same_point, seen, make)
             out, arguments = np.empty((len(expressions),) + shape), [*columns, *angles]  # floats stay floats
             for block in blocks:
                 for func, column, value in missing:

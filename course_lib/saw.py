@@ -1,27 +1,19 @@
 """The power saw of the course: an offset slider-crank solved by Newton–Raphson.
 
-A crank r2 (angle θ2, driven by the motor) and a rod r3 (angle θ3) drive the
-saw's slider, whose pin moves on the line y = r1y.  The vector from the crank
-pivot to the slider pin is written r1 = r1·(cos θ1, sin θ1), so the loop is
-r1 = r2 + r3 and the slider line is r1·sin θ1 = r1y.  Unknowns, in the course's
-order (SI units, radians)::
-
-    r1, theta1, theta3,   v_r, omega1, omega3,   a_r, alpha1, alpha3
-
-Equations (the course's numbering):
+A crank r2 (angle θ2, driven by the motor) and a rod r3 (angle θ3) drive the saw's slider, whose pin
+moves on the line y = r1y.  The vector from the crank pivot to the slider pin is r1·(cos θ1, sin θ1), so
+the loop is r1 = r2 + r3 and the slider line r1·sin θ1 = r1y.  Unknowns, in the course's order (SI
+units, radians): r1, theta1, theta3, v_r, omega1, omega3, a_r, alpha1, alpha3.
 
 * position (7)–(9): Fx = −r1 cos θ1 + r2 cos θ2 + r3 cos θ3, Fy = r1 sin θ1 − r2 sin θ2 − r3 sin θ3,
-  Fc = r1 sin θ1 − r1y.  ``variant="substituted"`` is the form behind the course's Jacobian (17):
-  r1 = r1y / sin θ1 substituted into Fx and Fy, equations ordered (Fc, Fx, Fy).
-* velocity (10)–(12) and acceleration (13)–(15): first and second time derivatives of (7)–(9).
-  Both are *linear* in their unknowns, with the same matrix: the position Jacobian of (7)–(9).
-* the simultaneous 9×9 system (appendix D): all nine equations in all nine unknowns.
+  Fc = r1 sin θ1 − r1y.  ``variant="substituted"``, behind the course's Jacobian (17): r1 = r1y / sin θ1
+  put into Fx and Fy, equations ordered (Fc, Fx, Fy).
+* velocity (10)–(12), acceleration (13)–(15): time derivatives of (7)–(9), linear in their unknowns
+  with the position Jacobian as matrix; appendix D: all nine equations in all nine unknowns at once.
 
-Sign convention of the report: θ1 is kept in (−π/2, π/2] (its eq. 21 uses acot), so when
-the slider is to the left of the crank pivot, as in the saw, r1 is *negative*: the vector
-r1·(cos θ1, sin θ1) then points along θ1 + π.  At rest: r1 ≈ −0.0997 m, θ1 ≈ −0.4684 rad.
-θ3 is the rod angle from the crank pin to the slider pin, on the branch θ3 = π − asin(…)
-of the report's eq. 20 (the rod points to the left).
+The report keeps θ1 in (−π/2, π/2] (its eq. 21 uses acot), so with the slider left of the crank pivot,
+as in the saw, r1 is *negative*: at rest r1 ≈ −0.0997 m, θ1 ≈ −0.4684 rad.  θ3, from the crank pin to
+the slider pin, is on the branch θ3 = π − asin(…) of eq. 20 (the rod points to the left).
 
 >>> solution = solve_simultaneous(0.0, 0.0, 0.0)
 >>> np.round(solution.x[:3], 6).tolist(), solution.iterations
@@ -65,18 +57,16 @@ SEED_CODE = np.array([-0.1, -0.5, 3.0, -0.5, 0.0, 0.5, -0.5, 0.0, 0.5])
 
 VARIANTS = ("loop", "substituted")
 LINEAR_STAGES = ("newton", "direct")
+METHODS = ("consecutive", "simultaneous", "batched", "analytic")
 
 
 @dataclass(frozen=True)
 class Saw:
-    """Lengths of the saw in metres: slider-line offset ``r1y``, crank ``r2``, rod ``r3``.
+    """Lengths of the saw in metres: slider-line offset ``r1y``, crank ``r2``, rod ``r3`` (by default
+    the course's 45 mm, 75 mm and 170 mm).
 
-    The defaults are the course's 45 mm, 75 mm and 170 mm.
-
-    >>> Saw().r3
-    0.17
-    >>> Saw(r1y=0.03).r2
-    0.075
+    >>> Saw().r3, Saw(r1y=0.03).r2
+    (0.17, 0.075)
     """
 
     r1y: float = 0.045
@@ -86,10 +76,8 @@ class Saw:
     def __post_init__(self) -> None:
         offset = float(require_finite("r1y", self.r1y, unit="metres"))
         if offset == 0.0:
-            raise InvalidGeometryError(
-                "r1y must be non-zero: with the slider line through the crank pivot, "
-                f"r1 = r1y / sin(theta1) is undefined; got {self.r1y!r}"
-            )
+            raise InvalidGeometryError("r1y must be non-zero: with the slider line through the crank pivot, "
+                                       f"r1 = r1y / sin(theta1) is undefined; got {self.r1y!r}")
         object.__setattr__(self, "r1y", offset)
         object.__setattr__(self, "r2", require_positive("r2", self.r2))
         object.__setattr__(self, "r3", require_positive("r3", self.r3))
@@ -101,10 +89,8 @@ COURSE_SAW = Saw()
 
 @cache
 def _declaration(variant: str):
-    """The saw's loop r1 = r2 + r3 and slider line on the core (symbols r1, theta1, theta3; theta2).
-
-    "loop": (Fx, Fy, Fc) of eqs. (7)–(9).  "substituted": (Fc, Fx, Fy) with r1 = r1y / sin θ1 put
-    into Fx and Fy by sympy, the system whose Jacobian the course prints as eq. (17)."""
+    """The saw's loop and slider line on the core (unknowns r1, theta1, theta3; input theta2), as
+    (Fx, Fy, Fc) for "loop" or (Fc, Fx, Fy) with r1 = r1y / sin θ1 for "substituted"."""
     import sympy as sp
 
     from .mechanism import Mechanism
@@ -127,6 +113,11 @@ def _core(saw: Saw, variant: str = "loop"):
     return declaration.with_parameters(dict(zip(declaration.parameters, lengths, strict=True)))
 
 
+def _position(saw: Saw, variant: str):
+    """The core of the position equations the solvers take: None for the loop's own."""
+    return None if require_choice("variant", variant, VARIANTS) == "loop" else _core(saw, variant)
+
+
 def _last(values, size: int, name: str) -> np.ndarray:
     array = np.asarray(values, dtype=float)
     if array.shape[-1:] != (size,):
@@ -141,11 +132,8 @@ def _motion(*values) -> list[np.ndarray]:
 
 
 def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
-    """Residuals of the position equations at ``position`` = (r1, θ1, θ3), shape (..., 3).
-
-    ``variant="loop"``: (Fx, Fy, Fc) of the course's eqs. (7)–(9).
-    ``variant="substituted"``: (Fc, Fx, Fy) with r1 = r1y / sin θ1 put into Fx and Fy, the system
-    whose Jacobian the course prints as eq. (17).
+    """Residuals of the position equations at ``position`` = (r1, θ1, θ3), shape (..., 3): (Fx, Fy, Fc)
+    of eqs. (7)–(9), or for ``variant="substituted"`` (Fc, Fx, Fy) with r1 = r1y / sin θ1.
 
     >>> bool(np.allclose(position_residual([-0.0996724914, -0.4684217805, 2.8736937412], 0.0), 0, atol=1e-10))
     True
@@ -159,8 +147,8 @@ def position_jacobian(position, *, saw: Saw = COURSE_SAW, variant: str = "loop")
 
     ``variant="substituted"`` gives the course's eq. (17):
     [[sin θ1, r1 cos θ1, 0], [0, r1y (cot²θ1 + 1), −r3 sin θ3], [0, 0, −r3 cos θ3]].
-    Its determinant (loop variant) is −r1·r3·cos θ3: singular only when the rod is
-    perpendicular to the slider line.
+    The loop variant's determinant is −r1·r3·cos θ3: singular only with the rod perpendicular to the
+    slider line.
 
     >>> J = position_jacobian([-0.1, -0.5, 3.0])
     >>> bool(abs(np.linalg.det(J) - 0.1 * 0.17 * np.cos(3.0)) < 1e-15)
@@ -192,9 +180,8 @@ def velocity_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
     return position_jacobian(position, saw=saw)
 
 
-def acceleration_residual(
-    acceleration, velocity, position, theta2, omega2, alpha2, *, saw: Saw = COURSE_SAW
-) -> np.ndarray:
+def acceleration_residual(acceleration, velocity, position, theta2, omega2, alpha2, *,
+                          saw: Saw = COURSE_SAW) -> np.ndarray:
     """Residuals of the acceleration equations (13)–(15) at ``acceleration`` = (a_r, α1, α3), shape (..., 3).
 
     >>> acceleration_residual([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [-0.1, -0.5, 3.0], 0.0, 0.0, 0.0).tolist()
@@ -216,7 +203,7 @@ def acceleration_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
 
 
 def _system(x, theta2, omega2, alpha2, saw, variant):
-    position = None if require_choice("variant", variant, VARIANTS) == "loop" else _core(saw, variant)
+    position = _position(saw, variant)
     return _core(saw).system(_last(x, 9, "x"), *_motion(theta2, omega2, alpha2), position=position)
 
 
@@ -230,9 +217,8 @@ def system_residual(x, theta2, omega2, alpha2, *, saw: Saw = COURSE_SAW, variant
 
 
 def system_jacobian(x, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
-    """The 9×9 Jacobian of :func:`system_residual` (the course's appendix D), shape (..., 9, 9); θ2 and
-    its rates do not appear in it.  Block lower-triangular, each diagonal block of the rates the loop
-    position Jacobian.
+    """The 9×9 Jacobian of :func:`system_residual` (the course's appendix D), shape (..., 9, 9), free of
+    θ2 and its rates: block lower-triangular, each diagonal block of the rates the position Jacobian.
 
     >>> J = system_jacobian(SEED_PRINTED)
     >>> J.shape, bool(np.all(J[:3, 3:] == 0))
@@ -241,38 +227,27 @@ def system_jacobian(x, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.nd
     return _system(x, 0.0, 0.0, 0.0, saw, variant)[1]
 
 
-# ---------------------------------------------------------------- assembly checks
-
-
 def _check_assembly(theta2, saw: Saw, on_unreachable: str = "raise") -> np.ndarray:
-    """Raise UnreachableError where the rod cannot reach the slider line, SingularJacobianError
-    where it just reaches it (rod perpendicular to the line: cos θ3 = 0).  Returns sin θ3 (Fy − Fc = 0)."""
+    """sin θ3 (from Fy − Fc = 0); UnreachableError where the rod cannot reach the slider line,
+    SingularJacobianError where it just reaches it (rod perpendicular to the line: cos θ3 = 0)."""
     sine = (saw.r1y - saw.r2 * np.sin(theta2)) / saw.r3
-    report_unreachable(
-        np.abs(sine) > 1.0,
-        {"theta2": theta2},
-        f"the rod r3 = {saw.r3:g} m cannot reach the slider line y = r1y = {saw.r1y:g} m "
-        "(|r1y - r2 sin(theta2)| > r3)",
-        on_unreachable,
-    )
+    report_unreachable(np.abs(sine) > 1.0, {"theta2": theta2},
+                       f"the rod r3 = {saw.r3:g} m cannot reach the slider line y = r1y = {saw.r1y:g} m "
+                       "(|r1y - r2 sin(theta2)| > r3)", on_unreachable)
     toggle = (np.abs(sine) <= 1.0) & (1.0 - np.abs(sine) < 1e-12)
     if np.any(toggle):
         first = float(np.broadcast_to(theta2, toggle.shape)[toggle].ravel()[0])
         raise SingularJacobianError(
             f"the Jacobian is singular at theta2={first:.6g}: the rod r3 is perpendicular to the "
-            "slider line (cos(theta3) = 0), a limit position where the rates are undefined",
-            x=first,
-        )
+            "slider line (cos(theta3) = 0), a limit position where the rates are undefined", x=first)
     return sine
 
 
 def _scalar(name: str, value, unit: str) -> float:
     array = require_finite(name, value, unit=unit)
     if array.ndim != 0:
-        raise InvalidGeometryError(
-            f"{name} must be a single number for a single Newton solve (use sweep or analytic for "
-            f"arrays); got shape {array.shape}"
-        )
+        raise InvalidGeometryError(f"{name} must be a single number for a single Newton solve (use sweep "
+                                   f"or analytic for arrays); got shape {array.shape}")
     return float(array)
 
 
@@ -284,19 +259,19 @@ def _seed(x0) -> np.ndarray:
 
 
 def _one_instant(theta2, omega2, alpha2, x0, variant: str, saw: Saw):
-    """The checked inputs of a solve at one instant: θ2, ω2, α2 as floats and the nine-value seed.
-    Raises as the solvers document (bad numbers or variant, a rod that cannot reach, a limit position)."""
+    """The checked inputs of a solve at one instant: θ2, ω2, α2 as floats, the nine-value seed and the
+    position equations (:func:`_position`)."""
     theta2 = _scalar("theta2", theta2, "rad")
     motion = (theta2, _scalar("omega2", omega2, "rad/s"), _scalar("alpha2", alpha2, "rad/s²"))
     require_choice("variant", variant, VARIANTS)
     seed = _seed(x0)
     _check_assembly(theta2, saw)
-    return (*motion, seed)
+    return (*motion, seed, _position(saw, variant))
 
 
 def _course_assembly(x, seed, method: str, theta2) -> None:
-    """Raise ConvergenceError, naming the seed, where Newton reached the other assembly: the rod
-    pointing right (cos θ3 > 0) instead of the course's, pointing left towards the slider."""
+    """ConvergenceError, naming the seed, where Newton reached the other assembly: the rod pointing
+    right (cos θ3 > 0) instead of left towards the slider."""
     theta3 = np.asarray(x)[..., 2]
     other = np.cos(theta3) > 0
     if np.any(other):
@@ -306,24 +281,15 @@ def _course_assembly(x, seed, method: str, theta2) -> None:
         raise ConvergenceError(
             f"{method} Newton from the seed x0={np.round(seed, 6).tolist()} reached the other assembly"
             f"{where}: the rod points right (cos(theta3) > 0, theta3 = {np.ravel(theta3)[first]:.6g} rad); "
-            "the course's saw has it pointing left to the slider (theta3 near pi): seed theta3 near pi"
-        )
-
-
-# ---------------------------------------------------------------- Newton solutions at one crank angle
+            "the course's saw has it pointing left to the slider (theta3 near pi): seed theta3 near pi")
 
 
 @dataclass(frozen=True)
 class SawSolution:
-    """The nine unknowns at one crank angle and how Newton found them.
-
-    Attributes
-    ----------
-    x : the nine values, ordered as :data:`UNKNOWNS` (m, rad, m/s, rad/s, m/s², rad/s²).
-    iterations : Newton updates in all (the sum over the stages).
-    stages : one ``NewtonResult`` per stage: "position", "velocity", "acceleration" for the
-        consecutive method, "simultaneous" for the 9×9 one.
-    method : "consecutive" or "simultaneous".
+    """The nine unknowns at one crank angle and how Newton found them: ``x`` ordered as
+    :data:`UNKNOWNS` (m, rad, m/s, rad/s, m/s², rad/s²), ``iterations`` (Newton updates, all stages),
+    ``stages`` (a ``NewtonResult`` per stage: "position", "velocity", "acceleration", or
+    "simultaneous") and ``method`` ("consecutive" or "simultaneous").
     """
 
     x: np.ndarray
@@ -340,37 +306,25 @@ class SawSolution:
         return {name: float(value) for name, value in zip(UNKNOWNS, self.x, strict=True)}
 
 
-def solve_consecutive(
-    theta2: float,
-    omega2: float = 0.0,
-    alpha2: float = 0.0,
-    x0=None,
-    tol: float = 1e-6,
-    *,
-    saw: Saw = COURSE_SAW,
-    variant: str = "loop",
-    linear_stages: str = "newton",
-    max_iter: int = 50,
-) -> SawSolution:
-    """Newton–Raphson stage by stage, as the course's "NR consecutivo": position (3×3), then
-    velocity with that position, then acceleration with both.
+def solve_consecutive(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, x0=None, tol: float = 1e-6,
+                      *, saw: Saw = COURSE_SAW, variant: str = "loop", linear_stages: str = "newton",
+                      max_iter: int = 50) -> SawSolution:
+    """Newton–Raphson stage by stage, the course's "NR consecutivo": position (3×3), then velocity with
+    that position, then acceleration with both.
 
-    ``theta2`` (rad), ``omega2`` (rad/s), ``alpha2`` (rad/s²) are the crank's motion; ``x0`` the
-    nine-value seed (default: the report's eq. 16, :data:`SEED_PRINTED`); ``tol`` the course's step
-    tolerance ‖x_{n+1} − x_n‖ < tol.  ``variant`` chooses the position equations ("loop": (7)–(9);
-    "substituted": the system of eq. 17).  ``linear_stages="direct"`` solves the velocity and
-    acceleration stages, which are linear, with a single linear solve instead of Newton iterations.
-
-    Raises ``UnreachableError`` if the rod cannot reach the slider line at ``theta2``,
-    ``SingularJacobianError`` at a limit position or from a seed with a singular Jacobian.
+    ``theta2`` (rad), ``omega2`` (rad/s), ``alpha2`` (rad/s²) are the crank's motion; ``x0`` the seed
+    (default: the report's eq. 16, :data:`SEED_PRINTED`); ``tol`` the step tolerance ‖x_{n+1} − x_n‖.
+    ``variant`` chooses the position equations ("loop" or "substituted"); ``linear_stages="direct"``
+    solves the (linear) velocity and acceleration stages with one linear solve each.  Raises
+    ``UnreachableError`` if the rod cannot reach the slider line, ``SingularJacobianError`` at a limit
+    position or from a seed with a singular Jacobian.
 
     >>> solution = solve_consecutive(0.0)
     >>> [solution.stages[s].iterations for s in ("position", "velocity", "acceleration")]
     [4, 2, 2]
     """
-    theta2, omega2, alpha2, seed = _one_instant(theta2, omega2, alpha2, x0, variant, saw)
+    theta2, omega2, alpha2, seed, position = _one_instant(theta2, omega2, alpha2, x0, variant, saw)
     require_choice("linear_stages", linear_stages, LINEAR_STAGES)
-    position = None if variant == "loop" else _core(saw, variant)
     stages = _core(saw).consecutive([theta2], [omega2], [alpha2], seed, tol=tol, max_iter=max_iter,
                                     linear_stages=linear_stages, position=position)
     x = np.concatenate([stage.x for stage in stages.values()])
@@ -379,34 +333,21 @@ def solve_consecutive(
                        stages=MappingProxyType(stages), method="consecutive")
 
 
-def solve_simultaneous(
-    theta2: float,
-    omega2: float = 0.0,
-    alpha2: float = 0.0,
-    x0=None,
-    tol: float = 1e-6,
-    *,
-    saw: Saw = COURSE_SAW,
-    variant: str = "loop",
-    max_iter: int = 50,
-) -> SawSolution:
-    """Newton–Raphson on all nine equations at once (the course's "NR simultáneo", 9×9 Jacobian
-    of appendix D).  Arguments and errors as :func:`solve_consecutive`.
+def solve_simultaneous(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, x0=None, tol: float = 1e-6,
+                       *, saw: Saw = COURSE_SAW, variant: str = "loop", max_iter: int = 50) -> SawSolution:
+    """Newton–Raphson on all nine equations at once (the course's "NR simultáneo", 9×9 Jacobian of
+    appendix D).  Arguments and errors as :func:`solve_consecutive`.
 
     >>> solution = solve_simultaneous(0.0, x0=SEED_CODE)
     >>> solution.iterations, bool(np.abs(solution.x[3:]).max() < 1e-12)
     (5, True)
     """
-    theta2, omega2, alpha2, seed = _one_instant(theta2, omega2, alpha2, x0, variant, saw)
-    position = None if variant == "loop" else _core(saw, variant)
+    theta2, omega2, alpha2, seed, position = _one_instant(theta2, omega2, alpha2, x0, variant, saw)
     result = _core(saw).simultaneous([theta2], [omega2], [alpha2], seed, tol=tol, max_iter=max_iter,
                                      position=position)
     _course_assembly(result.x, seed, "simultaneous", theta2)
     return SawSolution(x=result.x, iterations=result.iterations,
                        stages=MappingProxyType({"simultaneous": result}), method="simultaneous")
-
-
-# ---------------------------------------------------------------- closed form
 
 
 def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreachable: str = "raise"):
@@ -423,9 +364,8 @@ def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreac
           − α3 r3 cos θ1 sin θ3                                       (28)
     α1 = ω1² tan θ1 − (2 v_r ω1 + a_r tan θ1)/r1                     (27)
 
-    With the report's θ1 range, (r1, θ1) would jump if the slider passed over the crank
-    pivot; for the course's saw it never does.  ``on_unreachable="nan"`` gives NaN rows
-    instead of raising ``UnreachableError``.
+    (r1, θ1) would jump if the slider passed over the crank pivot; the course's saw never does.
+    ``on_unreachable="nan"`` gives NaN rows instead of raising ``UnreachableError``.
 
     >>> np.round(analytic(0.0)[:3], 6).tolist()
     [-0.099672, -0.468422, 2.873694]
@@ -442,8 +382,7 @@ def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreac
     s2, c2 = np.sin(theta2), np.cos(theta2)
     theta3 = np.pi - np.arcsin(sine)
     s3, c3 = np.sin(theta3), np.cos(theta3)
-    x_slider = r2 * c2 + r3 * c3
-    theta1 = np.arctan2(r1y, x_slider)  # acot(x / r1y) moved into (−π/2, π/2]
+    theta1 = np.arctan2(r1y, r2 * c2 + r3 * c3)  # acot(x / r1y), then moved into (−π/2, π/2]
     theta1 = np.where(theta1 > np.pi / 2, theta1 - np.pi, theta1)
     theta1 = np.where(theta1 <= -np.pi / 2, theta1 + np.pi, theta1)
     s1, c1, tan1 = np.sin(theta1), np.cos(theta1), np.tan(theta1)
@@ -452,10 +391,8 @@ def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreac
     v_r = -c1 * (omega2 * r2 * s2 + omega3 * r3 * s3)
     omega1 = -v_r * tan1 / r1
     alpha3 = (r2 * s2 * omega2**2 + r3 * s3 * omega3**2 - alpha2 * r2 * c2) / (r3 * c3)
-    a_r = (
-        r1 * omega1**2 - r2 * c1 * c2 * omega2**2 - r3 * c1 * c3 * omega3**2
-        - alpha2 * r2 * c1 * s2 - alpha3 * r3 * c1 * s3
-    )
+    a_r = (r1 * omega1**2 - r2 * c1 * c2 * omega2**2 - r3 * c1 * c3 * omega3**2
+           - alpha2 * r2 * c1 * s2 - alpha3 * r3 * c1 * s3)
     alpha1 = omega1**2 * tan1 - (2 * v_r * omega1 + a_r * tan1) / r1
     values = np.stack([r1, theta1, theta3, v_r, omega1, omega3, a_r, alpha1, alpha3], axis=-1)
     return np.where(bad[..., None], np.nan, values)
@@ -468,25 +405,16 @@ def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
     [[0.0, 0.0], [0.075, 0.0], [-0.0889, 0.045]]
     """
     theta2 = require_finite("theta2", theta2, unit="rad")
-    theta3 = analytic(theta2, saw=saw)[..., 2]
-    pivot = np.zeros(theta2.shape + (2,))
     pin = polar(saw.r2, theta2)
-    slider = pin + polar(saw.r3, theta3)
-    return np.stack([pivot, pin, slider], axis=-2)
-
-
-# ---------------------------------------------------------------- the motion over the motor profile
-
-METHODS = ("consecutive", "simultaneous", "batched", "analytic")
+    slider = pin + polar(saw.r3, analytic(theta2, saw=saw)[..., 2])
+    return np.stack([np.zeros(theta2.shape + (2,)), pin, slider], axis=-2)
 
 
 @dataclass(frozen=True)
 class SawSweep:
-    """The nine unknowns over the motor's start-up profile, one entry per time.
-
-    ``t`` (s) and the motor's ``theta2, omega2, alpha2``; the nine unknowns as arrays named
-    as in :data:`UNKNOWNS`; ``iterations`` the Newton updates per point (all stages; 0 for
-    "analytic") and ``stage_iterations`` per stage, shape (n, stages); ``method``.
+    """The nine unknowns over the motor's start-up profile, one entry per time: ``t`` (s), the motor's
+    ``theta2, omega2, alpha2``, the unknowns named as in :data:`UNKNOWNS`, ``iterations`` (Newton
+    updates per point, all stages; 0 for "analytic"), ``stage_iterations`` (n, stages) and ``method``.
     """
 
     t: np.ndarray
@@ -516,25 +444,15 @@ class SawSweep:
         return np.stack([getattr(self, name) for name in UNKNOWNS], axis=-1)
 
 
-def sweep(
-    n: int = 1000,
-    method: str = "simultaneous",
-    *,
-    tol: float = 1e-6,
-    x0=None,
-    saw: Saw = COURSE_SAW,
-    variant: str = "loop",
-    linear_stages: str = "newton",
-    t_end: float | None = None,
-) -> SawSweep:
+def sweep(n: int = 1000, method: str = "simultaneous", *, tol: float = 1e-6, x0=None, saw: Saw = COURSE_SAW,
+          variant: str = "loop", linear_stages: str = "newton", t_end: float | None = None) -> SawSweep:
     """Solve the saw at ``n`` equally spaced times on [0, ``t_end``] (default 2T ≈ 3.883 s) of the
     motor profile (:func:`course_lib.profile.motor_profile`).
 
-    ``method``: "consecutive" or "simultaneous" (one Newton solve per point, each seeded with the
-    previous point's solution, the first with ``x0``, as the report does), "batched" (every point at
-    once with ``newton_batch``, position then velocity then acceleration, all seeded with ``x0``) or
-    "analytic" (the closed form).  ``tol``, ``variant`` and ``linear_stages`` as in
-    :func:`solve_consecutive`.
+    ``method``: "consecutive" or "simultaneous" (a Newton solve per point seeded with the previous
+    point's solution, the first with ``x0``, as the report does), "batched" (every point at once with
+    ``newton_batch``, stage by stage, all seeded with ``x0``) or "analytic" (the closed form).  ``tol``,
+    ``variant`` and ``linear_stages`` as in :func:`solve_consecutive`.
 
     >>> result = sweep(50, method="consecutive")
     >>> bool(np.allclose(result.x, sweep(50, method="analytic").x, atol=1e-9))
@@ -548,44 +466,27 @@ def sweep(
     n = int(n)
     end = 2 * first_turn_time() if t_end is None else require_positive("t_end", t_end)
     t = np.linspace(0.0, end, n)
-    profile = motor_profile(t)
-    theta2, omega2, alpha2 = profile
+    theta2, omega2, alpha2 = motor_profile(t)
     seed = _seed(x0)
     _check_assembly(theta2, saw)
-
     if method == "analytic":
         values = analytic(theta2, omega2, alpha2, saw=saw)
         stage_iterations = np.zeros((n, 0), dtype=int)
     elif method == "batched":
-        position = None if variant == "loop" else _core(saw, variant)
         stages = _core(saw).consecutive(*_motion(theta2, omega2, alpha2), seed, tol=tol,
-                                        linear_stages=linear_stages, position=position)
+                                        linear_stages=linear_stages, position=_position(saw, variant))
         values = np.concatenate([stage.x for stage in stages.values()], axis=1)
         _course_assembly(values, seed, "batched", theta2)
         stage_iterations = np.stack([stage.iterations for stage in stages.values()], axis=1)
     else:
         values = np.empty((n, 9))
         stage_iterations = np.empty((n, 3 if method == "consecutive" else 1), dtype=int)
+        solve = solve_consecutive if method == "consecutive" else solve_simultaneous
+        options = {"linear_stages": linear_stages} if method == "consecutive" else {}
         for k in range(n):
-            if method == "consecutive":
-                solution = solve_consecutive(
-                    theta2[k], omega2[k], alpha2[k], seed, tol, saw=saw, variant=variant,
-                    linear_stages=linear_stages,
-                )
-            else:
-                solution = solve_simultaneous(
-                    theta2[k], omega2[k], alpha2[k], seed, tol, saw=saw, variant=variant
-                )
+            solution = solve(theta2[k], omega2[k], alpha2[k], seed, tol, saw=saw, variant=variant, **options)
             values[k] = seed = solution.x
             stage_iterations[k] = [stage.iterations for stage in solution.stages.values()]
-    columns = dict(zip(UNKNOWNS, values.T, strict=True))
-    return SawSweep(
-        t=t,
-        theta2=theta2,
-        omega2=omega2,
-        alpha2=alpha2,
-        **columns,
-        iterations=stage_iterations.sum(axis=1),
-        stage_iterations=stage_iterations,
-        method=method,
-    )
+    return SawSweep(t=t, theta2=theta2, omega2=omega2, alpha2=alpha2,
+                    **dict(zip(UNKNOWNS, values.T, strict=True)), iterations=stage_iterations.sum(axis=1),
+                    stage_iterations=stage_iterations, method=method)

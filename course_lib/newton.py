@@ -224,8 +224,17 @@ class LinearStack:
         """True per matrix that is singular or not finite (see :func:`is_singular`); computed once."""
         if self._singular is None:
             with np.errstate(all="ignore"):
-                self._singular = ~(self.ratio > 1.0 / MAX_CONDITION)
+                regular = self._regular()
+                self._singular = np.zeros(self.size, bool) if regular else ~(self.ratio > 1.0 / MAX_CONDITION)
         return self._singular
+
+    def _regular(self) -> bool:
+        """True when one pass proves every matrix regular: each ‖row‖ ≤ √n·max|entry|, so |det J| above
+        twice (for rounding) (√n·max|entry|)ⁿ / MAX_CONDITION passes the test (n ≤ 3; NaN fails)."""
+        if self.n > 3 or self.size == 0:
+            return False
+        largest = np.maximum(self._A.max(), -self._A.min())
+        return bool(np.abs(self._det).min() > 2.0 * (self.n ** 0.5 * largest) ** self.n / MAX_CONDITION)
 
     @property
     def finite(self) -> np.ndarray:
@@ -440,6 +449,9 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
 
 
 def _row_norms(a: np.ndarray) -> np.ndarray:
+    """‖row‖ of a (N, n), summed in row order whatever the layout (the core's are columns of (n, N))."""
+    if a.ndim == 2 and a.T.flags.c_contiguous:
+        return np.sqrt(np.einsum("ij,ij->j", a.T, a.T))
     return np.sqrt(np.einsum("ij,ij->i", a, a))
 
 
@@ -511,56 +523,53 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
     converged, singular = np.zeros(N, dtype=bool), np.zeros(N, dtype=bool)
     iterations, step_norms = np.zeros(N, dtype=int), np.full(N, np.inf)
 
-    def record(ended, kept):  # rows that stop: their count of updates and last norms
-        iterations[rows[ended]] = updates
-        if steps is not None:
-            step_norms[rows[ended]], residual_norms[rows[ended]] = steps[ended], residuals[ended]
-            return rows[kept], steps[kept], residuals[kept]
-        return rows[kept], steps, residuals
-
     with np.errstate(all="ignore"):  # failed rows may hold NaN; they are masked out
         fx, J = evaluate(x)
-        residual_norms = _row_norms(fx)
-        rows = np.flatnonzero(np.isfinite(residual_norms))  # the systems still iterating
-        updates, steps, residuals = 0, None, None  # made by every row still iterating; its last norms
-        while rows.size and updates < max_iter:
-            whole = rows.size == N  # while every row iterates, slices avoid fancy-indexed copies
-            spread = not whole and 2 * rows.size >= N  # most do: solve every row, update those iterating
+        residual_norms = _row_norms(fx)  # then each row's after its last update
+        active = np.isfinite(residual_norms)  # the systems still iterating
+        count, updates = int(active.sum()), 0
+        while count and updates < max_iter:
+            # while most rows iterate every row is solved, those iterating updated; else they are picked out
+            every, rows = count == N, None if 2 * count >= N else np.flatnonzero(active)
             if fixed is not None:
-                stack = fixed if whole or spread else fixed.take(rows)
+                stack = fixed if rows is None else fixed.take(rows)
             else:
-                stack = LinearStack(J(), None if whole or spread else rows)
-            bad = stack.singular[rows] if spread else stack.singular
-            if bad.any():
-                singular[rows[bad & (stack.finite[rows] if spread else stack.finite)]] = True
-                keep = ~bad
-                stack, whole, spread = stack.take(rows[keep] if spread else keep), False, False
-                rows, steps, residuals = record(bad, keep)
-                if rows.size == 0:
+                stack = LinearStack(J(), rows)
+            bad = stack.singular if every or rows is not None else stack.singular & active
+            if bad.any():  # these stop: J singular or not finite
+                ended = bad if rows is None else rows[bad]
+                singular[ended], iterations[ended], active[ended] = stack.finite[bad], updates, False
+                count, every = int(active.sum()), False
+                if count == 0:
                     break
-            sel = slice(None) if whole else rows
-            if spread:
-                step, iterating = stack.solve(fx), np.zeros((N, 1), dtype=bool)
-                iterating[rows] = True
-                np.subtract(x, step, out=x, where=iterating)
-                steps = _row_norms(step)[rows]
+                if rows is not None:
+                    rows, stack = rows[~bad], stack.take(~bad)
+            step = stack.solve(fx if rows is None else fx[rows])  # −(the step): Cramer's rule is odd in b
+            if every:
+                x -= step
+            elif rows is None:
+                np.subtract(x, step, out=x, where=active[:, None])
             else:
-                step = stack.solve(fx[sel])  # −(the step): Cramer's rule is odd in b, to the bit
-                x[sel] -= step
-                steps = _row_norms(step)
+                x[rows] -= step
             updates += 1
             fx, J = evaluate(x)
-            residuals = _row_norms(fx[sel])
+            steps, residuals = _row_norms(step), _row_norms(fx if rows is None else fx[rows])
             done = (steps < tol) & (residuals <= residual_tol)
             stop = done | ~np.isfinite(steps + residuals)
-            if stop.all():  # every row left stops: no rows to pick out
-                converged[sel], iterations[sel] = done, updates
-                step_norms[sel], residual_norms[sel], rows = steps, residuals, rows[:0]
-            elif stop.any():
-                converged[rows[stop]] = done[stop]
-                rows, steps, residuals = record(stop, ~stop)
-        if rows.size:  # max_iter updates without stopping
-            record(slice(None), slice(0))
+            if every:
+                step_norms, residual_norms, converged = steps, residuals, done
+                iterations.fill(updates)
+            elif rows is None:
+                stop &= active
+                for kept, new in ((step_norms, steps), (residual_norms, residuals), (converged, done),
+                                  (iterations, updates)):
+                    np.copyto(kept, new, where=active)
+            else:
+                step_norms[rows], residual_norms[rows], converged[rows], iterations[rows] = (
+                    steps, residuals, done, updates)
+            if stop.any():
+                active[stop if rows is None else rows[stop]] = False
+                count = int(active.sum())
 
     failed = np.flatnonzero(~converged)
     if failed.size == 0:

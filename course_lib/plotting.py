@@ -1,6 +1,6 @@
 """Pictures for the lessons: linkages with labelled links and numbered joints, Newton convergence plots,
-and animations rendered to HTML (no ffmpeg needed) with a still picture for wherever JavaScript does not
-run.  Only the functions that make a new figure import pyplot, so importing this module stays cheap.
+and animations rendered to HTML (no ffmpeg needed) with a still picture wherever JavaScript does not run.
+Only the functions that make a new figure import pyplot, so importing this module stays cheap.
 """
 
 from __future__ import annotations
@@ -40,11 +40,11 @@ def draw_linkage(points: Sequence[Sequence[float]], links: Sequence[tuple[int, i
                  ax: Axes | None = None, *, joint_labels: Sequence[str] | None = None,
                  ground: Sequence[int] = (), title: str | None = None, grid: bool = True,
                  linestyle: str = "-", alpha: float = 1.0) -> Axes:
-    """Draw a planar linkage; returns the axes (a new figure's if ``ax`` is None), in equal aspect.
+    """Draw a planar linkage in equal aspect; returns the axes (a new figure's if ``ax`` is None).
 
-    ``points`` are the joints' (x, y) in metres, ``links`` (i, j, label) a bar from joint i to joint j
-    labelled at its middle; ``joint_labels`` are written beside the joints (default "1", "2", …), the
-    ``ground`` joints get the hatched fixed-pivot symbol and ``grid`` draws a dashed grid.
+    ``points``: the joints' (x, y) (m); ``links``: (i, j, label), a bar from joint i to joint j labelled
+    at its middle; ``joint_labels`` (default "1", "2", …) go beside the joints, the ``ground`` joints
+    get the hatched fixed-pivot symbol and ``grid`` draws a dashed grid.
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> ax = draw_linkage([(0, 0), (0.03, 0.04), (0.1, 0.05), (0.1, 0)],
@@ -92,6 +92,12 @@ def draw_linkage(points: Sequence[Sequence[float]], links: Sequence[tuple[int, i
     return ax
 
 
+def _sequence(name: str, value) -> list:
+    if isinstance(value, str) or not isinstance(value, Sequence | np.ndarray):
+        raise InvalidGeometryError(f"{name} must be a list; got {value!r}")
+    return list(value)
+
+
 def _one_each(name: str, value, count: int, what: str) -> None:
     """``value`` must be a list of ``count`` entries, one ``what`` (e.g. "name per variable")."""
     if isinstance(value, str) or len(_sequence(name, value)) != count:
@@ -127,23 +133,16 @@ def _callback(name: str, function: Callable, frame: int):
 
 
 class LinkageArtist:
-    """A moving linkage on an axes (the explorers' and animations'): a line per link in the course's
-    colours, white joint circles, slider ``blocks`` and point ``labels``; :meth:`move` puts them at one
-    configuration, hiding a link with an end point missing or not finite.
+    """A moving linkage on an axes: a line per link in the course's colours, white joint circles, slider
+    ``blocks`` and point ``labels``; :meth:`move` puts them at one configuration, hiding a link with an
+    end point missing or not finite.  ``links`` maps link names to their end points' keys (a list of
+    pairs: "link 1", "link 2", …); ``styles`` overrides line properties by link name; ``animated=True``
+    keeps the artists out of a plain ``canvas.draw``.
 
-    ``links`` maps link names to their end points' keys (pairs in a list are "link 1", "link 2", …),
-    which index the ``points`` of :meth:`move`: a mapping or a (P, 2) array.  ``styles`` overrides line
-    properties by link name; ``animated=True`` keeps the artists out of a plain ``canvas.draw``.
-
-    >>> from matplotlib.figure import Figure
-    >>> ax = Figure().add_subplot()
-    >>> artist = LinkageArtist(ax, {"crank": ("O2", "A"), "rod": ("A", "B")}, blocks=["B"])
-    >>> artist.move({"O2": (0, 0), "A": (0.03, 0.04), "B": (0.12, 0.0)})
-    >>> artist.lines["rod"].get_xydata().tolist(), artist.lines["rod"].get_visible()
-    ([[0.03, 0.04], [0.12, 0.0]], True)
+    >>> artist = LinkageArtist(Figure().add_subplot(), {"crank": ("O2", "A"), "rod": ("A", "B")})
     >>> artist.move({"O2": (0, 0), "A": (0.03, 0.04), "B": (float("nan"), 0.0)})
-    >>> artist.lines["rod"].get_visible(), artist.lines["joints"].get_xydata().tolist()
-    (False, [[0.0, 0.0], [0.03, 0.04]])
+    >>> artist.lines["crank"].get_xydata().tolist(), artist.lines["rod"].get_visible()
+    ([[0.0, 0.0], [0.03, 0.04]], False)
     """
 
     def __init__(self, ax: Axes, links, *, styles: Mapping[str, Mapping] | None = None,
@@ -206,12 +205,6 @@ class LinkageArtist:
                 text.set_position(known[key] + self.label_offset)
 
 
-def _sequence(name: str, value) -> list:
-    if isinstance(value, str) or not isinstance(value, Sequence | np.ndarray):
-        raise InvalidGeometryError(f"{name} must be a list; got {value!r}")
-    return list(value)
-
-
 def _known_points(points) -> dict:
     """Finite points by key, from a mapping key → (x, y) or an array (P, 2)."""
     if not isinstance(points, Mapping):
@@ -251,13 +244,12 @@ def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (
                     background: Callable[[Axes], object] | None = None, title: str | None = None,
                     size: tuple[float, float] = (4.2, 3.0), dpi: float = 60, interval_ms: float = 80,
                     max_frames: int = 48) -> AnimationHTML:
-    """A linkage moving through the frames of ``points``, as an :func:`animation_html` player.
+    """A linkage moving through the frames of ``points`` (a mapping key → (frames, 2), as from
+    ``Mechanism.joints(motion)``, or an array (frames, P, 2)), as an :func:`animation_html` player.
 
-    ``links``, ``blocks``, ``labels`` and ``styles`` are those of :class:`LinkageArtist`; ``points``
-    gives each point's path: a mapping key → (frames, 2) (``Mechanism.joints(motion)``) or an array
-    (frames, P, 2).  ``ground`` points get the fixed-pivot symbol, ``trace`` points their dotted path;
-    ``caption(frame)`` writes a line in the corner, ``background(ax)`` draws what stays still.  The
-    limits fit the whole motion.
+    ``links``, ``blocks``, ``labels``, ``styles`` as in :class:`LinkageArtist`; ``ground`` points get the
+    fixed-pivot symbol, ``trace`` points their dotted path; ``caption(frame)`` writes a line in the
+    corner, ``background(ax)`` draws what stays still.  The limits fit the whole motion.
 
     >>> html = animate_linkage({"crank": ("O", "A")},
     ...                        {"O": np.zeros((3, 2)), "A": [[1, 0], [0, 1], [-1, 0]]}, ground=["O"])
@@ -303,9 +295,9 @@ def _figure_size(size) -> tuple[float, float]:
 
 
 def _motion_background(ax: Axes, paths: Mapping, ground: Sequence = (), trace: Sequence = ()):
-    """Draws the dotted paths of the ``trace`` points and the fixed-pivot symbol at the ``ground`` points'
-    first position; returns the box (xmin, xmax, ymin, ymax) holding every finite point of ``paths``
-    with a margin (twice as deep below, for the symbols) and the motion's span (m)."""
+    """Draw the dotted paths of the ``trace`` points and the fixed-pivot symbol at the ``ground`` points'
+    first position; returns the box (xmin, xmax, ymin, ymax) of every finite point of ``paths`` with a
+    margin (twice as deep below, for the symbols) and the motion's span (m)."""
     for argument, keys in (("ground", ground), ("trace", trace)):
         for key in _sequence(argument, keys):
             if key not in paths:
@@ -345,8 +337,7 @@ def plot_convergence(result: NewtonResult, exact: Sequence[float] | float | None
     reference = history[-1] if exact is None else require_finite("exact", exact)
     if exact is not None and reference.size != n:
         raise InvalidGeometryError(f"exact must give one value per variable ({n}); got {exact!r}")
-    reference = reference.reshape(n)
-    errors = np.abs(history - reference)
+    errors = np.abs(history - reference.reshape(n))
     if exact is None:
         errors = errors[:-1]
     steps = np.arange(len(history))
@@ -361,26 +352,25 @@ def plot_convergence(result: NewtonResult, exact: Sequence[float] | float | None
         axes[0].plot(steps, history[:, k], "o-", label=names[k])
         axes[1].semilogy(steps[: len(errors)], np.maximum(errors[:, k], 1e-17), "o-", label=names[k])
     axes[2].semilogy(steps[: len(errors)], np.maximum(np.linalg.norm(errors, axis=1), 1e-17), "o-k")
-    for ax, panel in zip(axes, ("iterates", "error per variable", "error norm"), strict=True):
+    for k, (ax, panel) in enumerate(zip(axes, ("iterates", "error per variable", "error norm"), strict=True)):
         ax.set(title=panel, xlabel="iteration n")
         ax.grid(True, linestyle="--", alpha=0.5)
-    for ax in axes[1:]:
-        ax.yaxis.set_major_locator(LogLocator(numticks=6))
-    axes[0].legend(fontsize=8)
-    axes[1].legend(fontsize=8)
+        if k:
+            ax.yaxis.set_major_locator(LogLocator(numticks=6))
+        if k < 2:
+            ax.legend(fontsize=8)
     if title:
         fig.suptitle(title)
     return fig
 
 
 class AnimationHTML(str):
-    """An animation player's HTML (a ``str``, so ``IPython.display.HTML(...)`` takes it) that, displayed
-    as a notebook cell's value, gives ``text/html`` (the player, whose HTML shows the still until
-    JavaScript replaces it), ``image/png`` (the still: a filmstrip of a few frames) and ``text/plain``.
-    Attributes: ``still_png`` (PNG bytes), ``frame_count``, ``interval_ms``.
+    """An animation player's HTML (a ``str``, so ``IPython.display.HTML(...)`` takes it) that, as a
+    notebook cell's value, gives ``text/html`` (the player, showing the still until JavaScript replaces
+    it), ``image/png`` (the still: a filmstrip of a few frames) and ``text/plain``.  Attributes:
+    ``still_png`` (PNG bytes), ``frame_count``, ``interval_ms``.
 
     >>> import matplotlib; matplotlib.use("Agg")
-    >>> from matplotlib.figure import Figure
     >>> fig = Figure(figsize=(2, 1.5), dpi=40)
     >>> line, = fig.add_subplot().plot([0, 1], [0, 0])
     >>> bundle = animation_html(fig, lambda k: line.set_ydata([0, k]), frames=5)._repr_mimebundle_()
@@ -470,15 +460,13 @@ _PLAYER_JS = """(function () {
   show(0);
 })();"""
 
-
 def animation_html(fig: Figure, update: Callable[[int], object], frames: int, interval_ms: float = 40, *,
                    max_frames: int = 48, dpi: float | None = None) -> AnimationHTML:
     """Animate ``fig`` by calling ``update(frame)`` for each frame: a self-contained HTML/JavaScript
-    player (no ffmpeg needed) that, as a notebook cell's value, shows a filmstrip of four frames where
-    JavaScript does not run (GitHub, ``nbconvert``, an untrusted notebook).  The figure is drawn in full
-    once, then per frame only the artists ``update`` changes (*stale*).  More than ``max_frames`` frames
-    are thinned to ``max_frames`` evenly spaced ones, shown longer to keep the duration.  ``dpi``
-    overrides the figure's; a pyplot figure is closed afterwards, so the notebook shows only the player.
+    player that shows a filmstrip of four frames where JavaScript does not run (GitHub, ``nbconvert``,
+    an untrusted notebook).  The figure is drawn in full once, then per frame only the artists
+    ``update`` makes stale.  More than ``max_frames`` frames are thinned to ``max_frames`` evenly spaced
+    ones, shown longer.  ``dpi`` overrides the figure's; a pyplot figure is closed afterwards.
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> import matplotlib.pyplot as plt
@@ -524,8 +512,8 @@ def _positive_number(name: str, value) -> float:
 
 
 def _render_frames(fig: Figure, update: Callable[[int], object], chosen: list[int]):
-    """Each chosen frame as an RGB array with the index of its background (what does not move), and the
-    list of backgrounds: one layout and one full draw, then only what moves."""
+    """Each chosen frame as (RGB array, index of its background: what does not move), and the
+    backgrounds: one layout and one full draw, then only what moves."""
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
     _callback("update", update, chosen[0])
     canvas.draw()  # the one layout (constrained, tight, …), then the layout engine is switched off
@@ -573,12 +561,10 @@ def _rgb(canvas: FigureCanvasAgg) -> np.ndarray:
 
 
 class _Quantizer:
-    """Pictures as PNGs in one palette of at most 255 colours, made from a first picture: its colours,
-    or if too many its 127 most frequent (white, black, the lines' colours) and 128 octree colours for
-    the anti-aliased blends; ``extra`` RGB colours (0…255, at most 64: colours later pictures may show,
-    e.g. of an artist hidden in this one) join exactly.  Pictures map through a lookup table of 7 bits
-    per channel, each cell filled with the palette colour nearest its first pixel: a few milliseconds
-    for 688 × 528 pixels, at most one level off (PIL's mapping has 6 bits and turns white into 252).
+    """Pictures as PNGs in one palette of at most 255 colours made from a first picture: its colours, or
+    its 127 most frequent and 128 octree colours for the anti-aliased blends, plus up to 64 ``extra`` RGB
+    colours (0…255) exactly.  Pixels map through a table of 7 bits per channel, each cell the palette
+    colour nearest its first pixel (PIL's mapping has 6 bits and turns white into 252).
     """
 
     _UNSEEN = 255  # the table's value of a cell not met yet; the palette uses entries 0…254

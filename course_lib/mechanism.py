@@ -668,7 +668,7 @@ class Mechanism:
         require_choice("linear_stages", linear_stages, LINEAR_STAGES)
         u, u_rate, u_acc, seed = (np.asarray(a, dtype=float) for a in (u, u_rate, u_acceleration, seed))
         n, batch = len(self.unknowns), u.ndim == 2
-        start = np.tile(seed, (len(u), 1)) if batch else seed
+        start = np.broadcast_to(seed, (len(u), seed.size)) if batch else seed
         form, known, seen = position or self, {}, {}
         position = self._run("position", u, lambda v: form._newton_terms(v, u, known, seen), start[..., :n],
                              tol, max_iter)
@@ -700,7 +700,7 @@ class Mechanism:
         ([2.0, 0.25, -0.03125], 5)
         """
         u, u_rate, u_acc, seed = (np.asarray(a, dtype=float) for a in (u, u_rate, u_acceleration, seed))
-        start = np.tile(seed, (len(u), 1)) if u.ndim == 2 else seed
+        start = np.broadcast_to(seed, (len(u), seed.size)) if u.ndim == 2 else seed
         return self._run("simultaneous", u, lambda x: self.system(x, u, u_rate, u_acc, position), start, tol,
                          max_iter)
 

@@ -1,7 +1,5 @@
-"""Named exceptions of ``course_lib`` and the small input checks that raise them.
-
-Every message names the offending input and its value, so that a student who
-passes a wrong argument learns *which* one and *why*.
+"""Named exceptions of ``course_lib`` and the small input checks that raise them; every message names
+the offending input and its value, so a student learns *which* argument is wrong and *why*.
 
 >>> from course_lib.errors import require_positive, InvalidGeometryError
 >>> require_positive("crank", 0.05)
@@ -21,18 +19,9 @@ from typing import Any
 
 import numpy as np
 
-__all__ = [
-    "CourseLibError",
-    "UnreachableError",
-    "ConvergenceError",
-    "SingularJacobianError",
-    "InvalidGeometryError",
-    "require_positive",
-    "require_finite",
-    "require_broadcast",
-    "require_choice",
-    "report_unreachable",
-]
+__all__ = ["CourseLibError", "UnreachableError", "ConvergenceError", "SingularJacobianError",
+           "InvalidGeometryError", "require_positive", "require_finite", "require_broadcast",
+           "require_choice", "report_unreachable"]
 
 
 class CourseLibError(Exception):
@@ -45,7 +34,7 @@ class InvalidGeometryError(CourseLibError, ValueError):
 
 class UnreachableError(CourseLibError, ValueError):
     """The mechanism cannot be assembled for this input (no real solution); ``mask``, for arrays, is True
-    at the entries that cannot (the library's masks are True where their name holds)."""
+    at the entries that cannot."""
 
     def __init__(self, message: str, mask: np.ndarray | None = None):
         super().__init__(message)
@@ -79,16 +68,14 @@ def _numbers(name: str, value: Any, what: str) -> np.ndarray:
         try:
             array = np.asarray(value)
         except (TypeError, ValueError):  # ragged nesting
-            array = None
-            problem = "a ragged sequence"
-        if array is not None and array.dtype.kind not in "iuf":
-            entries = array.ravel().tolist() if array.dtype.kind == "O" else [None]
-            if array.dtype.kind != "O" or not all(
-                isinstance(e, numbers.Real) and not isinstance(e, bool | np.bool_) for e in entries
-            ):
-                problem = {"b": "True/False", "c": "complex", "U": "text", "S": "text"}.get(
-                    array.dtype.kind, "something that is not a number"
-                )
+            array, problem = np.zeros(0), "a ragged sequence"
+        kind = array.dtype.kind
+        if kind == "O" and all(isinstance(e, numbers.Real) and not isinstance(e, bool | np.bool_)
+                               for e in array.ravel().tolist()):
+            kind = "f"
+        if kind not in "iuf":
+            problem = {"b": "True/False", "c": "complex", "U": "text", "S": "text"}.get(
+                kind, "something that is not a number")
     if problem is not None:
         raise InvalidGeometryError(f"{name} must be {what}; got {value!r} ({problem})")
     return np.asarray(value, dtype=float)
@@ -104,12 +91,9 @@ def require_positive(name: str, value: float, allow_zero: bool = False) -> float
     if array.ndim:
         raise InvalidGeometryError(f"{name} must be one number (a length in metres); got {value!r}")
     number = float(array)
-    ok = np.isfinite(number) and (number >= 0 if allow_zero else number > 0)
-    if not ok:
+    if not (np.isfinite(number) and (number >= 0 if allow_zero else number > 0)):
         kind = "non-negative" if allow_zero else "positive"
-        raise InvalidGeometryError(
-            f"{name} must be a {kind}, finite length in metres; got {value!r}"
-        )
+        raise InvalidGeometryError(f"{name} must be a {kind}, finite length in metres; got {value!r}")
     return number
 
 
@@ -119,13 +103,12 @@ def require_finite(name: str, value: Any, unit: str = "") -> np.ndarray:
     >>> require_finite("theta2", [0.0, 1.0]).tolist()
     [0.0, 1.0]
     """
-    array = _numbers(name, value, "a number or array of numbers" + (f" in {unit}" if unit else ""))
+    suffix = f" in {unit}" if unit else ""
+    array = _numbers(name, value, "a number or array of numbers" + suffix)
     if not np.all(np.isfinite(array)):
         bad = np.flatnonzero(~np.isfinite(array))
         where = f" (entry {bad[0]} of {array.size})" if array.ndim else ""
-        first = array.ravel()[bad[0]]
-        suffix = f" in {unit}" if unit else ""
-        raise InvalidGeometryError(f"{name} must be finite{suffix}; got {first}{where}")
+        raise InvalidGeometryError(f"{name} must be finite{suffix}; got {array.ravel()[bad[0]]}{where}")
     return array
 
 
@@ -155,19 +138,12 @@ def require_choice(name: str, value: Any, choices: Iterable[Any]) -> Any:
     return value
 
 
-def report_unreachable(
-    bad: np.ndarray,
-    inputs: Mapping[str, Any],
-    what: str,
-    on_unreachable: str = "raise",
-) -> None:
-    """Raise ``UnreachableError`` if any entry of the boolean mask ``bad`` is set.
+def report_unreachable(bad: np.ndarray, inputs: Mapping[str, Any], what: str, on_unreachable: str = "raise"
+                       ) -> None:
+    """Raise ``UnreachableError`` if any entry of the boolean mask ``bad`` is set, naming the ``inputs``
+    (arrays broadcastable to ``bad``) at the first bad entry, and for arrays how many are bad.  With
+    ``on_unreachable="nan"`` nothing is raised (the caller fills NaN).
 
-    ``inputs`` maps input names to arrays broadcastable to ``bad``; the message
-    names the first bad entry, and for arrays how many entries are bad.
-    With ``on_unreachable="nan"`` nothing is raised (the caller fills NaN).
-
-    >>> import numpy as np
     >>> try:
     ...     report_unreachable(np.array([False, True]), {"theta2": [0.1, 2.0]}, "the loop cannot close")
     ... except UnreachableError as err:
@@ -178,13 +154,11 @@ def report_unreachable(
     bad = np.asarray(bad, dtype=bool)
     if on_unreachable == "nan" or not bad.any():
         return
-    index = np.unravel_index(np.flatnonzero(bad)[0], bad.shape) if bad.ndim else ()
-    values = []
-    for name, value in inputs.items():
-        entry = np.broadcast_to(np.asarray(value, dtype=float), bad.shape)[index]
-        values.append(f"{name}={entry:.6g}")
+    first = int(np.flatnonzero(bad)[0])
+    index = np.unravel_index(first, bad.shape) if bad.ndim else ()
+    values = [f"{name}={np.broadcast_to(np.asarray(value, dtype=float), bad.shape)[index]:.6g}"
+              for name, value in inputs.items()]
     message = f"{what} at {', '.join(values)}"
     if bad.ndim:
-        flat = int(np.flatnonzero(bad)[0])
-        message += f" ({int(bad.sum())} of {bad.size} inputs unreachable, first at index {flat})"
+        message += f" ({int(bad.sum())} of {bad.size} inputs unreachable, first at index {first})"
     raise UnreachableError(message, mask=bad)

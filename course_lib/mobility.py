@@ -1,8 +1,6 @@
-"""Mobility (degrees of freedom) of a planar mechanism: the Gruebler/Kutzbach count.
-
-M = 3(L − 1) − 2·J1 − J2, with L links counting the ground (bancada), J1 full
-joints (pins and sliders, one freedom each) and J2 half joints (pin-in-slot,
-rolling with slip: two freedoms each).
+"""Mobility (degrees of freedom) of a planar mechanism: the Gruebler/Kutzbach count M = 3(L − 1) − 2·J1 − J2,
+with L links counting the ground (bancada), J1 full joints (pins and sliders, one freedom each) and J2
+half joints (pin-in-slot, rolling with slip: two freedoms each).
 
 >>> gruebler(links=4, full_joints=4)   # four-bar linkage
 1
@@ -27,10 +25,8 @@ def _count(name: str, value: int, minimum: int) -> int:
 
 
 def gruebler(links: int, full_joints: int, half_joints: int = 0) -> int:
-    """Degrees of freedom M = 3(L − 1) − 2·J1 − J2 of a planar linkage.
-
-    ``links`` counts the ground link.  A result ≤ 0 means a structure (0) or a
-    preloaded / statically indeterminate structure (< 0).
+    """Degrees of freedom M = 3(L − 1) − 2·J1 − J2 of a planar linkage (``links`` counts the ground);
+    0 means a structure, < 0 a preloaded (statically indeterminate) one.
 
     >>> gruebler(links=3, full_joints=3)   # a triangle: a structure
     0

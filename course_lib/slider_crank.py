@@ -1,19 +1,13 @@
-"""The offset slider-crank in the textbook's Cartesian form.
+"""The offset slider-crank in the textbook's Cartesian form (SI units, radians).
 
-The crank (length ``crank``, angle θ2) turns about the origin O2; the rod
-(length ``rod``, angle θ3, measured from the crank pin A to the slider pin B)
-drives the slider pin B = (x, offset) along the line y = ``offset``.  Writing
-B = A + rod·(cos θ3, sin θ3) and keeping y = offset gives
+The crank (``crank``, θ2) turns about the origin O2; the rod (``rod``, θ3 from the crank pin A to the
+slider pin B) drives B = (x, offset) along the line y = ``offset``.  B = A + rod·(cos θ3, sin θ3) gives
 
     sin θ3 = (offset − crank·sin θ2) / rod,    x = crank·cos θ2 ± √(rod² − (offset − crank·sin θ2)²),
 
-the sign choosing the assembly: ``branch="right"`` (slider to the right of the crank
-pin, θ3 in (−π/2, π/2)) or ``branch="left"`` (θ3 in (π/2, 3π/2), the course's power saw).
-The rates ω3, v, α3, a come from that loop declared on :mod:`course_lib.mechanism`.
-
-It is the same machine as :mod:`course_lib.saw`, written with the slider coordinate x
-instead of the saw's polar r1, θ1: x = r1 cos θ1, offset = r1 sin θ1 = r1y.
-SI units and radians.
+the sign choosing the assembly: ``branch="right"`` (θ3 in (−π/2, π/2)) or ``"left"`` (θ3 in
+(π/2, 3π/2), the course's power saw).  The rates come from that loop declared on
+:mod:`course_lib.mechanism`.  It is :mod:`course_lib.saw` with x = r1 cos θ1, offset = r1 sin θ1 = r1y.
 
 >>> saw = OffsetSliderCrank(crank=0.075, rod=0.170, offset=0.045)
 >>> motion = saw.solve(0.0, branch="left")
@@ -59,8 +53,8 @@ def _declaration():
 
 @dataclass(frozen=True)
 class SliderCrankMotion(Unpacks):
-    """Rod angle θ3 (rad), slider position x (m), ω3 (rad/s), slider velocity v (m/s),
-    α3 (rad/s²) and slider acceleration a (m/s²); arrays broadcast from the inputs.  Unpacks in that order."""
+    """Rod angle θ3 (rad), slider position x (m), ω3 (rad/s), slider velocity v (m/s), α3 (rad/s²) and
+    slider acceleration a (m/s²); arrays broadcast from the inputs.  Unpacks in that order."""
 
     theta3: np.ndarray
     x: np.ndarray
@@ -89,12 +83,9 @@ class OffsetSliderCrank:
         object.__setattr__(self, "offset", float(require_finite("offset", self.offset, unit="metres")))
 
     def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "right") -> SliderCrankMotion:
-        """Position, velocity and acceleration of rod and slider for the crank's θ2 (rad),
-        ω2 (rad/s), α2 (rad/s²); vectorized.
-
-        Raises ``UnreachableError`` where |offset − crank·sin θ2| > rod (the rod cannot reach the
-        slider line) and ``SingularJacobianError`` where it just reaches it (rod perpendicular to
-        the line, cos θ3 = 0: the rates are undefined).
+        """Position, velocity and acceleration of rod and slider for the crank's θ2 (rad), ω2 (rad/s),
+        α2 (rad/s²), vectorized.  ``UnreachableError`` where |offset − crank·sin θ2| > rod,
+        ``SingularJacobianError`` where the rod is perpendicular to the line (cos θ3 = 0).
 
         >>> motion = OffsetSliderCrank(0.05, 0.2).solve(np.pi / 2, omega2=1.0)
         >>> round(float(motion.v), 6), round(float(motion.omega3), 6)

@@ -1,17 +1,10 @@
-"""sympy helpers for deriving kinematics the way the course does.
+"""sympy helpers for deriving kinematics the way the course does: angles are functions of time θ(t), and
+differentiating a loop equation with dθ/dt → ω, d²θ/dt² → α gives the velocity and acceleration
+equations; the tangent half-angle substitution turns a trigonometric equation into a polynomial one.
 
-Angles are functions of time θ(t); differentiating a loop equation and
-replacing dθ/dt → ω and d²θ/dt² → α gives the velocity and acceleration
-equations.  The tangent half-angle substitution turns a trigonometric
-equation into a polynomial one.
-
->>> import sympy as sp
->>> t = sp.Symbol("t")
 >>> theta2, = time_symbols("theta2")
 >>> d_dt(sp.cos(theta2))
 -omega2*sin(theta2(t))
->>> static(d_dt(sp.cos(theta2)))
--omega2*sin(theta2)
 """
 
 from __future__ import annotations
@@ -36,7 +29,7 @@ def time_symbols(*names: str) -> tuple[sp.Function, ...]:
 
 
 def rate_name(name: str, order: int) -> str:
-    """The name of a first or second time derivative: theta2 → omega2, alpha2; anything else: r1 → v_r1, a_r1.
+    """The name of a first or second time derivative: theta2 → omega2, alpha2; else r1 → v_r1, a_r1.
 
     >>> rate_name("theta3", 1), rate_name("r1", 2)
     ('omega3', 'a_r1')
@@ -60,7 +53,7 @@ def d_dt(expr: sp.Expr, order: int = 1) -> sp.Expr:
 
 
 def static(expr):
-    """Replace every θ(t)-style function of time by a plain symbol of the same name (to display or lambdify).
+    """Every θ(t)-style function of time replaced by a plain symbol of the same name (to display or lambdify).
 
     >>> theta, = time_symbols("theta4")
     >>> static(sp.cos(theta) + 1)
@@ -86,10 +79,8 @@ def jacobian(expressions: Sequence[sp.Expr], variables: Sequence[sp.Expr]) -> sp
     """∂Fᵢ/∂xⱼ as a sympy Matrix (variables may be θ(t) functions or symbols).
 
     >>> x, y = sp.symbols("x y")
-    >>> jacobian([x * y, x + y], [x, y])
-    Matrix([
-    [y, x],
-    [1, 1]])
+    >>> jacobian([x * y, x + y], [x, y]).tolist()
+    [[y, x], [1, 1]]
     """
     return sp.Matrix(expressions).jacobian(sp.Matrix(variables))
 

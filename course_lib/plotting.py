@@ -40,11 +40,9 @@ def draw_linkage(points: Sequence[Sequence[float]], links: Sequence[tuple[int, i
                  ax: Axes | None = None, *, joint_labels: Sequence[str] | None = None,
                  ground: Sequence[int] = (), title: str | None = None, grid: bool = True,
                  linestyle: str = "-", alpha: float = 1.0) -> Axes:
-    """Draw a planar linkage in equal aspect; returns the axes (a new figure's if ``ax`` is None).
-
-    ``points``: the joints' (x, y) (m); ``links``: (i, j, label), a bar from joint i to joint j labelled
-    at its middle; ``joint_labels`` (default "1", "2", …) go beside the joints, the ``ground`` joints
-    get the hatched fixed-pivot symbol and ``grid`` draws a dashed grid.
+    """Draw a planar linkage in equal aspect on ``ax`` (default: a new figure's), returned: the joints'
+    ``points`` (x, y) (m) with ``joint_labels`` (default "1", "2", …), ``links`` (i, j, label) as bars
+    labelled at their middle, the ``ground`` joints with the hatched fixed-pivot symbol.
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> ax = draw_linkage([(0, 0), (0.03, 0.04), (0.1, 0.05), (0.1, 0)],
@@ -244,12 +242,9 @@ def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (
                     background: Callable[[Axes], object] | None = None, title: str | None = None,
                     size: tuple[float, float] = (4.2, 3.0), dpi: float = 60, interval_ms: float = 80,
                     max_frames: int = 48) -> AnimationHTML:
-    """A linkage moving through the frames of ``points`` (a mapping key → (frames, 2), as from
-    ``Mechanism.joints(motion)``, or an array (frames, P, 2)), as an :func:`animation_html` player.
-
-    ``links``, ``blocks``, ``labels``, ``styles`` as in :class:`LinkageArtist`; ``ground`` points get the
-    fixed-pivot symbol, ``trace`` points their dotted path; ``caption(frame)`` writes a line in the
-    corner, ``background(ax)`` draws what stays still.  The limits fit the whole motion.
+    """A linkage (as :class:`LinkageArtist`) moving through the frames of ``points`` (key → (frames, 2),
+    as ``Mechanism.joints(motion)``, or (frames, P, 2)), as an :func:`animation_html` player; ``trace``
+    points get their dotted path, ``caption(frame)`` a corner line, ``background(ax)`` draws what stays.
 
     >>> html = animate_linkage({"crank": ("O", "A")},
     ...                        {"O": np.zeros((3, 2)), "A": [[1, 0], [0, 1], [-1, 0]]}, ground=["O"])
@@ -295,9 +290,8 @@ def _figure_size(size) -> tuple[float, float]:
 
 
 def _motion_background(ax: Axes, paths: Mapping, ground: Sequence = (), trace: Sequence = ()):
-    """Draw the dotted paths of the ``trace`` points and the fixed-pivot symbol at the ``ground`` points'
-    first position; returns the box (xmin, xmax, ymin, ymax) of every finite point of ``paths`` with a
-    margin (twice as deep below, for the symbols) and the motion's span (m)."""
+    """Draw the ``trace`` points' dotted paths and the ``ground`` points' fixed-pivot symbol; returns the
+    box (xmin, xmax, ymin, ymax) of the finite ``paths`` with a margin, and the motion's span (m)."""
     for argument, keys in (("ground", ground), ("trace", trace)):
         for key in _sequence(argument, keys):
             if key not in paths:
@@ -365,10 +359,8 @@ def plot_convergence(result: NewtonResult, exact: Sequence[float] | float | None
 
 
 class AnimationHTML(str):
-    """An animation player's HTML (a ``str``, so ``IPython.display.HTML(...)`` takes it) that, as a
-    notebook cell's value, gives ``text/html`` (the player, showing the still until JavaScript replaces
-    it), ``image/png`` (the still: a filmstrip of a few frames) and ``text/plain``.  Attributes:
-    ``still_png`` (PNG bytes), ``frame_count``, ``interval_ms``.
+    """An animation player's HTML (a ``str``) shown as ``text/html`` (the player, with the still until
+    JavaScript replaces it), ``image/png`` (the still: a filmstrip, also ``still_png``) and ``text/plain``.
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> fig = Figure(figsize=(2, 1.5), dpi=40)
@@ -462,11 +454,9 @@ _PLAYER_JS = """(function () {
 
 def animation_html(fig: Figure, update: Callable[[int], object], frames: int, interval_ms: float = 40, *,
                    max_frames: int = 48, dpi: float | None = None) -> AnimationHTML:
-    """Animate ``fig`` by calling ``update(frame)`` for each frame: a self-contained HTML/JavaScript
-    player that shows a filmstrip of four frames where JavaScript does not run (GitHub, ``nbconvert``,
-    an untrusted notebook).  The figure is drawn in full once, then per frame only the artists
-    ``update`` makes stale.  More than ``max_frames`` frames are thinned to ``max_frames`` evenly spaced
-    ones, shown longer.  ``dpi`` overrides the figure's; a pyplot figure is closed afterwards.
+    """Animate ``fig`` by ``update(frame)``: a self-contained HTML/JavaScript player, with a filmstrip
+    where JavaScript does not run, drawing per frame only the artists ``update`` makes stale; more than
+    ``max_frames`` frames are thinned (each shown longer).  A pyplot figure is closed afterwards.
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> import matplotlib.pyplot as plt
@@ -512,8 +502,7 @@ def _positive_number(name: str, value) -> float:
 
 
 def _render_frames(fig: Figure, update: Callable[[int], object], chosen: list[int]):
-    """Each chosen frame as (RGB array, index of its background: what does not move), and the
-    backgrounds: one layout and one full draw, then only what moves."""
+    """Each chosen frame as (RGB array, index of its background: what does not move), and the backgrounds."""
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
     _callback("update", update, chosen[0])
     canvas.draw()  # the one layout (constrained, tight, …), then the layout engine is switched off
@@ -561,11 +550,9 @@ def _rgb(canvas: FigureCanvasAgg) -> np.ndarray:
 
 
 class _Quantizer:
-    """Pictures as PNGs in one palette of at most 255 colours made from a first picture: its colours, or
-    its 127 most frequent and 128 octree colours for the anti-aliased blends, plus up to 64 ``extra`` RGB
-    colours (0…255) exactly.  Pixels map through a table of 7 bits per channel, each cell the palette
-    colour nearest its first pixel (PIL's mapping has 6 bits and turns white into 252).
-    """
+    """Pictures as PNGs in one palette of ≤ 255 colours from a first picture (its colours, or its 127 most
+    frequent and 128 octree blends) and up to 64 ``extra`` RGB colours; pixels map through a 7-bit table
+    (PIL's has 6 bits and turns white into 252)."""
 
     _UNSEEN = 255  # the table's value of a cell not met yet; the palette uses entries 0…254
 

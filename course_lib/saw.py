@@ -1,19 +1,11 @@
-"""The power saw of the course: an offset slider-crank solved by Newton–Raphson.
+"""The power saw of the course: an offset slider-crank solved by Newton–Raphson (SI units, radians).
 
-A crank r2 (angle θ2, driven by the motor) and a rod r3 (angle θ3) drive the saw's slider, whose pin
-moves on the line y = r1y.  The vector from the crank pivot to the slider pin is r1·(cos θ1, sin θ1), so
-the loop is r1 = r2 + r3 and the slider line r1·sin θ1 = r1y.  Unknowns, in the course's order (SI
-units, radians): r1, theta1, theta3, v_r, omega1, omega3, a_r, alpha1, alpha3.
-
-* position (7)–(9): Fx = −r1 cos θ1 + r2 cos θ2 + r3 cos θ3, Fy = r1 sin θ1 − r2 sin θ2 − r3 sin θ3,
-  Fc = r1 sin θ1 − r1y.  ``variant="substituted"``, behind the course's Jacobian (17): r1 = r1y / sin θ1
-  put into Fx and Fy, equations ordered (Fc, Fx, Fy).
-* velocity (10)–(12), acceleration (13)–(15): time derivatives of (7)–(9), linear in their unknowns
-  with the position Jacobian as matrix; appendix D: all nine equations in all nine unknowns at once.
-
-The report keeps θ1 in (−π/2, π/2] (its eq. 21 uses acot), so with the slider left of the crank pivot,
-as in the saw, r1 is *negative*: at rest r1 ≈ −0.0997 m, θ1 ≈ −0.4684 rad.  θ3, from the crank pin to
-the slider pin, is on the branch θ3 = π − asin(…) of eq. 20 (the rod points to the left).
+A crank r2 (angle θ2, driven by the motor) and a rod r3 (angle θ3, crank pin → slider pin) drive the
+slider, whose pin moves on the line y = r1y; with r1 = r1·(cos θ1, sin θ1) from the crank pivot to the
+slider pin, the loop is r1 = r2 + r3.  The report keeps θ1 in (−π/2, π/2] (eq. 21 uses acot), so with
+the slider left of the crank pivot r1 is *negative*: at rest r1 ≈ −0.0997 m, θ1 ≈ −0.4684 rad, and
+θ3 = π − asin(…) (eq. 20: the rod points to the left).  Velocity (10)–(12) and acceleration (13)–(15)
+equations are linear, with the position Jacobian as matrix; appendix D solves all nine at once.
 
 >>> solution = solve_simultaneous(0.0, 0.0, 0.0)
 >>> np.round(solution.x[:3], 6).tolist(), solution.iterations
@@ -132,8 +124,9 @@ def _motion(*values) -> list[np.ndarray]:
 
 
 def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
-    """Residuals of the position equations at ``position`` = (r1, θ1, θ3), shape (..., 3): (Fx, Fy, Fc)
-    of eqs. (7)–(9), or for ``variant="substituted"`` (Fc, Fx, Fy) with r1 = r1y / sin θ1.
+    """Residuals of the position equations at ``position`` = (r1, θ1, θ3), shape (..., 3): eqs. (7)–(9)
+    Fx = −r1 cos θ1 + r2 cos θ2 + r3 cos θ3, Fy = r1 sin θ1 − r2 sin θ2 − r3 sin θ3, Fc = r1 sin θ1 − r1y,
+    or for ``variant="substituted"`` (Fc, Fx, Fy) with r1 = r1y / sin θ1 (the Jacobian (17)'s system).
 
     >>> bool(np.allclose(position_residual([-0.0996724914, -0.4684217805, 2.8736937412], 0.0), 0, atol=1e-10))
     True
@@ -143,15 +136,11 @@ def position_residual(position, theta2, *, saw: Saw = COURSE_SAW, variant: str =
 
 
 def position_jacobian(position, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.ndarray:
-    """∂(position residuals)/∂(r1, θ1, θ3), shape (..., 3, 3); θ2 does not appear in it.
+    """∂(position residuals)/∂(r1, θ1, θ3), shape (..., 3, 3), free of θ2.  ``variant="substituted"``
+    gives eq. (17): [[sin θ1, r1 cos θ1, 0], [0, r1y (cot²θ1 + 1), −r3 sin θ3], [0, 0, −r3 cos θ3]]; the
+    loop's determinant −r1·r3·cos θ3 vanishes only with the rod perpendicular to the slider line.
 
-    ``variant="substituted"`` gives the course's eq. (17):
-    [[sin θ1, r1 cos θ1, 0], [0, r1y (cot²θ1 + 1), −r3 sin θ3], [0, 0, −r3 cos θ3]].
-    The loop variant's determinant is −r1·r3·cos θ3: singular only with the rod perpendicular to the
-    slider line.
-
-    >>> J = position_jacobian([-0.1, -0.5, 3.0])
-    >>> bool(abs(np.linalg.det(J) - 0.1 * 0.17 * np.cos(3.0)) < 1e-15)
+    >>> bool(abs(np.linalg.det(position_jacobian([-0.1, -0.5, 3.0])) - 0.1 * 0.17 * np.cos(3.0)) < 1e-15)
     True
     """
     position = _last(position, 3, "position")
@@ -220,8 +209,7 @@ def system_jacobian(x, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.nd
     """The 9×9 Jacobian of :func:`system_residual` (the course's appendix D), shape (..., 9, 9), free of
     θ2 and its rates: block lower-triangular, each diagonal block of the rates the position Jacobian.
 
-    >>> J = system_jacobian(SEED_PRINTED)
-    >>> J.shape, bool(np.all(J[:3, 3:] == 0))
+    >>> system_jacobian(SEED_PRINTED).shape, bool(np.all(system_jacobian(SEED_PRINTED)[:3, 3:] == 0))
     ((9, 9), True)
     """
     return _system(x, 0.0, 0.0, 0.0, saw, variant)[1]
@@ -286,11 +274,9 @@ def _course_assembly(x, seed, method: str, theta2) -> None:
 
 @dataclass(frozen=True)
 class SawSolution:
-    """The nine unknowns at one crank angle and how Newton found them: ``x`` ordered as
-    :data:`UNKNOWNS` (m, rad, m/s, rad/s, m/s², rad/s²), ``iterations`` (Newton updates, all stages),
-    ``stages`` (a ``NewtonResult`` per stage: "position", "velocity", "acceleration", or
-    "simultaneous") and ``method`` ("consecutive" or "simultaneous").
-    """
+    """The nine unknowns ``x`` at one crank angle, ordered as :data:`UNKNOWNS`, and how Newton found them:
+    ``iterations`` (all stages), ``stages`` (a ``NewtonResult`` per stage: "position", "velocity",
+    "acceleration", or "simultaneous") and ``method`` ("consecutive" or "simultaneous")."""
 
     x: np.ndarray
     iterations: int
@@ -309,15 +295,11 @@ class SawSolution:
 def solve_consecutive(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, x0=None, tol: float = 1e-6,
                       *, saw: Saw = COURSE_SAW, variant: str = "loop", linear_stages: str = "newton",
                       max_iter: int = 50) -> SawSolution:
-    """Newton–Raphson stage by stage, the course's "NR consecutivo": position (3×3), then velocity with
-    that position, then acceleration with both.
-
-    ``theta2`` (rad), ``omega2`` (rad/s), ``alpha2`` (rad/s²) are the crank's motion; ``x0`` the seed
-    (default: the report's eq. 16, :data:`SEED_PRINTED`); ``tol`` the step tolerance ‖x_{n+1} − x_n‖.
-    ``variant`` chooses the position equations ("loop" or "substituted"); ``linear_stages="direct"``
-    solves the (linear) velocity and acceleration stages with one linear solve each.  Raises
-    ``UnreachableError`` if the rod cannot reach the slider line, ``SingularJacobianError`` at a limit
-    position or from a seed with a singular Jacobian.
+    """Newton–Raphson stage by stage ("NR consecutivo"): position, then velocity, then acceleration, for
+    the crank's ``theta2`` (rad), ``omega2`` (rad/s), ``alpha2`` (rad/s²) from the seed ``x0`` (default
+    :data:`SEED_PRINTED`) to the step tolerance ``tol``; ``linear_stages="direct"`` solves the linear
+    stages in one step.  ``UnreachableError`` if the rod cannot reach the slider line,
+    ``SingularJacobianError`` at a limit position or from a seed with a singular Jacobian.
 
     >>> solution = solve_consecutive(0.0)
     >>> [solution.stages[s].iterations for s in ("position", "velocity", "acceleration")]
@@ -412,10 +394,9 @@ def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
 
 @dataclass(frozen=True)
 class SawSweep:
-    """The nine unknowns over the motor's start-up profile, one entry per time: ``t`` (s), the motor's
-    ``theta2, omega2, alpha2``, the unknowns named as in :data:`UNKNOWNS`, ``iterations`` (Newton
-    updates per point, all stages; 0 for "analytic"), ``stage_iterations`` (n, stages) and ``method``.
-    """
+    """The nine unknowns (named as in :data:`UNKNOWNS`) over the motor's start-up at the times ``t`` (s),
+    with the motor's ``theta2, omega2, alpha2``, the Newton ``iterations`` per point (0 for "analytic")
+    and ``stage_iterations`` (n, stages)."""
 
     t: np.ndarray
     theta2: np.ndarray
@@ -446,13 +427,9 @@ class SawSweep:
 
 def sweep(n: int = 1000, method: str = "simultaneous", *, tol: float = 1e-6, x0=None, saw: Saw = COURSE_SAW,
           variant: str = "loop", linear_stages: str = "newton", t_end: float | None = None) -> SawSweep:
-    """Solve the saw at ``n`` equally spaced times on [0, ``t_end``] (default 2T ≈ 3.883 s) of the
-    motor profile (:func:`course_lib.profile.motor_profile`).
-
-    ``method``: "consecutive" or "simultaneous" (a Newton solve per point seeded with the previous
-    point's solution, the first with ``x0``, as the report does), "batched" (every point at once with
-    ``newton_batch``, stage by stage, all seeded with ``x0``) or "analytic" (the closed form).  ``tol``,
-    ``variant`` and ``linear_stages`` as in :func:`solve_consecutive`.
+    """The saw at ``n`` equally spaced times on [0, ``t_end``] (default 2T ≈ 3.883 s) of the motor profile:
+    ``method`` "consecutive" or "simultaneous" (a Newton solve per point, seeded with the previous one's
+    solution), "batched" (all points at once, stage by stage, seeded with ``x0``) or "analytic".
 
     >>> result = sweep(50, method="consecutive")
     >>> bool(np.allclose(result.x, sweep(50, method="analytic").x, atol=1e-9))

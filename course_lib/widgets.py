@@ -1,32 +1,21 @@
 """Interactive explorers (ipywidgets): move a slider, watch the mechanism move.
 
-Each builder — :func:`fourbar_explorer`, :func:`saw_explorer`, :func:`fivebar_explorer`,
-:func:`mechanism_explorer` — returns an :class:`Explorer`: the controls (sliders, toggles), **one**
-matplotlib figure reused for every event, a readout, and the update step ``update(**state)``.  The
-figure is a bare ``Figure`` on an Agg canvas (never registered with pyplot, so never shown twice nor
-leaked); each event moves the artists' data and renders the figure to PNG bytes for an ``ipywidgets.Image``.
+Each builder (:func:`fourbar_explorer`, :func:`saw_explorer`, :func:`fivebar_explorer`,
+:func:`mechanism_explorer`) returns an :class:`Explorer`: the controls, **one** matplotlib figure reused
+for every event (a bare ``Figure`` on an Agg canvas, never registered with pyplot) rendered to PNG for an
+``ipywidgets.Image``, a readout, and the update step ``update(**state)``.  The picture is cached in
+layers: axes and fixed curves (redrawn only when an axis' limits change); the *geometry layer*, what
+depends on a length, branch or mode; and the moving links, drawn at every event (blitting).
 
-The picture is drawn in three cached layers: the axes, ticks and fixed curves (redrawn only when an
-axis' limits change, and limits are kept while the picture fits them); the *geometry layer*, what
-depends on a length, branch or mode (coupler curve, singularity curve, ground pivots); and the moving
-links, drawn at every event (blitting).  So changing a control costs about as much as moving a slider.
-
-No value a student passes to ``update`` makes it raise (:meth:`Explorer.update` says what it refuses,
-clamps or wraps); an input for which the mechanism cannot be assembled is explained in the readout and
-on the drawing.  A builder's argument outside its slider's range raises
-``course_lib.errors.InvalidGeometryError`` naming it, its value and the range.
-
-In a notebook an explorer shows the live widget where a widget manager runs (JupyterLab, Jupyter
-Notebook), and a PNG of its figure with its readout everywhere else (GitHub, ``nbconvert``).
-
-Units: metres and seconds; the sliders show angles in degrees (the state keys say so:
-``theta2_deg``), the library underneath works in radians.
+``update`` never raises for a value (it refuses, clamps or wraps, and says so); an input for which the
+mechanism cannot be assembled is explained in the readout and on the drawing.  A builder's argument
+outside its slider's range raises ``InvalidGeometryError`` naming it, its value and the range.  Where no
+widget manager runs (GitHub, ``nbconvert``) an explorer shows a PNG of its figure with its readout.
+Units: metres and seconds; sliders show angles in degrees (the state keys say so: ``theta2_deg``).
 
 >>> explorer = fourbar_explorer()
 >>> explorer.update(theta2_deg=90.0).status
 'ok'
->>> explorer.image.value[:4] == b"\\x89PNG"
-True
 >>> explorer.update(branch="sideways").status
 'invalid'
 """
@@ -50,32 +39,26 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon
 from PIL import Image as PILImage
 
-from .errors import (
-    ConvergenceError,
-    CourseLibError,
-    InvalidGeometryError,
-    SingularJacobianError,
-    UnreachableError,
-)
+from .errors import CourseLibError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
 from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _ground_symbol, _motion_background, _Quantizer
 
 __all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer",
            "mechanism_explorer"]
 
-#: Description width shared by every slider and toggle, so the columns line up.
-_STYLE = {"description_width": "120px"}
+_STYLE = {"description_width": "120px"}  # shared by every slider and toggle, so the columns line up
 _ERROR_COLOR = "#b00020"
 
 
 @dataclass(frozen=True)
 class Readout:
-    """What one update step reports: its ``status``, ``"ok"`` or a short word for why the picture is
-    not the requested state (``"unreachable"``, ``"singular"``, ``"invalid"`` for a refused input,
-    ``"error"``), and the readout ``lines`` of plain text (shown in the widget as HTML).
+    """What one update step reports: ``status``, "ok" or why the picture is not the requested state
+    ("unreachable", "singular", "invalid" for a refused input, "error"), and the readout ``lines``.
 
-    >>> Readout("ok", ("θ3 = 10°",)).text
-    'θ3 = 10°'
+    >>> Readout("ok", ("a < b", "c")).text
+    'a < b\\nc'
+    >>> Readout("ok", ("a < b",)).html()
+    '<div class="course-explorer-readout-text" style="line-height:1.4">a &lt; b</div>'
     """
 
     status: str
@@ -83,19 +66,11 @@ class Readout:
 
     @property
     def text(self) -> str:
-        """The readout as plain text, one line per entry.
-
-        >>> Readout("ok", ("a", "b")).text
-        'a\\nb'
-        """
+        """The readout as plain text, one line per entry."""
         return "\n".join(self.lines)
 
     def html(self) -> str:
-        """The readout as HTML (escaped), coloured red when the status is not ``"ok"``.
-
-        >>> Readout("ok", ("a < b",)).html()
-        '<div class="course-explorer-readout-text" style="line-height:1.4">a &lt; b</div>'
-        """
+        """The readout as HTML (escaped), red when the status is not "ok"."""
         body = "<br>".join(html.escape(line) for line in self.lines)
         color = "" if self.status == "ok" else f"color:{_ERROR_COLOR};"
         return f'<div class="course-explorer-readout-text" style="{color}line-height:1.4">{body}</div>'
@@ -105,15 +80,18 @@ class Readout:
 class Explorer:
     """Controls + one reused figure + readout, tied together by a plain update step.
 
-    ``name``: the mechanism ("four-bar", "power saw", "five-bar"); ``controls``: the input widgets by
-    state key (e.g. ``"theta2_deg"``), whose values are the state; ``figure``: the one Figure (Agg
-    canvas) every event redraws; ``artists``: what the update step changes, by name — those created
-    ``animated`` are drawn at every event, the rest belong to the cached picture; ``draw(state,
-    geometry_changed) -> Readout``: computes the mechanism and moves the artists; ``geometry_keys``:
-    the state keys that alter the geometry layer, made of the ``geometry_artists``; ``extra``: further
-    widgets under the controls (e.g. the Play button), not part of the state.  Made here: ``image``
-    and ``readout`` (``ipywidgets.Image`` and ``HTML``), ``widget`` (the container to display) and
-    ``last``, the :class:`Readout` of the latest update.
+    ``controls``: the input widgets by state key (e.g. "theta2_deg"), whose values are the state;
+    ``artists``: what the update step changes, by name (those created ``animated`` are drawn at every
+    event, the rest belong to the cached picture); ``draw(state, geometry_changed) -> Readout`` computes
+    the mechanism and moves the artists; ``geometry_keys``: the state keys that alter the geometry layer,
+    made of the ``geometry_artists``; ``extra``: widgets under the controls, not part of the state.
+    Made here: ``image``, ``readout``, ``widget`` (to display) and ``last``, the latest :class:`Readout`.
+
+    >>> explorer = fourbar_explorer()
+    >>> explorer.status, sorted(explorer.state)[:3], "Grashof" in explorer.message
+    ('ok', ['branch', 'coupler', 'crank'], True)
+    >>> explorer.render()[:4] == explorer.picture()[:4] == b"\\x89PNG"
+    True
     """
 
     name: str
@@ -149,46 +127,30 @@ class Explorer:
 
     @property
     def state(self) -> dict[str, object]:
-        """The current input values by key (a copy).
-
-        >>> sorted(fourbar_explorer().state)[:3]
-        ['branch', 'coupler', 'crank']
-        """
+        """The current input values by key (a copy)."""
         return {key: control.value for key, control in self.controls.items()}
 
     @property
     def status(self) -> str:
-        """``"ok"`` or why the last state could not be drawn.
-
-        >>> fourbar_explorer().status
-        'ok'
-        """
+        """"ok" or why the last state could not be drawn."""
         return self.last.status
 
     @property
     def message(self) -> str:
-        """The readout of the last update as plain text.
-
-        >>> "Grashof" in fourbar_explorer().message
-        True
-        """
+        """The readout of the last update as plain text."""
         return self.last.text
 
     def update(self, **state) -> Readout:
         """Set some inputs (by state key) and redraw once; returns the :class:`Readout`.
 
-        Never raises for a value: a toggle takes one of its options (text in any letter case, e.g.
-        ``branch="Open"``); a slider takes a finite number, clamped to its range (angles in degrees
-        wrapped into [−180°, 180°]), and the readout says when it clamped.  Any other value is refused:
-        the control keeps its value, the status is ``"invalid"`` and the readout's first line says why.
-        Only an unknown key raises ``InvalidGeometryError``, naming it and the valid keys.
+        Never raises for a value: a toggle takes one of its options (text in any letter case); a slider
+        a finite number, clamped to its range (angles in degrees wrapped into [−180°, 180°]), the readout
+        saying so.  Any other value is refused: the control keeps its value, the status is "invalid" and
+        the readout's first line says why.  Only an unknown key raises ``InvalidGeometryError``.
 
-        >>> explorer = fourbar_explorer()
-        >>> explorer.update(theta2_deg=45.0, branch="Crossed").status
-        'ok'
-        >>> readout = explorer.update(theta2_deg=float("nan"))
+        >>> readout = fourbar_explorer().update(theta2_deg=float("nan"))
         >>> readout.status, readout.lines[0]
-        ('invalid', 'θ2 (°): refused NaN, not a number; kept 45')
+        ('invalid', 'θ2 (°): refused NaN, not a number; kept 60')
         """
         unknown = sorted(set(state) - set(self.controls))
         if unknown:
@@ -206,14 +168,8 @@ class Explorer:
                             refused=any(accepted is _REFUSED for _, accepted, _ in checked))
 
     def refresh(self, notes=(), refused: bool = False) -> Readout:
-        """Recompute and redraw from the current widget values; returns the :class:`Readout`.
-
-        ``notes`` are lines put first in the readout (``update`` passes what it clamped or refused);
-        ``refused=True`` makes the status ``"invalid"``.
-
-        >>> fourbar_explorer().refresh().status
-        'ok'
-        """
+        """Recompute and redraw from the current widget values; ``notes`` are put first in the readout,
+        ``refused=True`` makes the status "invalid"."""
         state = self.state
         geometry = {key: state[key] for key in self.geometry_keys}
         changed = self._drawn_geometry is None or geometry != self._drawn_geometry
@@ -232,11 +188,7 @@ class Explorer:
         return self.last
 
     def render(self, full: bool = True) -> bytes:
-        """The figure as PNG bytes; ``full=True`` redraws every layer, ``full=False`` only what changed.
-
-        >>> fourbar_explorer().render()[:4] == b"\\x89PNG"
-        True
-        """
+        """The figure as PNG bytes; ``full=True`` redraws every layer, ``full=False`` only what changed."""
         return self._render(full=full, geometry_changed=False)
 
     def _render(self, full: bool, geometry_changed: bool) -> bytes:
@@ -254,8 +206,8 @@ class Explorer:
         else:
             self.canvas.restore_region(self._background)
         self._draw_artists(self._moving)  # ... and the moving artists on top, alone
-        # An opaque 256-colour PNG (line art looks the same, encodes fast and small); the palette, with every
-        # colour the artists can take, shown or not, is made for new axis limits and kept while they stay.
+        # An opaque 256-colour PNG; the palette, with every colour the artists can take, shown or not,
+        # is made for new axis limits and kept while they stay.
         pixels = np.asarray(self.canvas.buffer_rgba())
         if new_limits or self._palette is None:
             self._palette = _Quantizer(pixels, _solid_colours(self.artists.values()))
@@ -271,14 +223,7 @@ class Explorer:
             self.refresh()
 
     def _repr_mimebundle_(self, include=None, exclude=None, **kwargs) -> dict:
-        """The widget view, a still picture (the figure with the readout under it) and the readout as text.
-
-        >>> bundle = fourbar_explorer()._repr_mimebundle_()
-        >>> sorted(bundle)
-        ['application/vnd.jupyter.widget-view+json', 'image/png', 'text/plain']
-        >>> bundle["text/plain"].splitlines()[0]
-        'four-bar explorer (ok)'
-        """
+        """The widget view, the still :meth:`picture` and the readout as text."""
         widget_bundle = getattr(self.widget, "_repr_mimebundle_", None)  # None once the widget is closed
         bundle = dict(widget_bundle(**kwargs) or {}) if callable(widget_bundle) else {}
         bundle["image/png"] = base64.b64encode(self.picture()).decode("ascii")
@@ -286,14 +231,7 @@ class Explorer:
         return bundle
 
     def picture(self) -> bytes:
-        """The current figure with the readout written under it, as PNG bytes (the still picture).
-
-        >>> explorer = fourbar_explorer()
-        >>> from PIL import Image; import io
-        >>> width, height = Image.open(io.BytesIO(explorer.picture())).size
-        >>> width == explorer.canvas.get_width_height()[0] and height > explorer.canvas.get_width_height()[1]
-        True
-        """
+        """The current figure with the readout written under it, as PNG bytes (the still picture)."""
         figure = np.asarray(PILImage.open(io.BytesIO(self.image.value)).convert("RGB"))
         width = figure.shape[1]
         # the readout's lines wrapped to fit, as in the widget: 9 points at 80 dpi, about 6 px per character
@@ -326,8 +264,8 @@ def _wrap_degrees(degrees: float) -> float:
 
 
 def _option(value, labels, values):
-    """The option ``value`` stands for: a number equal to an option's value, or a text equal to a label
-    or value in any letter case; ``_REFUSED`` if none."""
+    """The option ``value`` stands for (a number equal to its value, a text equal to its label or value in
+    any letter case), else ``_REFUSED``."""
     if isinstance(value, str):
         wanted = value.strip().casefold()
         return next((option for label, option in zip(labels, values, strict=True)
@@ -370,15 +308,21 @@ def _number_argument(name: str, value, unit: str, low: float = -math.inf, high: 
     return number
 
 
-def _angle_argument(name: str, value) -> float:
-    """A builder angle in radians → degrees for its slider, wrapped into [−180°, 180°]."""
-    return _wrap_degrees(math.degrees(_number_argument(name, value, "an angle in radians")))
-
-
-# ---------------------------------------------------------------------------- helpers
+# ---------------------------------------------------------------------------- controls and drawing
 def _slider(description: str, value: float, low: float, high: float, step: float, fmt: str = ".3f"):
     return widgets.FloatSlider(value=value, min=low, max=high, step=step, description=description,
                                readout_format=fmt, style=_STYLE, layout={"width": "340px"})
+
+
+def _metres(name: str, value, description: str, low: float, high: float):
+    """A slider in metres set to the builder argument ``name``, checked against the range."""
+    return _slider(description, _number_argument(name, value, "m", low, high), low, high, 0.005)
+
+
+def _degrees(name: str, value, description: str, step: float = 1.0):
+    """A slider in degrees over [−180°, 180°] set to the builder angle ``name`` (radians, wrapped)."""
+    degrees = _wrap_degrees(math.degrees(_number_argument(name, value, "an angle in radians")))
+    return _slider(description, degrees, -180.0, 180.0, step, ".0f")
 
 
 def _toggle(description: str, options, name: str, value):
@@ -415,10 +359,26 @@ def _moving_line(ax, *args, **kwargs):
     return ax.plot(*args, animated=True, **kwargs)[0]
 
 
+def _reach_circle(ax, edgecolor: str):
+    """A dashed circle, what a link end can reach, shown where a loop cannot close."""
+    return ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor=edgecolor, lw=1,
+                               animated=True))
+
+
 def _failure_text(ax, y: float = 0.97):
     """The red text in the drawing's top left corner that says why the linkage is not drawn."""
     return ax.text(0.02, y, "", transform=ax.transAxes, va="top", color=_ERROR_COLOR, fontsize=10,
                    fontweight="bold", animated=True)
+
+
+def _failed(artists, drawing, points, text: str, status: str, lines, circles=()) -> Readout:
+    """A step whose solve failed: the linkage at the known ``points``, the red ``text`` on the drawing,
+    the reach ``circles`` ((name, centre, radius)) shown; the Readout of ``status`` and ``lines``."""
+    drawing.move(points)
+    artists["failure"].set_text(text)
+    for name, center, radius in circles:
+        artists[name].set(center=tuple(center), radius=radius, visible=True)
+    return Readout(status, tuple(lines))
 
 
 def _num(value: float, digits: int) -> str:
@@ -449,8 +409,7 @@ def _visible(artists, names: str, shown: bool) -> None:
 
 
 # ---------------------------------------------------------------------------- four-bar
-#: The fixed-pivot symbol of unit size (a triangle under the pivot at the origin).
-_TRIANGLE = np.array([[0.0, 0.0], [-1.0, -1.6], [1.0, -1.6]])
+_TRIANGLE = np.array([[0.0, 0.0], [-1.0, -1.6], [1.0, -1.6]])  # the fixed-pivot symbol of unit size
 
 
 def fourbar_explorer(
@@ -460,30 +419,22 @@ def fourbar_explorer(
     """Explorer of a four-bar linkage (:class:`course_lib.fourbar.FourBar`); arguments are the initial
     values (m, rad), lengths within the sliders' range 0.02…0.40 m.
 
-    Sliders: lengths l1…l4 (m), crank angle θ2 (°), coupler point P at p (m) from A turned δ (°) from
-    AB; toggle: branch.  Drawing: the linkage at θ2 (on plate ABP), the coupler curve of P, and the
-    transmission angle μ(θ2) with a cursor.  Readout: Grashof class, θ3, θ4, μ, input range; where the
-    loop cannot close, why (|AO4| against l3 + l4 and |l3 − l4|), with the two circles that fail to meet.
+    Sliders: lengths l1…l4, crank angle θ2, coupler point P at p from A turned δ from AB; toggle: branch.
+    Drawing: the linkage at θ2, the coupler curve of P, the transmission angle μ(θ2) with a cursor.
+    Readout: Grashof class, θ3, θ4, μ, input range; where the loop cannot close, why (|AO4| against
+    l3 + l4 and |l3 − l4|), with the two circles that fail to meet.
 
     >>> explorer = fourbar_explorer(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20)
-    >>> explorer.update(theta2_deg=120.0).status
-    'unreachable'
-    >>> "outside the input range" in explorer.message
-    True
+    >>> explorer.update(theta2_deg=120.0).status, "outside the input range" in explorer.message
+    ('unreachable', True)
     """
-    low, high = 0.02, 0.40
-    named = (("ground", "ground l1", ground), ("crank", "crank l2", crank),
-             ("coupler", "coupler l3", coupler), ("rocker", "rocker l4", rocker))
-    lengths = {key: _number_argument(key, value, "m", low, high) for key, _, value in named}
-    p = 0.5 * lengths["coupler"] if p is None else _number_argument("p", p, "m", 0.0, high)
-    branch_toggle = _toggle("branch", BRANCHES, "branch", branch)
-    controls = {
-        **{key: _slider(f"{label} (m)", lengths[key], low, high, 0.005) for key, label, _ in named},
-        "theta2_deg": _slider("θ2 (°)", _angle_argument("theta2", theta2), -180.0, 180.0, 1.0, ".0f"),
-        "branch": branch_toggle,
-        "p": _slider("point P: p (m)", p, 0.0, high, 0.005),
-        "delta_deg": _slider("point P: δ (°)", _angle_argument("delta", delta), -180.0, 180.0, 5.0, ".0f"),
-    }
+    named = {"ground": ground, "crank": crank, "coupler": coupler, "rocker": rocker}
+    controls = {key: _metres(key, value, f"{key} l{k} (m)", 0.02, 0.40)
+                for k, (key, value) in enumerate(named.items(), 1)}
+    p = _metres("p", 0.5 * controls["coupler"].value if p is None else p, "point P: p (m)", 0.0, 0.40)
+    branch = _toggle("branch", BRANCHES, "branch", branch)
+    controls.update(theta2_deg=_degrees("theta2", theta2, "θ2 (°)"), branch=branch, p=p,
+                    delta_deg=_degrees("delta", delta, "point P: δ (°)", 5.0))
     figure = Figure(figsize=(8.6, 3.8), dpi=80)
     grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,
                                top=0.97, wspace=0.22)
@@ -512,13 +463,12 @@ def fourbar_explorer(
         **{f"ground_{key}": ax.add_patch(Polygon(_TRIANGLE * 0.01, closed=True, facecolor="none",
                                                  edgecolor="0.3", hatch="///", lw=1, animated=True))
            for key in ("O2", "O4")},
-        **{key: ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.45", lw=1,
-                                    animated=True)) for key in ("reach_A", "reach_O4")},
+        **{key: _reach_circle(ax, "0.45") for key in ("reach_A", "reach_O4")},
     }
     ax.legend(handles=[curve_line], loc="lower right", fontsize=8)
 
     def draw(state, geometry_changed: bool) -> Readout:
-        """Solve the four-bar at the state's θ2 and move the artists; the plain update step."""
+        """Solve the four-bar at the state's θ2 and move the artists."""
         theta2, branch = np.radians(float(state["theta2_deg"])), state["branch"]
         four = FourBar(**{key: state[key] for key in ("crank", "coupler", "rocker", "ground")})
         l1, l2, l3, l4 = four.l1, four.l2, four.l3, four.l4
@@ -557,6 +507,7 @@ def fourbar_explorer(
         A = np.array([l2 * np.cos(theta2), l2 * np.sin(theta2)])
         O2, O4 = np.zeros(2), np.array([l1, 0.0])
         artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
+        _visible(artists, "reach_A reach_O4 point_p mu_cursor", False)
         try:
             solution = four.solve(theta2, branch=branch)
             mu = four.transmission_angle(theta2, branch=branch)
@@ -566,33 +517,24 @@ def fourbar_explorer(
         except CourseLibError as err:
             failure = err
         if failure is not None:
-            _visible(artists, "point_p mu_cursor", False)
-            linkage.move({"O2": O2, "A": A, "O4": O4})
             at, distance = f"θ2 = {np.degrees(theta2):.0f}°", float(np.hypot(*(O4 - A)))
+            known, says = {"O2": O2, "A": A, "O4": O4}, f"course_lib says: {failure}"
             if distance < 1e-9 * max(l1, l2):  # A on O4: the coupler's direction is undefined
-                _visible(artists, "reach_A reach_O4", False)
-                artists["failure"].set_text(f"A lands on O4 at {at}")
-                return Readout("singular", (
+                return _failed(artists, linkage, known, f"A lands on O4 at {at}", "singular", (
                     f"{at}: the crank pin A lands on the pivot O4 (l2 = l1), "
                     "so the coupler's direction, θ3 and θ4 are undefined here.",
-                    "Move θ2 a little, or change l1 or l2.", *lines, f"course_lib says: {failure}",
-                ))
-            artists["reach_A"].set(center=tuple(A), radius=l3, visible=True)
-            artists["reach_O4"].set(center=tuple(O4), radius=l4, visible=True)
-            artists["failure"].set_text(f"cannot assemble at {at}")
+                    "Move θ2 a little, or change l1 or l2.", *lines, says))
             far, near = f"l3 + l4 = {l3 + l4:.3f} m", f"|l3 − l4| = {abs(l3 - l4):.3f} m"
             why = f"|AO4| = {distance:.3f} m " + (
                 f"> {far}: coupler and rocker cannot reach" if distance > l3 + l4
                 else f"< {near}: the longer link overshoots" if distance < abs(l3 - l4)
                 else f"is at the limit {far} or {near}: a toggle position")
-            return Readout("unreachable", (
+            return _failed(artists, linkage, known, f"cannot assemble at {at}", "unreachable", (
                 f"{at} is outside the input range: the loop cannot close.",
                 why + " (the dashed circles about A and O4 do not meet).",
-                "Move θ2 back into the input range, or change the lengths.", *lines,
-                f"course_lib says: {failure}",
-            ))
+                "Move θ2 back into the input range, or change the lengths.", *lines, says),
+                circles=(("reach_A", A, l3), ("reach_O4", O4, l4)))
         B = O4 + l4 * np.array([np.cos(solution.theta4), np.sin(solution.theta4)])
-        _visible(artists, "reach_A reach_O4", False)
         _visible(artists, "point_p mu_cursor", True)
         artists["failure"].set_text("")
         linkage.move({"O2": O2, "A": A, "B": B, "O4": O4, "P": point})
@@ -607,7 +549,7 @@ def fourbar_explorer(
             *lines,
         ))
 
-    return Explorer("four-bar", controls, figure, artists, draw, (*lengths, "branch", "p", "delta_deg"),
+    return Explorer("four-bar", controls, figure, artists, draw, (*named, "branch", "p", "delta_deg"),
                     geometry_artists=("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4",
                                       "label_O2", "label_O4"))
 
@@ -625,16 +567,14 @@ def saw_explorer(
     """Explorer of the course's power saw (:mod:`course_lib.saw`) over the motor's start-up profile.
 
     A time slider t (s) over [0, ``t_end``] (default two crank turns, 2T ≈ 3.88 s) in ``frames`` steps,
-    linked to an ``ipywidgets.Play`` button (``interval_ms`` per frame).  Drawing: the saw at t (the
-    vector r1 dashed), the motor profile θ2, ω2, α2 (:func:`course_lib.profile.motor_profile`) and the
-    nine unknowns over time, each with a cursor at t, from the closed form :func:`course_lib.saw.analytic`.
+    linked to an ``ipywidgets.Play`` button (``interval_ms`` per frame), ``explorer.play``.  Drawing: the
+    saw at t (the vector r1 dashed), the motor profile θ2, ω2, α2 and the nine unknowns over time
+    (closed form :func:`course_lib.saw.analytic`), each with a cursor at t.
 
     >>> explorer = saw_explorer()
-    >>> explorer.update(t=1.0).status
-    'ok'
     >>> explorer.play.value = 30  # the Play button's frame k moves the time slider to k·dt
-    >>> bool(abs(explorer.state["t"] - 30 * explorer.controls["t"].step) < 1e-12)
-    True
+    >>> explorer.status, bool(abs(explorer.state["t"] - 30 * explorer.controls["t"].step) < 1e-12)
+    ('ok', True)
     """
     from .profile import first_turn_time, motor_profile
     from .saw import COURSE_SAW, analytic, joint_positions
@@ -656,7 +596,6 @@ def saw_explorer(
     # t → the nearest frame (t itself is kept); frame k → t = k·dt (each change made once, not echoed back)
     widgets.link((time_slider, "value"), (play, "value"), transform=(lambda t: int(round(t / dt)),
                                                                      lambda k: k * dt))
-
     sweep_t = np.linspace(0.0, end, 481)
     profile = motor_profile(sweep_t)
     values = analytic(*profile, saw=COURSE_SAW)
@@ -703,18 +642,16 @@ def saw_explorer(
         artists[f"point_{key}"] = _moving_line(panel, [], [], "o", ms=4, color="black")
 
     def draw(state, geometry_changed: bool) -> Readout:
-        """Solve the saw at time t of the motor profile and move the artists; the plain update step."""
+        """Solve the saw at time t of the motor profile and move the artists."""
         t = float(state["t"])
         try:
             theta2, omega2, alpha2 = (float(v) for v in motor_profile(t))
             values = analytic(theta2, omega2, alpha2, saw=COURSE_SAW)
             joints = joint_positions(theta2, saw=COURSE_SAW)
         except CourseLibError as err:
-            drawing.move({})
             artists["profile_points"].set_visible(False)
-            artists["failure"].set_text(f"no assembly at t = {t:.3f} s")
-            return Readout("unreachable", (f"t = {t:.3f} s: the saw cannot be solved here.",
-                                           f"course_lib says: {err}"))
+            return _failed(artists, drawing, {}, f"no assembly at t = {t:.3f} s", "unreachable",
+                           (f"t = {t:.3f} s: the saw cannot be solved here.", f"course_lib says: {err}"))
         artists["profile_points"].set_visible(True)
         artists["failure"].set_text("")
         drawing.move(dict(zip(("O2", "A", "B"), joints, strict=True)))
@@ -755,17 +692,15 @@ def fivebar_explorer(
     """Explorer of the five-bar robot (:class:`course_lib.fivebar.FiveBar`); arguments are the initial
     values (m, rad).
 
-    Toggle ``mode``: "forward" — sliders θ1, θ4 (°) and the assembly σ (+1 arms up, −1 arms down) give
-    the end effector P3 = (X3, Y3); "inverse" — sliders X3, Y3 (m) and the working mode (σ1, σ2) give
-    θ1, θ4.  The workspace (both legs reach P3) is shaded; in inverse mode the parallel (type-2)
-    singularity curve of the working mode is dotted.  An unreachable input is explained in the readout
-    (which leg, which distance, which bound), with the failing reach circles drawn.
+    Toggle ``mode``: "forward", sliders θ1, θ4 and the assembly σ (+1 arms up, −1 arms down) give the end
+    effector P3 = (X3, Y3); "inverse", sliders X3, Y3 and the working mode (σ1, σ2) give θ1, θ4.  The
+    workspace (both legs reach P3) is shaded; in inverse mode the parallel (type-2) singularity curve of
+    the working mode is dotted.  An unreachable input is explained in the readout (which leg, which
+    distance, which bound), with the failing reach circles drawn.
 
     >>> explorer = fivebar_explorer()
-    >>> explorer.update(mode="inverse", x3=0.0, y3=0.2).status
-    'ok'
-    >>> explorer.update(x3=0.3, y3=0.3).status
-    'unreachable'
+    >>> explorer.update(mode="inverse", x3=0.0, y3=0.2).status, explorer.update(x3=0.3, y3=0.3).status
+    ('ok', 'unreachable')
     """
     from .fivebar import FiveBar
 
@@ -774,11 +709,11 @@ def fivebar_explorer(
     limit = float(np.ceil(reach * 1.1 / 0.01) * 0.01)
     controls = {
         "mode": _toggle("mode", ("forward", "inverse"), "mode", mode),
-        "theta1_deg": _slider("θ1 (°)", _angle_argument("theta1", theta1), -180.0, 180.0, 1.0, ".0f"),
-        "theta4_deg": _slider("θ4 (°)", _angle_argument("theta4", theta4), -180.0, 180.0, 1.0, ".0f"),
+        "theta1_deg": _degrees("theta1", theta1, "θ1 (°)"),
+        "theta4_deg": _degrees("theta4", theta4, "θ4 (°)"),
         "sigma": _toggle("assembly σ", _SIGMA, "sigma", sigma),
-        "x3": _slider("X3 (m)", _number_argument("x3", x3, "m", -limit, limit), -limit, limit, 0.005),
-        "y3": _slider("Y3 (m)", _number_argument("y3", y3, "m", -limit, limit), -limit, limit, 0.005),
+        "x3": _metres("x3", x3, "X3 (m)", -limit, limit),
+        "y3": _metres("y3", y3, "Y3 (m)", -limit, limit),
         "sigma1": _toggle("σ1 (θ1 root)", _ROOT, "sigma1", sigma1),
         "sigma2": _toggle("σ2 (θ4 root)", _ROOT, "sigma2", sigma2),
     }
@@ -808,8 +743,7 @@ def fivebar_explorer(
         "end_effector": _moving_line(ax, [], [], "o", ms=8, color="black", zorder=5),
         "target": _moving_line(ax, [], [], "x", ms=11, mew=2.5, color=_ERROR_COLOR),
         "failure": _failure_text(ax),
-        **{key: ax.add_patch(Circle((0, 0), 1.0, fill=False, linestyle="--", edgecolor="0.35", lw=1,
-                                    animated=True)) for key in ("reach_a", "reach_b")},
+        **{key: _reach_circle(ax, "0.35") for key in ("reach_a", "reach_b")},
     }
     curves: dict[tuple[int, int], np.ndarray] = {}  # singularity curve per working mode, computed once
 
@@ -818,7 +752,7 @@ def fivebar_explorer(
                 P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)]))
 
     def draw(state, geometry_changed: bool) -> Readout:
-        """Forward or inverse kinematics of the state and the artists moved; the plain update step."""
+        """Forward or inverse kinematics of the state and the artists moved."""
         inverse = state["mode"] == "inverse"
         modes = (int(state["sigma1"]), int(state["sigma2"]))
         if geometry_changed:  # the controls of the current mode; in inverse mode the singularity curve
@@ -839,8 +773,7 @@ def fivebar_explorer(
                 curves[modes] = np.concatenate(points)
             points = curves[modes] if inverse else np.empty((0, 2))
             artists["singularity"].set_data(points[:, 0], points[:, 1])
-        _visible(artists, "reach_a reach_b target", False)
-        artists["failure"].set_text("")
+        _visible(artists, "reach_a reach_b target end_effector", False)
         try:
             if inverse:
                 x3, y3 = float(state["x3"]), float(state["y3"])
@@ -849,12 +782,10 @@ def fivebar_explorer(
                 theta1, theta4 = (np.radians(float(state[key])) for key in ("theta1_deg", "theta4_deg"))
                 x3, y3 = robot.forward(theta1, theta4, mode=int(state["sigma"]))
         except CourseLibError as err:  # explain it, and draw the reach circles that fail to meet
-            artists["end_effector"].set_visible(False)
+            says = f"course_lib says: {err}"
             if inverse:
                 P3 = np.array([x3, y3])
-                drawing.move({"P1": P1, "P5": P5})
                 artists["target"].set(data=([P3[0]], [P3[1]]), visible=True)
-                artists["failure"].set_text(f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach")
                 lines = [f"P3 = ({P3[0]:.4f}, {P3[1]:.4f}) m cannot be reached:"]
                 for leg, pivot, crank, distal in (("leg 1 (l1, l2)", P1, robot.l1, robot.l2),
                                                   ("leg 4 (l4, l3)", P5, robot.l4, robot.l3)):
@@ -863,33 +794,28 @@ def fivebar_explorer(
                         lines.append(f"{leg}: distance {distance:.4f} m > {far:.4f} m, fully stretched")
                     elif distance < near:
                         lines.append(f"{leg}: distance {distance:.4f} m < {near:.4f} m, fully folded")
-                lines.append("Bring the target back into the shaded workspace.")
-            else:
-                P2, P4 = pins(theta1, theta4)
-                drawing.move({"P1": P1, "P2": P2, "P4": P4, "P5": P5})
-                artists["reach_a"].set(center=tuple(P2), radius=robot.l2, visible=True)
-                artists["reach_b"].set(center=tuple(P4), radius=robot.l3, visible=True)
-                distance = float(np.hypot(*(P2 - P4)))
-                artists["failure"].set_text("the distal links cannot meet")
-                if distance > robot.l2 + robot.l3:
-                    why = f"|P2P4| = {distance:.4f} m > l2 + l3 = {robot.l2 + robot.l3:.4f} m"
-                else:
-                    why = f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(robot.l2 - robot.l3):.4f} m"
-                lines = [f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°: "
-                         "the robot cannot be assembled.",
-                         why + " (the dashed circles about P2 and P4 do not meet).",
-                         "Move θ1 or θ4 until the circles meet again."]
-            return Readout("unreachable", (*lines, f"course_lib says: {err}"))
+                return _failed(artists, drawing, {"P1": P1, "P5": P5},
+                               f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach", "unreachable",
+                               (*lines, "Bring the target back into the shaded workspace.", says))
+            P2, P4 = pins(theta1, theta4)
+            distance, l2, l3 = float(np.hypot(*(P2 - P4))), robot.l2, robot.l3
+            why = (f"|P2P4| = {distance:.4f} m > l2 + l3 = {l2 + l3:.4f} m" if distance > l2 + l3
+                   else f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(l2 - l3):.4f} m")
+            return _failed(artists, drawing, {"P1": P1, "P2": P2, "P4": P4, "P5": P5},
+                           "the distal links cannot meet", "unreachable", (
+                               f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°: "
+                               "the robot cannot be assembled.",
+                               why + " (the dashed circles about P2 and P4 do not meet).",
+                               "Move θ1 or θ4 until the circles meet again.", says),
+                           circles=(("reach_a", P2, l2), ("reach_b", P4, l3)))
         if not np.isfinite(np.hstack([theta1, theta4, x3, y3])).all():
-            artists["end_effector"].set_visible(False)
-            drawing.move({"P1": P1, "P5": P5})
-            artists["failure"].set_text("no position here")
-            return Readout("singular", ("The robot's position is undefined for these inputs "
-                                        "(the closed form returns no number).", "Move a slider a little."))
+            return _failed(artists, drawing, {"P1": P1, "P5": P5}, "no position here", "singular", (
+                "The robot's position is undefined for these inputs (the closed form returns no number).",
+                "Move a slider a little."))
         P2, P4 = pins(theta1, theta4)
-        artists["end_effector"].set_visible(True)
+        artists["failure"].set_text("")
+        artists["end_effector"].set(data=([x3], [y3]), visible=True)
         drawing.move({"P1": P1, "P2": P2, "P3": np.array([x3, y3]), "P4": P4, "P5": P5})
-        artists["end_effector"].set_data([x3], [y3])
         measures = robot.singularity_measures(theta1, theta4, x3, y3)
         parallel = float(measures.parallel)
         serial = min(abs(float(measures.serial_leg1)), abs(float(measures.serial_leg4)))
@@ -920,15 +846,12 @@ def mechanism_explorer(
 ) -> Explorer:
     """Explorer of any declared :class:`~course_lib.mechanism.Mechanism` driven by one input.
 
-    ``motion``, a sweep of the input solved by ``mechanism.solve`` (one crank turn, say), sets the
-    slider's range (in degrees over [−180°, 180°] for an input named "theta…"), the drawing's limits
-    and the dotted paths of the ``trace`` points, and seeds each event's solve from its nearest instant,
-    so the explorer stays on the sweep's assembly.  The declared links are drawn by
-    :class:`~course_lib.plotting.LinkageArtist`, with the fixed-pivot symbol at the ``ground`` points,
-    slider blocks at the ``blocks`` points and ``styles`` by link name ("link 1", … in declared order).
-    ``rates`` (input → rate) go to each solve, so ``readout(instant)`` (the
-    :class:`~course_lib.mechanism.Motion` at the slider's value → lines) can show velocities; by default
-    each unknown is listed.  A value where the loops cannot close is reported in the readout.
+    ``motion``, a sweep of the input solved by ``mechanism.solve``, sets the slider's range (degrees over
+    [−180°, 180°] for an input named "theta…"), the drawing's limits and the dotted paths of the
+    ``trace`` points, and seeds each event's solve from its nearest instant (so the explorer stays on
+    the sweep's assembly).  Links are drawn with the fixed-pivot symbol at ``ground``, slider blocks at
+    ``blocks`` and ``styles`` by link name ("link 1", …).  ``rates`` (input → rate) go to each solve,
+    so ``readout(instant) -> lines`` can show velocities; by default each unknown is listed.
 
     >>> import sympy as sp
     >>> from course_lib.mechanism import Mechanism
@@ -937,10 +860,10 @@ def mechanism_explorer(
     ...                   "A": sp.Matrix([sp.cos(th), sp.sin(th)]), "B": sp.Matrix([x, 0])},
     ...                   links=[("O", "A"), ("A", "B")])
     >>> turn = crank.solve({th: np.radians(np.arange(0, 360, 10))}, guess={x: 1.0})
-    >>> explorer = mechanism_explorer(crank, turn, ground=["O"], blocks=["B"])
-    >>> explorer.update(theta_deg=60.0).lines[0]
+    >>> mechanism_explorer(crank, turn, ground=["O"], blocks=["B"]).update(theta_deg=60.0).lines[0]
     'x = 0.5'
     """
+    from .errors import ConvergenceError, SingularJacobianError, UnreachableError
     from .mechanism import Mechanism, Motion
 
     if not isinstance(mechanism, Mechanism):
@@ -992,10 +915,9 @@ def mechanism_explorer(
         try:
             now = mechanism.solve({name: value}, rates=rates, guess=guess(nearest))
         except (ConvergenceError, UnreachableError, SingularJacobianError) as err:
-            drawing.move({})
-            artists["failure"].set_text(f"no assembly at {name} = {state[key]:g}")
-            return Readout("unreachable", (f"{name} = {state[key]:g}: the loops cannot be closed here "
-                                           "from the nearest solved instant.", f"course_lib says: {err}"))
+            return _failed(artists, drawing, {}, f"no assembly at {name} = {state[key]:g}", "unreachable", (
+                f"{name} = {state[key]:g}: the loops cannot be closed here from the nearest solved instant.",
+                f"course_lib says: {err}"))
         artists["failure"].set_text("")
         drawing.move(mechanism.joints(now))
         lines = readout(now) if readout is not None else [f"{unknown} = {value:.4g}"

@@ -1,18 +1,11 @@
 """The five-bar parallel robot of the course: forward and inverse kinematics, velocities,
 singularities and workspace.
 
-Geometry (the course's): base pivots P1 = (+l5/2, 0) and P5 = (−l5/2, 0); crank l1 turns about P1
-(angle θ1), crank l4 about P5 (θ4), both from +x counter-clockwise; distal link l2 joins P2 to the
-end effector P3 = (X3, Y3), distal link l3 joins P4 to P3.  Metres, radians, rad/s, m/s.  The
-constraint equations are the course's EcL2 and EcL3::
-
-    |P3 − P2|² − l2² = 0,      |P3 − P4|² − l3² = 0.
-
-Forward kinematics (θ1, θ4 → X3, Y3), the course's route: their difference gives X3 = g·Y3 + f, and
-EcL3 then a·Y3² + b·Y3 + c = 0, Y3 = (−b + σ√(b² − 4ac))/2a with σ = +1 "arms up" (brazos arriba,
-the larger Y3) or −1 "arms down" (brazos abajo).  Inverse kinematics (X3, Y3 → θ1, θ4) by the
-tangent half-angle substitution: θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1), θ4 likewise with σ2 —
-four working modes (σ1, σ2).
+Base pivots P1 = (+l5/2, 0), P5 = (−l5/2, 0); crank l1 turns about P1 (θ1), crank l4 about P5 (θ4),
+distal links l2 (P2–P3) and l3 (P4–P3) meet at the end effector P3 = (X3, Y3).  SI units, angles from
++x counter-clockwise.  The constraints are the course's EcL2, EcL3: |P3 − P2|² − l2² = |P3 − P4|² − l3² = 0.
+Forward: X3 = g·Y3 + f, then a·Y3² + b·Y3 + c = 0, σ = +1 "arms up" (larger Y3) or −1 "arms down".
+Inverse: tangent half-angle, θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1), θ4 likewise with σ2.
 
 >>> robot = FiveBar(l1=0.10, l2=0.15, l3=0.15, l4=0.10, l5=0.08)
 >>> x3, y3 = robot.forward(1.2, 1.9, mode=+1)
@@ -26,7 +19,7 @@ four working modes (σ1, σ2).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cache, cached_property
+from functools import cache, cached_property, partial
 from typing import Any
 
 import numpy as np
@@ -58,8 +51,7 @@ LENGTH_RANGE = (1e-60, 1e60)
 #: Relative slack for a discriminant that is negative only by rounding (clipped to zero).
 _DISCRIMINANT_SLACK = 1e-12
 
-#: Points per block of the closed forms over large arrays: a block's temporaries stay in cache and
-#: the memory beyond the results does not grow with the number of points.
+#: Points per block of the closed forms over large arrays (the memory beyond the results stays flat).
 _BLOCK = 65_536
 
 #: Up to this many points the closed forms run on whole arrays (cheaper than the blocks' bookkeeping).
@@ -68,8 +60,7 @@ _SMALL = 4096
 
 @dataclass(frozen=True)
 class ForwardResult(Unpacks):
-    """End-effector position P3 = (x3, y3) in metres; ``reachable`` is False where
-    the robot cannot be assembled (then x3, y3 are NaN).  Unpacks as ``x3, y3``; ``np.array`` → (2, ...)."""
+    """End effector P3 = (x3, y3) (m); ``reachable`` False where the robot cannot be assembled (NaN)."""
 
     x3: Any
     y3: Any
@@ -79,8 +70,7 @@ class ForwardResult(Unpacks):
 
 @dataclass(frozen=True)
 class InverseResult(Unpacks):
-    """Crank angles (θ1, θ4) in radians, wrapped to (−π, π]; ``reachable`` is False
-    where the point is out of reach (then NaN).  Unpacks as ``theta1, theta4``."""
+    """Crank angles (θ1, θ4) (rad) in (−π, π]; ``reachable`` False where out of reach (NaN)."""
 
     theta1: Any
     theta4: Any
@@ -90,14 +80,9 @@ class InverseResult(Unpacks):
 
 @dataclass(frozen=True)
 class SingularityMeasures(Unpacks):
-    """Normalized measures (sines of angles, in [−1, 1]); each is zero at a singularity.
-
-    serial_leg1 : sin of the angle from crank l1 to distal l2, cross(P2 − P1, P3 − P2)/(l1·l2);
-        zero when leg 1 is stretched or folded (serial, type-1 singularity).
-    serial_leg4 : the same for leg 4, cross(P4 − P5, P3 − P4)/(l4·l3).
-    parallel : sin of the angle between the distal links, cross(P3 − P2, P3 − P4)/(l2·l3);
-        zero when l2 and l3 are aligned (parallel, type-2 singularity).
-    """
+    """Sines of angles, each zero at a singularity: ``serial_leg1`` (crank l1 to distal l2,
+    cross(P2 − P1, P3 − P2)/(l1·l2)), ``serial_leg4`` (the same for l4, l3) and ``parallel`` (between
+    the distal links, cross(P3 − P2, P3 − P4)/(l2·l3))."""
 
     serial_leg1: Any
     serial_leg4: Any
@@ -107,14 +92,8 @@ class SingularityMeasures(Unpacks):
 
 @dataclass(frozen=True)
 class WorkspaceMap:
-    """Inverse kinematics of one working mode over a grid.
-
-    x, y : the grid (metres), shape (ny, nx) as from ``numpy.meshgrid``.
-    reachable : boolean mask of points both legs can reach.
-    theta1, theta4 : crank angles (rad), NaN where unreachable.
-    serial_leg1, serial_leg4, parallel : the singularity measures (NaN where unreachable).
-    modes : the working mode (σ1, σ2).
-    """
+    """Inverse kinematics of working mode ``modes`` over the grid ``x``, ``y`` (m, shape (ny, nx)):
+    ``reachable`` mask, crank angles and singularity measures, NaN where unreachable."""
 
     x: np.ndarray
     y: np.ndarray
@@ -149,8 +128,7 @@ def _stacked(*values) -> np.ndarray:
 
 
 def _configuration(theta1, theta4, x3, y3) -> list[np.ndarray]:
-    """θ1, θ4 (rad), x3, y3 (m) as float arrays broadcast together, or the named error of
-    :mod:`course_lib.errors` (an entry not a finite number, or shapes that do not broadcast)."""
+    """θ1, θ4 (rad), x3, y3 (m) as float arrays broadcast together, or the named error."""
     return require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                              theta4=require_finite("theta4", theta4, "rad"),
                              x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
@@ -168,22 +146,12 @@ def _working_mode(modes) -> tuple[int, int]:
     return _sign_choice("sigma1 (modes[0])", modes[0]), _sign_choice("sigma2 (modes[1])", modes[1])
 
 
-def _in_blocks(inputs, outputs) -> np.nditer:
-    """An iterator over the float arrays ``inputs`` broadcast together, in blocks of at most ``_BLOCK``
-    entries (C order), yielding each input's block and a block of each new result of dtypes ``outputs``
-    (``iterator.operands[len(inputs):]``, of the broadcast shape).  A scalar input is never copied."""
-    return np.nditer([*inputs, *(None for _ in outputs)], flags=["external_loop", "buffered", "zerosize_ok"],
-                     op_flags=[["readonly"]] * len(inputs) + [["writeonly", "allocate"]] * len(outputs),
-                     op_dtypes=[float] * len(inputs) + list(outputs), order="C", buffersize=_BLOCK)
-
-
 class _Scratch:
-    """Arrays of one block's length for the block kernels' temporaries, allocated at the first block
-    and handed out again at every later one (fresh arrays would cost page faults).  ``points``: how
-    many the call has."""
+    """Arrays of one block's length for a kernel's temporaries, made at the first block and handed out
+    again at every later one (fresh arrays would cost page faults)."""
 
-    def __init__(self, points: int) -> None:
-        self._length = max(1, min(points, _BLOCK))
+    def __init__(self, length: int) -> None:
+        self._length = length
         self._arrays: dict = {}
         self._taken: dict = {}
         self._size = 0
@@ -201,12 +169,30 @@ class _Scratch:
         return self._arrays[dtype, index][: self._size]
 
 
-def _half_angle_root(a, b, c, sigma):
-    """θ = 2·atan((−b + σ√Δ)/2a) without dividing by a small number: the root also equals
-    2c/(−b − σ√Δ), and of the two fractions the one with the larger numerator/denominator pair is
-    used, as 2·atan2(numerator, denominator) (right also when a → 0, θ = ±π).  Returns θ in (−π, π]
-    and two masks: out of reach (Δ negative beyond rounding, or b² or 4ac overflow: |x3| or |y3|
-    above about 1e150 m) and undetermined (a = b = c = 0)."""
+def _blockwise(whole, block, inputs, dtypes):
+    """``whole(*inputs)`` for the float arrays ``inputs`` (of one shape) up to ``_SMALL`` points, else
+    the same numbers by ``block(scratch, *blocks)`` in blocks of ``_BLOCK`` (C order, temporaries
+    reused), into new arrays of ``dtypes``."""
+    if inputs[0].size <= _SMALL:
+        return whole(*inputs)
+    flags = ["external_loop", "buffered", "zerosize_ok"]
+    op_flags = [["readonly"]] * len(inputs) + [["writeonly", "allocate"]] * len(dtypes)
+    with np.nditer([*inputs, *(None for _ in dtypes)], flags, op_flags, [float] * len(inputs) + list(dtypes),
+                   order="C", buffersize=_BLOCK) as blocks:
+        scratch = _Scratch(min(blocks.itersize, _BLOCK))
+        for operands in blocks:
+            scratch.start(len(operands[0]))
+            values = block(scratch, *operands[: len(inputs)])
+            for result, value in zip(operands[len(inputs):], values, strict=True):
+                result[...] = value
+        return blocks.operands[len(inputs):]
+
+
+def _half_angle_root(a, b, c, sigma: int):
+    """θ = 2·atan((−b + σ√Δ)/2a), Δ = b² − 4ac, without dividing by a small number: the root also equals
+    2c/(−b − σ√Δ), and the fraction with the larger numerator/denominator pair is used, as
+    2·atan2(numerator, denominator) (right also when a → 0, θ = ±π).  Returns θ in (−π, π] and two
+    masks: out of reach (Δ < 0 beyond rounding, or b² or 4ac overflow) and undetermined (a = b = c = 0)."""
     discriminant = b * b - 4 * a * c
     slack = _DISCRIMINANT_SLACK * (b * b + 4 * np.abs(a * c))
     root = np.sqrt(np.clip(discriminant, 0.0, None))
@@ -222,20 +208,18 @@ def _half_angle_root(a, b, c, sigma):
     return theta, (discriminant < -slack) | ~np.isfinite(discriminant), undetermined
 
 
-def _half_angle_root_in_place(a, b, c, sigma, scratch: _Scratch):
-    """``_half_angle_root`` on one block, operation for operation (the same numbers), in place."""
+def _half_angle_root_in_place(scratch: _Scratch, a, b, c, sigma: int):
+    """``_half_angle_root`` on one block, operation for operation, in place."""
     b_squared = np.multiply(b, b, out=scratch.take())
     discriminant = np.multiply(4, a, out=scratch.take())
     discriminant *= c
-    np.subtract(b_squared, discriminant, out=discriminant)                 # Δ = b² − 4ac
-    # out of reach: Δ < −slack, slack = 1e-12·(b² + 4|ac|) (a Δ negative only by rounding is 0)
-    bound = np.multiply(a, c, out=scratch.take())
+    np.subtract(b_squared, discriminant, out=discriminant)
+    bound = np.multiply(a, c, out=scratch.take())   # slack: 1e-12·(b² + 4|ac|)
     np.abs(bound, out=bound)
     bound *= 4
     bound += b_squared
     bound *= -_DISCRIMINANT_SLACK
     far = np.less(discriminant, bound, out=scratch.take(bool))
-    # a point so far away (|x3| or |y3| above about 1e150 m) that b² or 4ac overflow is out of reach too
     far |= np.logical_not(np.isfinite(discriminant, out=scratch.take(bool)), out=scratch.take(bool))
     root = np.sqrt(np.clip(discriminant, 0.0, None, out=b_squared), out=b_squared)
     if sigma < 0:
@@ -265,9 +249,8 @@ def _half_angle_root_in_place(a, b, c, sigma, scratch: _Scratch):
 
 
 def _wrap_in_place(angle: np.ndarray, scratch: _Scratch) -> np.ndarray:
-    """``wrap_angle`` of a doubled atan2 (in [−2π, 2π]), in place, into (−π, π]; NaN stays NaN.  The
-    same numbers as ``np.mod(angle + π, 2π) − π`` without its division: on [−π, 3π] the remainder is
-    one exact subtraction of 2π at and above 2π, or one addition of 2π below 0."""
+    """``wrap_angle`` of a doubled atan2 (in [−2π, 2π]) in place, NaN kept: on [−π, 3π] the remainder of
+    ``np.mod(angle + π, 2π)`` is one exact subtraction of 2π at and above 2π, or one addition below 0."""
     full_turn = 2 * np.pi
     flag, step = scratch.take(bool), scratch.take()
     angle += np.pi
@@ -281,11 +264,9 @@ def _wrap_in_place(angle: np.ndarray, scratch: _Scratch) -> np.ndarray:
 
 @dataclass(frozen=True)
 class FiveBar:
-    """A five-bar parallel robot: cranks l1 (at P1 = (+l5/2, 0)) and l4 (at P5 = (−l5/2, 0)),
-    distal links l2 (P2–P3) and l3 (P4–P3), base l5.  Lengths in metres; l1…l4 > 0, l5 ≥ 0
-    (l5 = 0: both cranks on one pivot).  Every method raises ``InvalidGeometryError`` naming the
-    argument for an input that is not a finite number (NaN, ±inf, text, …): an unreachable
-    configuration's NaN angles included.
+    """A five-bar parallel robot: cranks l1 (at P1 = (+l5/2, 0)) and l4 (at P5 = (−l5/2, 0)), distal
+    links l2 (P2–P3) and l3 (P4–P3), base l5, in metres; l1…l4 > 0, l5 ≥ 0 (0: one pivot).  Every method
+    raises ``InvalidGeometryError`` naming an input that is not a finite number (NaN angles included).
 
     >>> FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).l5
     0.08
@@ -300,7 +281,6 @@ class FiveBar:
     def __post_init__(self) -> None:
         for name in ("l1", "l2", "l3", "l4", "l5"):
             length = require_positive(name, getattr(self, name), allow_zero=name == "l5")
-            # the closed forms hold fourth powers of the lengths: keep them clear of under- and overflow
             if not (length == 0 or LENGTH_RANGE[0] <= length <= LENGTH_RANGE[1]):
                 raise InvalidGeometryError(f"{name} must lie between {LENGTH_RANGE[0]:.0e} m and "
                                            f"{LENGTH_RANGE[1]:.0e} m; got {length!r}")
@@ -314,8 +294,7 @@ class FiveBar:
         return np.broadcast_arrays(p2x, p2y, p4x, p4y)
 
     def joints(self, theta1, theta4, x3, y3) -> np.ndarray:
-        """Joint coordinates P1 … P5 (metres), shape (..., 5, 2), for crank angles (rad) and the end
-        effector (x3, y3); no solving, so any (consistent) configuration works.
+        """Joints P1 … P5 (m), shape (..., 5, 2), of a configuration (no solving).
 
         >>> np.round(FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
@@ -329,8 +308,7 @@ class FiveBar:
         return np.stack([xs, ys], axis=-1)
 
     def constraints(self, theta1, theta4, x3, y3) -> np.ndarray:
-        """The course's EcL2 and EcL3 residuals, |P3 − P2|² − l2² and |P3 − P4|² − l3² (m²),
-        shape (..., 2); both zero when the robot is assembled.
+        """EcL2, EcL3: |P3 − P2|² − l2² and |P3 − P4|² − l3² (m²), shape (..., 2); zero when assembled.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> bool(np.abs(robot.constraints(0.5, 2.5, *robot.forward(0.5, 2.5))).max() < 1e-15)
@@ -343,12 +321,10 @@ class FiveBar:
         return self._cores["forward"].residual(p[..., :2], p[..., 2:])
 
     def forward_coefficients(self, theta1, theta4) -> dict[str, np.ndarray]:
-        """The course's forward-kinematics coefficients (file 000: X3 = g·Y3 + f substituted into EcL3):
-        ``f``, ``g``, ``a`` = 1 + g², ``b``, ``c``, and the denominator ``D`` = l5 + l1 cos θ1 − l4 cos θ4;
-        f, g, b, c are ±inf/NaN where D = 0 (``forward`` takes another route there).
+        """The course's forward coefficients (X3 = g·Y3 + f in EcL3): ``f``, ``g``, ``a`` = 1 + g², ``b``,
+        ``c`` and ``D`` = l5 + l1 cos θ1 − l4 cos θ4; f, g, b, c are ±inf/NaN where D = 0.
 
-        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> k = robot.forward_coefficients(np.pi / 2, np.pi / 2)
+        >>> k = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).forward_coefficients(np.pi / 2, np.pi / 2)
         >>> round(float(k["f"]), 12), round(float(k["g"]), 12), round(float(k["D"]), 12)
         (0.0, 0.0, 0.08)
         """
@@ -366,25 +342,17 @@ class FiveBar:
         return {"f": f, "g": g, "a": a, "b": b, "c": c, "D": D}
 
     def forward(self, theta1, theta4, mode: int = 1, on_unreachable: str = "raise") -> ForwardResult:
-        """End effector P3 = (X3, Y3) (metres) from the crank angles θ1, θ4 (rad).
+        """End effector P3 = (X3, Y3) (m) from the crank angles θ1, θ4 (rad); ``mode`` σ = +1 "arms up"
+        (the larger Y3) or −1 "arms down".
 
-        ``mode`` is the course's σ: +1 "arms up" gives the larger Y3 of the two assemblies, −1 "arms
-        down" the smaller.  Where |D| ≥ |E| (D = l5 + l1 cos θ1 − l4 cos θ4 = P2x − P4x, E = P2y − P4y)
-        the course's route X3 = g·Y3 + f, a·Y3² + b·Y3 + c = 0 is used; elsewhere (D = 0 included) the
-        swapped Y3 = g'·X3 + f' is solved for X3, σ still picking the larger Y3.  At D = 0 exactly
-        both have equal Y3 and σ = +1 takes the limit from D > 0 (P3 left of the line P4 → P2), so the
-        course's σ switches assemblies where D changes sign (the "elbow" at P3 flips side).
-
-        Raises ``UnreachableError`` where |P2 − P4| > l2 + l3 or < |l2 − l3| (or P2 = P4), unless
-        ``on_unreachable="nan"``; ``InvalidGeometryError`` for a mode other than ±1.
+        Where |D| ≥ |E| (D = P2x − P4x, E = P2y − P4y) the course's route X3 = g·Y3 + f is used, elsewhere
+        the swapped Y3 = g'·X3 + f' (σ still picks the larger Y3); at D = 0 σ = +1 takes the limit from
+        D > 0.  Raises ``UnreachableError`` where |P2 − P4| > l2 + l3 or < |l2 − l3| or P2 = P4 (unless
+        ``on_unreachable="nan"``), ``InvalidGeometryError`` for a mode other than ±1.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> bool(robot.forward(1.0, 2.0, +1).y3 > robot.forward(1.0, 2.0, -1).y3)
         True
-        >>> short = FiveBar(0.10, 0.10, 0.10, 0.10, 0.08)   # distal links too short for θ1 = 0, θ4 = π
-        >>> r = short.forward([np.pi / 2, 0.0], [np.pi / 2, np.pi], on_unreachable="nan")
-        >>> r.reachable.tolist()
-        [True, False]
         """
         sigma = _sign_choice("mode", mode)
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
@@ -393,19 +361,17 @@ class FiveBar:
         l3, l4, l5 = self.l3, self.l4, self.l5
         c4, s4 = np.cos(theta4), np.sin(theta4)
         p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
-        D = p2x - p4x  # = l5 + l1 cos θ1 − l4 cos θ4, the course's denominator (÷2)
+        D = p2x - p4x
         E = p2y - p4y
         K = (p2x**2 + p2y**2 - p4x**2 - p4y**2 - self.l2**2 + l3**2) / 2  # D·X3 + E·Y3 = K
         course = np.abs(D) >= np.abs(E)
         coincident = (D == 0) & (E == 0)
         safe_D = np.where(course & ~coincident, D, 1.0)
         safe_E = np.where(course | coincident, 1.0, E)
-        # course's route: X3 = g·Y3 + f, quadratic in Y3 from EcL3 (file 000)
-        g, f = -E / safe_D, K / safe_D
+        g, f = -E / safe_D, K / safe_D   # the course's route, a quadratic in Y3
         a, u = 1 + g**2, f + l5 / 2 - l4 * c4
         b, c = 2 * g * u - 2 * l4 * s4, u**2 + (l4 * s4) ** 2 - l3**2
-        # swapped route: Y3 = g'·X3 + f', quadratic in X3 from EcL3
-        g_s, f_s = -D / safe_E, K / safe_E
+        g_s, f_s = -D / safe_E, K / safe_E   # the swapped route, a quadratic in X3
         a_s, w = 1 + g_s**2, f_s - l4 * s4
         b_s = 2 * (l5 / 2 - l4 * c4) + 2 * g_s * w
         c_s = (l5 / 2 - l4 * c4) ** 2 + w**2 - l3**2
@@ -428,11 +394,10 @@ class FiveBar:
         return ForwardResult(scalar_or_array(x3), scalar_or_array(y3), scalar_or_array(~bad))
 
     def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:
-        """The course's half-angle coefficients: a1·α1² + b1·α1 + c1 = 0 with α1 = tan(θ1/2)
-        and a2·α2² + b2·α2 + c2 = 0 with α2 = tan(θ4/2), for the end effector (x3, y3) in metres.
+        """The course's half-angle coefficients: a1·α1² + b1·α1 + c1 = 0 with α1 = tan(θ1/2), and a2, b2,
+        c2 likewise for α2 = tan(θ4/2), for the end effector (x3, y3) (m).
 
-        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> k = robot.inverse_coefficients(0.0, 0.2)
+        >>> k = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).inverse_coefficients(0.0, 0.2)
         >>> [round(float(k[name]), 6) for name in ("a1", "b1", "c1")]
         [0.0211, -0.08, 0.0371]
         """
@@ -440,9 +405,9 @@ class FiveBar:
         return self._inverse_coefficients(X, Y)
 
     def _inverse_coefficients(self, X, Y) -> dict[str, Any]:
-        """``inverse_coefficients`` without the input checks, for arrays or scalars."""
+        """``inverse_coefficients`` of checked arrays or numbers."""
         l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
-        common = X * X + Y * Y + l5**2 / 4   # X * X: as X**2 on arrays, and the same on scalars
+        common = X * X + Y * Y + l5**2 / 4
         return {
             "a1": l1**2 - l2**2 - l1 * l5 + 2 * l1 * X - l5 * X + common,
             "b1": -4 * l1 * Y + 0 * X,
@@ -454,14 +419,11 @@ class FiveBar:
 
     def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1),
                 on_unreachable: str = "raise") -> InverseResult:
-        """Crank angles θ1, θ4 (rad, in (−π, π]) that put the end effector at (x3, y3) (metres).
+        """Crank angles θ1, θ4 (rad, in (−π, π]) that put the end effector at (x3, y3) (m); ``modes`` =
+        (σ1, σ2), the signs of the half-angle roots: the four working modes.
 
-        ``modes`` = (σ1, σ2), the course's signs in θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1) and
-        θ4 = 2·atan((−b2 + σ2√(b2² − 4a2c2))/2a2): the four working modes (computed without dividing
-        by a small a1 or a2, where θ → ±π).  Arrays of more than 4096 points go in blocks of 65,536.
-
-        Raises ``UnreachableError`` where a leg cannot reach (x3, y3) or its crank angle is
-        undetermined (P3 on P1 with l1 = l2, or on P5 with l4 = l3), unless ``on_unreachable="nan"``;
+        Raises ``UnreachableError`` where a leg cannot reach (x3, y3) or its crank angle is undetermined
+        (P3 on P1 with l1 = l2, or on P5 with l4 = l3), unless ``on_unreachable="nan"``;
         ``InvalidGeometryError`` for a bad mode.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
@@ -470,14 +432,13 @@ class FiveBar:
         >>> round(x3, 12), round(y3, 12)
         (0.0, 0.2)
         """
-        sigma1, sigma2 = _working_mode(modes)
+        sigmas = _working_mode(modes)
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
         X, Y = require_broadcast(x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
         with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
-            if X.size <= _SMALL:
-                theta1, theta4, far1, far4, free = self._inverse_whole(X, Y, sigma1, sigma2)
-            else:
-                theta1, theta4, far1, far4, free = self._inverse_blocks(X, Y, sigma1, sigma2)
+            theta1, theta4, far1, far4, free = _blockwise(
+                partial(self._inverse_whole, sigmas=sigmas), partial(self._inverse_block, sigmas=sigmas),
+                (X, Y), (float, float, bool, bool, bool))
         inputs = {"x3": x3, "y3": y3}
         report_unreachable(far1, inputs, "leg 1 (l1, l2) cannot reach the point", on_unreachable)
         report_unreachable(far4, inputs, "leg 4 (l4, l3) cannot reach the point", on_unreachable)
@@ -486,30 +447,18 @@ class FiveBar:
         reachable = np.logical_not(np.logical_or(reachable, free, out=reachable), out=reachable)
         return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(reachable))
 
-    def _inverse_whole(self, X, Y, sigma1: int, sigma2: int):
-        """The closed-form inverse kinematics on whole arrays (or numbers) X, Y: θ1, θ4 (NaN where out of
-        reach) and the masks: leg 1 cannot reach, leg 4 cannot reach, a crank angle is undetermined."""
+    def _inverse_whole(self, X, Y, sigmas: tuple[int, int]):
+        """θ1, θ4 (NaN where out of reach) and the masks leg 1 out of reach, leg 4 out of reach, a crank
+        angle undetermined, for checked arrays or numbers X, Y."""
         k = self._inverse_coefficients(X, Y)
-        theta1, far1, free1 = _half_angle_root(k["a1"], k["b1"], k["c1"], sigma1)
-        theta4, far4, free4 = _half_angle_root(k["a2"], k["b2"], k["c2"], sigma2)
+        theta1, far1, free1 = _half_angle_root(k["a1"], k["b1"], k["c1"], sigmas[0])
+        theta4, far4, free4 = _half_angle_root(k["a2"], k["b2"], k["c2"], sigmas[1])
         free = (free1 | free4) & ~(far1 | far4)
         bad = far1 | far4 | free
         return np.where(bad, np.nan, theta1), np.where(bad, np.nan, theta4), far1, far4, free
 
-    def _inverse_blocks(self, X, Y, sigma1: int, sigma2: int):
-        """``_inverse_whole``, the same numbers, for large arrays: block by block, in place."""
-        with _in_blocks((X, Y), (float, float, bool, bool, bool)) as blocks:
-            scratch = _Scratch(blocks.itersize)
-            for x, y, *results in blocks:
-                scratch.start(len(x))
-                for result, value in zip(results, self._inverse_block(x, y, sigma1, sigma2, scratch),
-                                         strict=True):
-                    result[...] = value
-            return blocks.operands[2:]
-
-    def _inverse_block(self, x, y, sigma1: int, sigma2: int, scratch: _Scratch):
-        """``_inverse_whole`` on one block, operation for operation (the same numbers), in place; the
-        results are arrays of ``scratch``, good until its next block."""
+    def _inverse_block(self, scratch: _Scratch, x, y, sigmas: tuple[int, int]):
+        """``_inverse_whole`` on one block, operation for operation, in place."""
         l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
         common = np.multiply(x, x, out=scratch.take())
         common += np.multiply(y, y, out=scratch.take())
@@ -517,21 +466,19 @@ class FiveBar:
         zero_x = np.multiply(0, x, out=scratch.take())   # 0·x: a zero b gets the sign it has there
         signed_l5_x = scratch.take()
         roots = []
-        for crank, distal, sign, sigma in ((l1, l2, -1, sigma1), (l4, l3, 1, sigma2)):
-            # leg 1: a1 = l1² − l2² − l1·l5 + 2·l1·X − l5·X + common, c1 = … + l1·l5 − 2·l1·X − l5·X + …
-            # leg 4: a2 = −l3² + l4² + l4·l5 + 2·l4·X + l5·X + common, c2 = … − l4·l5 − 2·l4·X + l5·X + …
+        for crank, distal, sign, sigma in ((l1, l2, -1, sigmas[0]), (l4, l3, 1, sigmas[1])):
             first = crank**2 - distal**2
             two_crank_x = np.multiply(2 * crank, x, out=scratch.take())
             a = np.add(two_crank_x, first + sign * crank * l5, out=scratch.take())
             c = np.subtract(first - sign * crank * l5, two_crank_x, out=two_crank_x)
-            np.multiply(sign * l5, x, out=signed_l5_x)   # ∓l5·X
+            signed_l5_x = np.multiply(sign * l5, x, out=signed_l5_x)   # ∓l5·X
             a += signed_l5_x
             c += signed_l5_x
             a += common
             c += common
             b = np.multiply(-4 * crank, y, out=scratch.take())
             b += zero_x
-            roots.append(_half_angle_root_in_place(a, b, c, sigma, scratch))
+            roots.append(_half_angle_root_in_place(scratch, a, b, c, sigma))
         (theta1, far1, free1), (theta4, far4, free4) = roots
         bad = np.logical_or(far1, far4, out=scratch.take(bool))
         free = np.logical_or(free1, free4, out=free1)
@@ -544,8 +491,7 @@ class FiveBar:
 
     @cached_property
     def _cores(self) -> dict:
-        """EcL2, EcL3 declared on the core with these lengths: "forward" (unknowns X3, Y3; inputs θ1, θ4)
-        and "inverse" (the same two equations, unknowns and inputs swapped)."""
+        """EcL2, EcL3 declared on the core with these lengths, "forward" and "inverse"."""
         lengths = {"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4, "l5": self.l5}
         return {kind: core.with_parameters(lengths) for kind, core in _declarations().items()}
 
@@ -555,8 +501,8 @@ class FiveBar:
         return self._cores["forward"]._rate_terms(p[..., :2], p[..., 2:])
 
     def jacobian_end_effector(self, theta1, theta4, x3, y3) -> np.ndarray:
-        """A = ∂(EcL2, EcL3)/∂(X3, Y3) = 2·[[X3 − P2x, Y3 − P2y], [X3 − P4x, Y3 − P4y]] (m),
-        shape (..., 2, 2).  det A = 0 is the parallel (type-2) singularity.
+        """A = ∂(EcL2, EcL3)/∂(X3, Y3) = 2·[[X3 − P2x, Y3 − P2y], [X3 − P4x, Y3 − P4y]] (m), shape
+        (..., 2, 2); det A = 0 is the parallel (type-2) singularity.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> np.round(robot.jacobian_end_effector(0.0, np.pi, 0.0, 0.1), 3).tolist()
@@ -565,8 +511,8 @@ class FiveBar:
         return self._terms(*_configuration(theta1, theta4, x3, y3))[0]
 
     def jacobian_cranks(self, theta1, theta4, x3, y3) -> np.ndarray:
-        """B = ∂(EcL2, EcL3)/∂(θ1, θ4) (m²/rad), shape (..., 2, 2); diagonal, because EcL2 holds only θ1
-        and EcL3 only θ4.  A zero diagonal entry is a serial (type-1) singularity.
+        """B = ∂(EcL2, EcL3)/∂(θ1, θ4) (m²/rad), shape (..., 2, 2), diagonal; a zero on the diagonal is a
+        serial (type-1) singularity.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> (np.round(robot.jacobian_cranks(0.0, np.pi, 0.0, 0.1), 3) + 0.0).tolist()
@@ -582,8 +528,6 @@ class FiveBar:
         >>> m = robot.singularity_measures(theta1, theta4, 0.0, 0.2)
         >>> round(m.serial_leg1, 4), round(m.serial_leg4, 4), round(m.parallel, 4)
         (0.9529, -0.9529, -0.9793)
-
-        For the measures over a grid, NaN where out of reach, see ``workspace``.
         """
         leg1, leg4, parallel = self._measures(*_configuration(theta1, theta4, x3, y3))
         return SingularityMeasures(scalar_or_array(leg1), scalar_or_array(leg4), scalar_or_array(parallel))
@@ -597,8 +541,8 @@ class FiveBar:
         parallel = ((x3 - p2x) * (y3 - p4y) - (y3 - p2y) * (x3 - p4x)) / (self.l2 * self.l3)
         return leg1, leg4, parallel
 
-    def _measures_block(self, theta1, theta4, x3, y3, scratch: _Scratch, leg1, leg4, parallel) -> None:
-        """``_measures`` on one block, operation for operation (the same numbers), in place."""
+    def _measures_block(self, scratch: _Scratch, theta1, theta4, x3, y3):
+        """``_measures`` on one block, operation for operation, in place."""
         half = self.l5 / 2
         p2x, p2y = np.cos(theta1, out=scratch.take()), np.sin(theta1, out=scratch.take())
         p4x, p4y = np.cos(theta4, out=scratch.take()), np.sin(theta4, out=scratch.take())
@@ -611,19 +555,25 @@ class FiveBar:
         x_2, y_2 = np.subtract(x3, p2x, out=scratch.take()), np.subtract(y3, p2y, out=scratch.take())
         x_4, y_4 = np.subtract(x3, p4x, out=scratch.take()), np.subtract(y3, p4y, out=scratch.take())
         term = scratch.take()
-        for out, (along, across, p_y, x_p, y_p, lengths) in (
-            (leg1, (p2x, -half, p2y, x_2, y_2, self.l1 * self.l2)),
-            (leg4, (p4x, half, p4y, x_4, y_4, self.l4 * self.l3)),
-        ):   # ((p_x ∓ half)·(y3 − p_y) − p_y·(x3 − p_x)) / (crank·distal)
-            np.add(along, across, out=out)
-            out *= y_p
-            out -= np.multiply(p_y, x_p, out=term)
-            out /= lengths
-        np.multiply(x_2, y_4, out=parallel)
-        parallel -= np.multiply(y_2, x_4, out=term)
+        legs = []
+        for p_x, across, p_y, x_p, y_p, lengths in ((p2x, -half, p2y, x_2, y_2, self.l1 * self.l2),
+                                                    (p4x, half, p4y, x_4, y_4, self.l4 * self.l3)):
+            leg = np.add(p_x, across, out=p_x)   # ((p_x ∓ half)·(y3 − p_y) − p_y·(x3 − p_x)) / (crank·distal)
+            leg *= y_p
+            term = np.multiply(p_y, x_p, out=term)
+            leg -= term
+            leg /= lengths
+            legs.append(leg)
+        parallel = np.multiply(x_2, y_4, out=p2y)
+        term = np.multiply(y_2, x_4, out=term)
+        parallel -= term
         parallel /= self.l2 * self.l3
+        return *legs, parallel
 
-    def _check_assembled(self, theta1, theta4, x3, y3) -> None:
+    def _singular(self, kind, on_singular, theta1, theta4, x3, y3):
+        """The mask of a "parallel" or "serial" singularity of a checked configuration; raises there
+        unless on_singular="nan", and where (x3, y3) is not the end effector of (θ1, θ4)."""
+        require_choice("on_singular", on_singular, ("raise", "nan"))
         residual = np.abs(self._constraints(theta1, theta4, x3, y3))
         scale = max(self.l1, self.l2, self.l3, self.l4, self.l5) ** 2
         if not np.all(residual <= 1e-8 * scale):
@@ -631,12 +581,6 @@ class FiveBar:
             raise InvalidGeometryError(f"the configuration is not assembled: constraint residual "
                                        f"{residual[index]:.3g} m² (x3, y3 must be the end effector for "
                                        "theta1, theta4, e.g. from forward)")
-
-    def _singular(self, kind, on_singular, theta1, theta4, x3, y3):
-        """The mask of a "parallel" or "serial" singularity; raises there unless on_singular="nan".
-        The configuration must be checked already (``_configuration``)."""
-        require_choice("on_singular", on_singular, ("raise", "nan"))
-        self._check_assembled(theta1, theta4, x3, y3)
         leg1, leg4, parallel = self._measures(theta1, theta4, x3, y3)
         if kind == "parallel":
             parallel = np.asarray(parallel)
@@ -655,10 +599,9 @@ class FiveBar:
         return singular
 
     def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = "raise") -> np.ndarray:
-        """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4), by linear solves (no inverse).
-        Raises ``SingularJacobianError`` at a parallel singularity (``on_singular="nan"``: NaN there)
-        and ``InvalidGeometryError`` when (x3, y3) is not the end effector of (θ1, θ4); so do the two
-        rate functions below.
+        """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4), by linear solves.  This and the
+        two rate functions raise ``SingularJacobianError`` at their singularity (``on_singular="nan"``:
+        NaN there) and ``InvalidGeometryError`` when (x3, y3) is not the end effector of (θ1, θ4).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
@@ -674,8 +617,7 @@ class FiveBar:
         return np.where(singular[..., None, None], np.nan, J)
 
     def end_effector_velocity(self, theta1, theta4, x3, y3, omega1, omega4, on_singular: str = "raise"):
-        """(Ẋ3, Ẏ3) in m/s, shape (..., 2), from the crank rates ω1, ω4 (rad/s): A·ṗ = −B·ω of the forward
-        declaration; ``SingularJacobianError`` at a parallel singularity.
+        """(Ẋ3, Ẏ3) (m/s), shape (..., 2), from the crank rates ω1, ω4 (rad/s): A·ṗ = −B·ω.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
@@ -689,9 +631,8 @@ class FiveBar:
         return self._cores["forward"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     def crank_rates(self, theta1, theta4, x3, y3, vx, vy, on_singular: str = "raise"):
-        """(ω1, ω4) in rad/s, shape (..., 2), that give the end-effector velocity (vx, vy) in m/s:
-        B·ω = −A·ṗ of the inverse declaration; ``SingularJacobianError`` at a serial (type-1)
-        singularity, where a leg is stretched or folded.
+        """(ω1, ω4) (rad/s), shape (..., 2), for the end-effector velocity (vx, vy) (m/s): B·ω = −A·ṗ;
+        singular where a leg is stretched or folded (serial, type 1).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
@@ -705,9 +646,8 @@ class FiveBar:
         return self._cores["inverse"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     def workspace(self, x, y, modes: tuple[int, int] = (1, 1)) -> WorkspaceMap:
-        """Inverse kinematics of working mode ``modes`` = (σ1, σ2) over the grid of the 1-D vectors ``x``,
-        ``y`` (metres): reachable mask, crank angles and the three singularity measures (see
-        ``WorkspaceMap``), NaN out of reach; large grids go in blocks, as in ``inverse``.
+        """Inverse kinematics of working mode ``modes`` over the grid of the 1-D vectors ``x``, ``y`` (m)
+        (see ``WorkspaceMap``).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> w = robot.workspace(np.linspace(-0.3, 0.3, 61), np.linspace(-0.3, 0.3, 61))
@@ -719,33 +659,27 @@ class FiveBar:
         if x.ndim != 1 or y.ndim != 1:
             raise InvalidGeometryError(f"x and y must be 1-D grid vectors; got shapes {x.shape}, {y.shape}")
         X, Y = np.meshgrid(x, y)
-        sigma1, sigma2 = _working_mode(modes)
+        sigmas = _working_mode(modes)
         with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
-            if X.size <= _SMALL:
-                theta1, theta4, far1, far4, free = self._inverse_whole(X, Y, sigma1, sigma2)
-                maps = (~(far1 | far4 | free), theta1, theta4, *self._measures(theta1, theta4, X, Y))
-            else:
-                maps = self._workspace_blocks(X, Y, sigma1, sigma2)
+            maps = _blockwise(partial(self._workspace_whole, sigmas=sigmas), partial(self._workspace_block,
+                              sigmas=sigmas), (X, Y), (bool,) + (float,) * 5)
         return WorkspaceMap(X, Y, *maps, tuple(modes))
 
-    def _workspace_blocks(self, X, Y, sigma1: int, sigma2: int):
-        """Reachable mask, θ1, θ4 and the three measures over the grid X, Y, block by block in place
-        (the same numbers as ``_inverse_whole`` and ``_measures``)."""
-        with _in_blocks((X, Y), (bool,) + (float,) * 5) as blocks:
-            scratch = _Scratch(blocks.itersize)
-            for x3, y3, reachable, *angles, leg1, leg4, parallel in blocks:
-                scratch.start(len(x3))
-                theta1, theta4, far1, far4, free = self._inverse_block(x3, y3, sigma1, sigma2, scratch)
-                np.logical_not(np.logical_or(np.logical_or(far1, far4, out=far1), free, out=far1),
-                               out=reachable)
-                angles[0][...], angles[1][...] = theta1, theta4
-                self._measures_block(theta1, theta4, x3, y3, scratch, leg1, leg4, parallel)
-            return blocks.operands[2:]
+    def _workspace_whole(self, X, Y, sigmas: tuple[int, int]):
+        """Reachable mask, θ1, θ4 and the three measures of checked arrays X, Y."""
+        theta1, theta4, far1, far4, free = self._inverse_whole(X, Y, sigmas)
+        return ~(far1 | far4 | free), theta1, theta4, *self._measures(theta1, theta4, X, Y)
+
+    def _workspace_block(self, scratch: _Scratch, x, y, sigmas: tuple[int, int]):
+        """Reachable mask, θ1, θ4 and the three measures of 1-d arrays x, y."""
+        theta1, theta4, far1, far4, free = self._inverse_block(scratch, x, y, sigmas)
+        reachable = np.logical_or(np.logical_or(far1, far4, out=far1), free, out=far1)
+        reachable = np.logical_not(reachable, out=reachable)
+        return reachable, theta1, theta4, *self._measures_block(scratch, theta1, theta4, x, y)
 
     def draw(self, theta1: float, theta4: float, x3: float, y3: float, ax=None, title: str | None = None,
              **style):
-        """Draw the robot as the course does (links l1…l5 labelled, joints numbered 1…5, base pivots
-        hatched, dashed grid: ``course_lib.plotting.draw_linkage``); returns the axes.
+        """Draw the robot as the course does (``course_lib.plotting.draw_linkage``); returns the axes.
 
         >>> import matplotlib; matplotlib.use("Agg")
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)

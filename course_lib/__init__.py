@@ -3,10 +3,6 @@
 Units are SI (metres, seconds); angles are radians from +x, counter-clockwise.  One module per concept:
 errors, newton, planar, symbolic, mobility, plotting (and, per mechanism, fourbar, slider_crank, profile,
 saw, fivebar, widgets, checks).
-
->>> import course_lib
->>> course_lib.gruebler(links=4, full_joints=4)
-1
 """
 
 from .errors import (

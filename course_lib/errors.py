@@ -1,14 +1,5 @@
 """Named exceptions of ``course_lib`` and the small input checks that raise them; every message names
 the offending input and its value, so a student learns *which* argument is wrong and *why*.
-
->>> from course_lib.errors import require_positive, InvalidGeometryError
->>> require_positive("crank", 0.05)
-0.05
->>> try:
-...     require_positive("crank", -1.0)
-... except InvalidGeometryError as err:
-...     print(err)
-crank must be a positive, finite length in metres; got -1.0
 """
 
 from __future__ import annotations

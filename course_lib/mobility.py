@@ -1,11 +1,6 @@
 """Mobility (degrees of freedom) of a planar mechanism: the Gruebler/Kutzbach count M = 3(L − 1) − 2·J1 − J2,
 with L links counting the ground (bancada), J1 full joints (pins and sliders, one freedom each) and J2
 half joints (pin-in-slot, rolling with slip: two freedoms each).
-
->>> gruebler(links=4, full_joints=4)   # four-bar linkage
-1
->>> gruebler(links=5, full_joints=5)   # five-bar parallel robot
-2
 """
 
 from __future__ import annotations

@@ -1,8 +1,5 @@
 """Planar vectors as the course writes them, R = l(cos θ î + sin θ ĵ): numpy arrays whose last axis holds
 (x, y); every function broadcasts, so θ may be an array of angles.  Lengths in metres, angles in radians.
-
->>> np.round(polar(2.0, np.pi / 2), 12).tolist()
-[0.0, 2.0]
 """
 
 from __future__ import annotations

@@ -143,9 +143,8 @@ class LinkageArtist:
     ([[0.0, 0.0], [0.03, 0.04]], False)
     """
 
-    def __init__(self, ax: Axes, links, *, styles: Mapping[str, Mapping] | None = None,
-                 blocks: Sequence = (), labels: Mapping | None = None, animated: bool = False,
-                 label_offset: float = 0.0):
+    def __init__(self, ax: Axes, links, *, styles: Mapping[str, Mapping] | None = None, blocks: Sequence = (),
+                 labels: Mapping | None = None, animated: bool = False, label_offset: float = 0.0):
         _axes(ax)
         pairs = dict(links) if isinstance(links, Mapping) else {
             f"link {k + 1}": link for k, link in enumerate(_sequence("links", links))}

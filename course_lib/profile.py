@@ -4,10 +4,6 @@ From rest, during the first revolution (T seconds) α2 rises linearly from 0 to 
 holds it for T/3, falls back to 0 over T/3 and stays 0, so the crank then turns at ω2 = 2·alpha_max·T/3;
 θ2(T) = 2π fixes T = √(6π / alpha_max).  The course's 5 rad/s² gives T ≈ 1.9416 s and a final speed of
 10T/3 ≈ 6.472 rad/s (≈ 61.8 rpm).
-
->>> theta2, omega2, alpha2 = motor_profile(2.0)
->>> round(float(omega2), 3), float(alpha2)
-(6.472, 0.0)
 """
 
 from __future__ import annotations
@@ -54,17 +50,8 @@ MAX_TIME = 1e12
 
 
 def motor_profile(t, alpha_max: float = ALPHA_MAX) -> MotorProfile:
-    """θ2, ω2, α2 of the crank at time(s) ``t`` ≥ 0 (s), vectorized; with A = alpha_max and
-    T = :func:`first_turn_time` (A), the pieces are (``InvalidGeometryError`` for t < 0 or not finite):
-
-    ============  ==================  ==========================  =========================================
-    interval      α2                  ω2                          θ2
-    ============  ==================  ==========================  =========================================
-    [0, T/3)      3At/T               3At²/(2T)                   At³/(2T)
-    [T/3, 2T/3)   A                   At − AT/6                   At²/2 − ATt/6 + AT²/54
-    [2T/3, T)     3A − 3At/T          3At − 3At²/(2T) − 5AT/6     AT²/6 − 5ATt/6 + 3At²/2 − At³/(2T)
-    [T, ∞)        0                   2AT/3                       2ATt/3 − AT²/3
-    ============  ==================  ==========================  =========================================
+    """θ2 (rad), ω2 (rad/s), α2 (rad/s²) of the crank at time(s) ``t`` ≥ 0 (s), vectorized, piece by piece;
+    ``InvalidGeometryError`` for a negative or non-finite time.
 
     >>> profile = motor_profile([0.0, first_turn_time()])
     >>> [round(v, 6) for v in profile.theta2.tolist()]
@@ -78,7 +65,7 @@ def motor_profile(t, alpha_max: float = ALPHA_MAX) -> MotorProfile:
             raise InvalidGeometryError(f"{rule}; got {s.ravel()[np.flatnonzero(bad)[0]]}")
     T = first_turn_time(A)
     phase = np.select([s < T / 3, s < 2 * T / 3, s < T], [0, 1, 2], default=3)
-    pieces = [  # (α2, ω2, θ2) on each interval, the rows of the table above
+    pieces = [  # (α2, ω2, θ2) with A = alpha_max on [0, T/3), [T/3, 2T/3), [2T/3, T) and [T, ∞)
         (3 * A * s / T, 3 * A * s**2 / (2 * T), A * s**3 / (2 * T)),
         (np.full_like(s, A), A * s - A * T / 6, A * s**2 / 2 - A * T * s / 6 + A * T**2 / 54),
         (3 * A - 3 * A * s / T, 3 * A * s - 3 * A * s**2 / (2 * T) - 5 * A * T / 6,

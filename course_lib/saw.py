@@ -6,10 +6,6 @@ slider pin, the loop is r1 = r2 + r3.  The report keeps θ1 in (−π/2, π/2] (
 the slider left of the crank pivot r1 is *negative*: at rest r1 ≈ −0.0997 m, θ1 ≈ −0.4684 rad, and
 θ3 = π − asin(…) (eq. 20: the rod points to the left).  Velocity (10)–(12) and acceleration (13)–(15)
 equations are linear, with the position Jacobian as matrix; appendix D solves all nine at once.
-
->>> solution = solve_simultaneous(0.0, 0.0, 0.0)
->>> np.round(solution.x[:3], 6).tolist(), solution.iterations
-([-0.099672, -0.468422, 2.873694], 5)
 """
 
 from __future__ import annotations
@@ -333,20 +329,9 @@ def solve_simultaneous(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, 
 
 
 def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreachable: str = "raise"):
-    """The nine unknowns in closed form (the course's eqs. 20–28), shape broadcast(θ2, ω2, α2) + (9,).
-
-    θ3 = π − asin((r1y − r2 sin θ2)/r3)                              (20)
-    θ1 = acot((r2 cos θ2 + r3 cos θ3)/r1y), kept in (−π/2, π/2]        (21)
-    r1 = r1y / sin θ1                          (the report's eq. 22 is labelled r1 but is ω3)
-    ω3 = −ω2 r2 cos θ2 / (r3 cos θ3)          (the report's eq. 23, labelled ω3, repeats θ1)
-    v_r = −cos θ1 (ω2 r2 sin θ2 + ω3 r3 sin θ3)                      (25)
-    ω1 = −v_r tan θ1 / r1                                             (24)
-    α3 = (r2 sin θ2 ω2² + r3 sin θ3 ω3² − α2 r2 cos θ2)/(r3 cos θ3)  (26)
-    a_r = r1 ω1² − r2 cos θ1 cos θ2 ω2² − r3 cos θ1 cos θ3 ω3² − α2 r2 cos θ1 sin θ2
-          − α3 r3 cos θ1 sin θ3                                       (28)
-    α1 = ω1² tan θ1 − (2 v_r ω1 + a_r tan θ1)/r1                     (27)
-
-    (r1, θ1) would jump if the slider passed over the crank pivot; the course's saw never does.
+    """The nine unknowns in closed form (the course's eqs. 20–28; its eq. 22, labelled r1, is ω3 and its
+    eq. 23, labelled ω3, repeats θ1), shape broadcast(θ2, ω2, α2) + (9,).  With θ1 in (−π/2, π/2], (r1, θ1)
+    would jump if the slider passed over the crank pivot (the course's saw never does).
     ``on_unreachable="nan"`` gives NaN rows instead of raising ``UnreachableError``.
 
     >>> np.round(analytic(0.0)[:3], 6).tolist()
@@ -362,20 +347,20 @@ def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreac
     sine = np.where(bad, 0.0, sine)
     r1y, r2, r3 = saw.r1y, saw.r2, saw.r3
     s2, c2 = np.sin(theta2), np.cos(theta2)
-    theta3 = np.pi - np.arcsin(sine)
+    theta3 = np.pi - np.arcsin(sine)  # (20)
     s3, c3 = np.sin(theta3), np.cos(theta3)
-    theta1 = np.arctan2(r1y, r2 * c2 + r3 * c3)  # acot(x / r1y), then moved into (−π/2, π/2]
+    theta1 = np.arctan2(r1y, r2 * c2 + r3 * c3)  # (21): acot(x / r1y), then moved into (−π/2, π/2]
     theta1 = np.where(theta1 > np.pi / 2, theta1 - np.pi, theta1)
     theta1 = np.where(theta1 <= -np.pi / 2, theta1 + np.pi, theta1)
     s1, c1, tan1 = np.sin(theta1), np.cos(theta1), np.tan(theta1)
     r1 = r1y / s1
-    omega3 = -omega2 * r2 * c2 / (r3 * c3)
-    v_r = -c1 * (omega2 * r2 * s2 + omega3 * r3 * s3)
-    omega1 = -v_r * tan1 / r1
-    alpha3 = (r2 * s2 * omega2**2 + r3 * s3 * omega3**2 - alpha2 * r2 * c2) / (r3 * c3)
+    omega3 = -omega2 * r2 * c2 / (r3 * c3)  # (the report's 22)
+    v_r = -c1 * (omega2 * r2 * s2 + omega3 * r3 * s3)  # (25)
+    omega1 = -v_r * tan1 / r1  # (24)
+    alpha3 = (r2 * s2 * omega2**2 + r3 * s3 * omega3**2 - alpha2 * r2 * c2) / (r3 * c3)  # (26)
     a_r = (r1 * omega1**2 - r2 * c1 * c2 * omega2**2 - r3 * c1 * c3 * omega3**2
-           - alpha2 * r2 * c1 * s2 - alpha3 * r3 * c1 * s3)
-    alpha1 = omega1**2 * tan1 - (2 * v_r * omega1 + a_r * tan1) / r1
+           - alpha2 * r2 * c1 * s2 - alpha3 * r3 * c1 * s3)  # (28)
+    alpha1 = omega1**2 * tan1 - (2 * v_r * omega1 + a_r * tan1) / r1  # (27)
     values = np.stack([r1, theta1, theta3, v_r, omega1, omega3, a_r, alpha1, alpha3], axis=-1)
     return np.where(bad[..., None], np.nan, values)
 

@@ -1,18 +1,9 @@
 """The offset slider-crank in the textbook's Cartesian form (SI units, radians).
 
 The crank (``crank``, θ2) turns about the origin O2; the rod (``rod``, θ3 from the crank pin A to the
-slider pin B) drives B = (x, offset) along the line y = ``offset``.  B = A + rod·(cos θ3, sin θ3) gives
-
-    sin θ3 = (offset − crank·sin θ2) / rod,    x = crank·cos θ2 ± √(rod² − (offset − crank·sin θ2)²),
-
-the sign choosing the assembly: ``branch="right"`` (θ3 in (−π/2, π/2)) or ``"left"`` (θ3 in
-(π/2, 3π/2), the course's power saw).  The rates come from that loop declared on
-:mod:`course_lib.mechanism`.  It is :mod:`course_lib.saw` with x = r1 cos θ1, offset = r1 sin θ1 = r1y.
-
->>> saw = OffsetSliderCrank(crank=0.075, rod=0.170, offset=0.045)
->>> motion = saw.solve(0.0, branch="left")
->>> round(float(motion.x), 6), round(float(motion.theta3), 6)
-(-0.088936, 2.873694)
+slider pin B) drives B = A + rod·(cos θ3, sin θ3) = (x, offset) along the line y = ``offset``, with
+x = crank·cos θ2 ± √(rod² − (offset − crank·sin θ2)²): ``branch="right"`` (θ3 in (−π/2, π/2)) or
+``"left"`` (θ3 in (π/2, 3π/2), the course's power saw, :mod:`course_lib.saw` with x = r1 cos θ1).
 """
 
 from __future__ import annotations
@@ -69,8 +60,9 @@ class SliderCrankMotion(Unpacks):
 class OffsetSliderCrank:
     """Crank pivot at the origin, slider pin on the line y = ``offset`` (lengths in metres).
 
-    >>> OffsetSliderCrank(0.05, 0.2, 0.0).solve(0.0).x.tolist()
-    0.25
+    >>> motion = OffsetSliderCrank(crank=0.075, rod=0.170, offset=0.045).solve(0.0, branch="left")
+    >>> round(float(motion.x), 6), round(float(motion.theta3), 6)
+    (-0.088936, 2.873694)
     """
 
     crank: float

@@ -1,10 +1,6 @@
 """sympy helpers for deriving kinematics the way the course does: angles are functions of time θ(t), and
 differentiating a loop equation with dθ/dt → ω, d²θ/dt² → α gives the velocity and acceleration
 equations; the tangent half-angle substitution turns a trigonometric equation into a polynomial one.
-
->>> theta2, = time_symbols("theta2")
->>> d_dt(sp.cos(theta2))
--omega2*sin(theta2(t))
 """
 
 from __future__ import annotations

@@ -361,7 +361,6 @@ class AnimationHTML(str):
     """An animation player's HTML (a ``str``) shown as ``text/html`` (the player, with the still until
     JavaScript replaces it), ``image/png`` (the still: a filmstrip, also ``still_png``) and ``text/plain``.
 
-    >>> import matplotlib; matplotlib.use("Agg")
     >>> fig = Figure(figsize=(2, 1.5), dpi=40)
     >>> line, = fig.add_subplot().plot([0, 1], [0, 0])
     >>> bundle = animation_html(fig, lambda k: line.set_ydata([0, k]), frames=5)._repr_mimebundle_()
@@ -457,10 +456,8 @@ def animation_html(fig: Figure, update: Callable[[int], object], frames: int, in
     where JavaScript does not run, drawing per frame only the artists ``update`` makes stale; more than
     ``max_frames`` frames are thinned (each shown longer).  A pyplot figure is closed afterwards.
 
-    >>> import matplotlib; matplotlib.use("Agg")
-    >>> import matplotlib.pyplot as plt
-    >>> fig, ax = plt.subplots(figsize=(2, 1.5), dpi=40)
-    >>> line, = ax.plot([0, 1], [0, 0])
+    >>> fig = Figure(figsize=(2, 1.5), dpi=40)
+    >>> line, = fig.add_subplot().plot([0, 1], [0, 0])
     >>> html = animation_html(fig, lambda k: line.set_ydata([0, k]), frames=2)
     >>> "<script" in html and "frames[1]" in html, html.frame_count
     (True, 2)

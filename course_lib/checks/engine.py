@@ -1,10 +1,10 @@
 """The feedback engine every checker shares: read the answer, compare it, diagnose it.
 
-A parser (:func:`vector`, :func:`number`, :func:`integer`, :func:`word`, :func:`fields`) reads the
-answer; :func:`diagnose` tries (candidate, verdict) rules in order: the reference and its ✔ first,
-then known mistakes with their hints.  A candidate is a value (None in a tuple: any entry), a list
-of values, or a function of the answer; a :class:`Feedback` verdict is returned as it is.  Sympy
-answers go to :func:`judge_expression`; sympy is imported only to judge them.
+A parser (:func:`vector`, :func:`number`, :func:`integer`, :func:`word`, :func:`fields`) reads the answer;
+:func:`diagnose` tries (candidate, verdict) rules in order: the reference and its ✔ first, then known
+mistakes with their hints.  A candidate is a value (None in a tuple: any entry), a list of values, or a
+function of the answer; a :class:`Feedback` verdict is returned as it is.  Sympy answers go to
+:func:`judge_expression`; sympy is imported only to judge them.
 """
 
 import functools
@@ -27,7 +27,6 @@ __all__ = ["ANGLE_TOL", "RELATIVE_TOL", "Feedback", "reads", "right", "wrong", "
 #: Absolute tolerance on angles (rad) and relative tolerance on other numbers.
 ANGLE_TOL = 1e-6
 RELATIVE_TOL = 1e-6
-NO_ANSWER = "No answer yet: build your answer in the cell above, then run this check."
 
 
 @dataclass(frozen=True)
@@ -58,15 +57,10 @@ def wrong(message: str) -> Feedback:
     return Feedback(False, "Not yet: " + message)
 
 
-def unanswered(answer: Any) -> Feedback | None:
-    blanks = isinstance(answer, tuple | list) and len(answer) > 0 and all(a is None for a in answer)
-    return Feedback(False, NO_ANSWER) if answer is None or answer is Ellipsis or blanks else None
-
-
 def reads(parse: Callable[[Any], Any] | None = None):
-    """Make a checker of ``check``: "no answer yet" for None, the parser's feedback on an answer it
-    cannot read, else ``check`` called with the answer as read.  A failure while judging becomes
-    feedback, never a traceback; a call with the wrong arguments still raises."""
+    """Make a checker of ``check``: "no answer yet" for None, the parser's feedback on an answer it cannot
+    read, else ``check`` called with the answer as read.  A failure while judging becomes feedback, never
+    a traceback; a call with the wrong arguments still raises."""
 
     def decorate(check):
         signature = inspect.signature(check)
@@ -74,8 +68,10 @@ def reads(parse: Callable[[Any], Any] | None = None):
         @functools.wraps(check)
         def checker(answer, *args, **kwargs):
             signature.bind(answer, *args, **kwargs)
-            if (missing := unanswered(answer)) is not None:
-                return missing
+            blanks = isinstance(answer, tuple | list) and len(answer) > 0 and all(a is None for a in answer)
+            if answer is None or answer is Ellipsis or blanks:
+                return Feedback(False, "No answer yet: build your answer in the cell above, then run this "
+                                       "check.")
             try:
                 with np.errstate(all="ignore"):
                     value = parse(answer) if parse else answer
@@ -88,8 +84,6 @@ def reads(parse: Callable[[Any], Any] | None = None):
 
     return decorate
 
-
-# ---------------------------------------------------------------- reading numbers and words
 
 _NOT_NUMBERS = (  # what a student is told an entry is instead of a number
     (type(None) | type(Ellipsis), "None (fill in every entry)"),
@@ -104,9 +98,9 @@ _NOT_NUMBERS = (  # what a student is told an entry is instead of a number
 
 def _not_a_number(item: Any) -> str:
     """What ``item`` (or something inside it) is when it cannot be a real number; "" otherwise."""
-    for kind, phrase in _NOT_NUMBERS:
-        if isinstance(item, kind):
-            return phrase
+    phrase = next((phrase for kind, phrase in _NOT_NUMBERS if isinstance(item, kind)), "")
+    if phrase:
+        return phrase
     if isinstance(item, np.ndarray) and item.dtype.kind in "bcUSO":
         item = item.ravel().tolist()
     if isinstance(item, list | tuple):
@@ -201,9 +195,6 @@ def choice(answer: Any, correct: str, why_not: Mapping[str, str], message: str) 
     return reads(read)(lambda letter: right(message) if letter == correct else wrong(why_not[letter]))(answer)
 
 
-# ---------------------------------------------------------------- comparing and diagnosing
-
-
 def _pairs(value, reference) -> tuple[np.ndarray, np.ndarray]:
     """Float arrays to compare; None in a tuple ``reference`` stands for any value."""
     if isinstance(reference, tuple) and any(r is None for r in reference):
@@ -238,16 +229,15 @@ def _holds(matches: Callable[[Any, Any], bool], answer: Any, candidate: Any) -> 
     try:
         if isinstance(candidate, list):
             return any(_holds(matches, answer, each) for each in candidate)
-        if isinstance(candidate, types.FunctionType):
-            return bool(candidate(answer))
-        return bool(matches(answer, candidate))
+        function = isinstance(candidate, types.FunctionType)
+        return bool(candidate(answer) if function else matches(answer, candidate))
     except Exception:
         return False
 
 
 def diagnose(answer: Any, matches: Callable[[Any, Any], bool], rules, otherwise: str) -> Feedback:
-    """The verdict of the first rule whose candidate fits the answer (see the module's docstring): ✔
-    for the first rule, a hint ("Not yet: …") for the others; the hint ``otherwise`` when none fits."""
+    """The verdict of the first rule whose candidate fits the answer (see the module's docstring): ✔ for
+    the first rule, a hint ("Not yet: …") for the others; the hint ``otherwise`` when none fits."""
     for index, (candidate, verdict) in enumerate(rules):
         if _holds(matches, answer, candidate):
             return verdict if isinstance(verdict, Feedback) else (wrong if index else right)(verdict)
@@ -269,9 +259,6 @@ def angle_verdict(value: float, reference: float, alternatives, otherwise: str) 
         *((lambda v, o=other: in_degrees(v, o), "that is in degrees — and " + hint)
           for other, hint in alternatives),
     ], otherwise)
-
-
-# ---------------------------------------------------------------- sympy answers
 
 
 def _evaluate(expr, names: Sequence[str], count: int = 6) -> tuple[np.ndarray, list]:

@@ -13,9 +13,8 @@ __all__ = ["check_mobility", "check_tilted_loop", "check_link_vector", "check_po
 @reads(fields("(L, J1, J2, M) as a tuple of four integers, or a dict", *map(integer, ("L", "J1", "J2", "M")),
               keys=("links", "full_joints", "half_joints", "mobility")))
 def check_mobility(answer) -> Feedback:
-    """Exercise 01, task 1: counts (L, J1, J2) and mobility M of the six-bar (a four-bar O2-A-B-O4 and
-    a dyad B-C-O6 pinned at B), as a tuple (L, J1, J2, M) or a dict with keys ``links, full_joints,
-    half_joints, mobility``.
+    """Exercise 01, task 1: counts (L, J1, J2) and mobility M of the six-bar (a four-bar O2-A-B-O4 and a
+    dyad B-C-O6 pinned at B), as a tuple or a dict ``links, full_joints, half_joints, mobility``.
 
     >>> check_mobility((6, 6, 0, 3)).ok
     False
@@ -28,23 +27,20 @@ def check_mobility(answer) -> Feedback:
         (J1 == 6, "at B three links meet (coupler, rocker and link 5): a pin joining three links counts as "
                   "two full joints."),
         (J1 != 7, "recount the pins; where k links share one pin it counts as k − 1 joints."),
-        (M != 3 * (L - 1) - 2 * J1 - J2, "the counts are right, but M does not follow from them: "
-                                         "M = 3(L − 1) − 2·J1 − J2."),
+        (M != 1, "the counts are right, but M does not follow from them: M = 3(L − 1) − 2·J1 − J2."),
     ], "Correct: one input (the crank) drives the whole six-bar.")
 
 
 @reads()
 def check_tilted_loop(answer) -> Feedback:
-    """Exercise 01, task 2: the pair (x, y components) of R2 + R3 − R4 − R1 = 0, ground tilted by θ1,
-    as sympy expressions in l1…l4, θ1…θ4 (each "= 0", so a component may be scaled).
+    """Exercise 01, task 2: the x and y components of R2 + R3 − R4 − R1 = 0, ground tilted by θ1, as sympy
+    expressions in l1…l4, θ1…θ4 (each "= 0", so a component may be scaled).
 
     >>> import sympy as sp
-    >>> l1, l2, l3, l4 = sp.symbols("l1:5")
-    >>> t1, t2, t3, t4 = sp.symbols("theta1:5")
-    >>> x = l2 * sp.cos(t2) + l3 * sp.cos(t3) - l4 * sp.cos(t4) - l1 * sp.cos(t1)
-    >>> y = l2 * sp.sin(t2) + l3 * sp.sin(t3) - l4 * sp.sin(t4) - l1 * sp.sin(t1)
-    >>> check_tilted_loop([x, y]).ok, check_tilted_loop([y, -x]).ok
-    (True, True)
+    >>> l1, l2, l3, l4, t1, t2, t3, t4 = sp.symbols("l1:5 theta1:5")
+    >>> check_tilted_loop([l2 * sp.sin(t2) + l3 * sp.sin(t3) - l4 * sp.sin(t4) - l1 * sp.sin(t1),
+    ...                    l2 * sp.cos(t2) + l3 * sp.cos(t3) - l4 * sp.cos(t4) - l1 * sp.cos(t1)]).ok
+    True
     """
     import sympy as sp
 
@@ -57,7 +53,7 @@ def check_tilted_loop(answer) -> Feedback:
         (loop(), "Correct: two scalar equations, one per component."),
         (loop(t1=0), "that is the loop with a horizontal ground; here R1 = l1(cos θ1, sin θ1) is tilted."),
         (loop(sign3=-1), "a sign error: walking O2 → A → B adds R2 and R3; walking O2 → O4 → B adds "
-                                 "R1 and R4, so R1 and R4 carry the minus sign."),
+                         "R1 and R4, so R1 and R4 carry the minus sign."),
     ], "compare each term with the walk O2 → A → B versus O2 → O4 → B (signs, lengths, angles).",
         system="the two components as a list [x_component, y_component] (or a 2×1 Matrix)")
 

@@ -1,31 +1,18 @@
 """The four-bar linkage: position, velocity and acceleration from one vector loop.
 
-Course notation: l1 = ground, l2 = crank (input angle θ2), l3 = coupler (θ3), l4 = rocker (θ4);
-pivots O2 = (0, 0), O4 = (l1, 0); pins A = O2 + R2, B = O4 + R4.  The loop
-
-    R2 + R3 − R4 − R1 = 0,   Rk = lk (cos θk î + sin θk ĵ),   R1 = l1 î
-
-is solved in closed form by the tangent half-angle substitution (a quadratic in tan(θ4/2), Norton,
-*Design of Machinery*, §4.5), θ3 then from the loop; the rates J·[ω3, ω4]ᵀ = b and J·[α3, α4]ᵀ = b'
-come from the loop declared on :mod:`course_lib.mechanism` (:attr:`FourBar.mechanism`).
-
-Branches (Norton's circuits), the two mirror-image places of B on the line A–O4:
-
-* ``"open"``: B left of the directed line A → O4, (O4 − A) × (B − A) · k̂ > 0; Norton's minus sign,
-  θ4 = 2·atan2(−B − √(B² − 4AC), 2A).  A parallelogram linkage is one on this branch.
-* ``"crossed"``: B to the right (Norton's plus sign); coupler and rocker cross.
-
-Each is one continuous circuit up to a toggle (coupler and rocker collinear, J singular), which a
-Grashof crank-rocker driven by its crank never meets.
-
-SI units (m, rad from +x counter-clockwise, rad/s, rad/s²); angle inputs may be arrays (broadcast).
+l1 = ground, l2 = crank (input θ2), l3 = coupler (θ3), l4 = rocker (θ4); pivots O2 = (0, 0),
+O4 = (l1, 0), pins A = O2 + R2, B = O4 + R4.  The loop R2 + R3 − R4 − R1 = 0 is solved in closed form
+by the tangent half-angle substitution (a quadratic in tan(θ4/2), Norton, *Design of Machinery*, §4.5);
+the rates come from the loop declared on :mod:`course_lib.mechanism` (:attr:`FourBar.mechanism`).
+Branches (Norton's circuits): ``"open"``, B left of the directed line A → O4 (Norton's minus sign; a
+parallelogram is open), and ``"crossed"``, B to the right.  Each is one continuous circuit up to a toggle
+(coupler and rocker collinear, J singular).  SI units, angles from +x counter-clockwise; angle inputs
+may be arrays (broadcast).
 
 >>> linkage = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
 >>> solution = linkage.solve(np.pi / 2, omega2=10.0)
 >>> round(solution.theta3, 6), round(solution.theta4, 6), round(solution.omega4, 6)
 (0.318848, 1.815502, 4.761066)
->>> linkage.grashof().name
-'Grashof crank-rocker'
 """
 
 from __future__ import annotations
@@ -63,12 +50,12 @@ DISCRIMINANT_TOL = 1e-12
 #: A block whose smallest discriminant proves |sin(θ3 − θ4)| above this skips the toggle test.
 TOGGLE_FREE = 1e-3
 
-#: Crank angles per block of an array solve (cache-sized; the memory beyond the results stays flat).
+#: Crank angles per block of an array solve (the memory beyond the results stays flat).
 BLOCK = 1 << 16
 
 
 def _finite(name: str, value, unit: str):
-    """A finite Python float as it is (one instant, checked at no cost), else :func:`require_finite`."""
+    """A finite Python float as it is (checked at no cost), else :func:`require_finite`."""
     if type(value) is float and math.isfinite(value):
         return value
     return require_finite(name, value, unit)
@@ -93,21 +80,11 @@ def _declaration():
 
 @dataclass(frozen=True)
 class FourBarSolution(Unpacks):
-    """The motion of the coupler (3) and rocker (4) for given crank angle(s) and rates.
-
-    Attributes
-    ----------
-    theta3, theta4 : angles of coupler and rocker, rad, wrapped into (−π, π].
-    omega3, omega4 : angular velocities, rad/s.
-    alpha3, alpha4 : angular accelerations, rad/s².
-    mask : True where the loop cannot close (NaN entries; only with ``on_unreachable="nan"``,
-        otherwise all False), as a ``numpy.ma`` mask; ``reachable`` is its complement.
-    singular : True at a toggle (J singular) while ω2 or α2 ≠ 0 (NaN rates), or where the position is
-        not determined — crank pin on O4 with coupler = rocker (all NaN); only with
-        ``on_unreachable="nan"``, otherwise these raise ``SingularJacobianError``.
-    branch : ``"open"`` or ``"crossed"``.
-
-    Unpacks as ``theta3, theta4, omega3, omega4, alpha3, alpha4``; ``np.array`` gives (6, ...).
+    """Coupler (3) and rocker (4) motion: ``theta3``, ``theta4`` (rad, in (−π, π]), ``omega3``,
+    ``omega4`` (rad/s), ``alpha3``, ``alpha4`` (rad/s²), and the ``branch``.  With
+    ``on_unreachable="nan"``, ``mask`` is True where the loop cannot close and ``singular`` where the
+    rates are undefined (a toggle while ω2 or α2 ≠ 0) or the position is (crank pin on O4 with
+    coupler = rocker); those entries are NaN.  Unpacks as the six values; ``np.array`` gives (6, ...).
 
     >>> np.array(FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0])).shape
     (6, 2)
@@ -136,20 +113,12 @@ class FourBarSolution(Unpacks):
 
 @dataclass(frozen=True)
 class GrashofResult:
-    """Grashof classification of a four-bar linkage (Norton's naming).
-
-    Attributes
-    ----------
-    name : "Grashof crank-rocker", "Grashof double-crank", "Grashof double-rocker",
-        "change-point" or "non-Grashof triple-rocker".
-    s_plus_l, p_plus_q : shortest + longest length, sum of the other two, m.
-    shortest, longest : which link ("ground", "crank", "coupler", "rocker"; the first in that order
-        on a tie).
-    is_grashof : s + l ≤ p + q (some link can turn fully relative to another).
+    """Grashof class (``name``, Norton's), s + l and p + q (m), the ``shortest`` and ``longest`` link
+    ("ground", "crank", "coupler", "rocker"; the first on a tie) and ``is_grashof`` (s + l ≤ p + q).
 
     >>> result = FourBar(0.06, 0.18, 0.12, 0.20).grashof()
-    >>> result.shortest, round(result.s_plus_l, 12), round(result.p_plus_q, 12)
-    ('crank', 0.26, 0.3)
+    >>> result.name, result.shortest, round(result.s_plus_l, 12), round(result.p_plus_q, 12)
+    ('Grashof crank-rocker', 'crank', 0.26, 0.3)
     """
 
     name: str
@@ -162,14 +131,9 @@ class GrashofResult:
 
 @dataclass(frozen=True)
 class InputRange:
-    """The crank angles θ2 at which the loop can close.
-
-    Attributes
-    ----------
-    full_rotation : True when every θ2 assembles (the input is a crank).
-    intervals : closed intervals (start, end) of θ2 in rad, start < end; ((0, 2π),) for a full
-        rotation, () when the linkage cannot be assembled at all.
-    toggle_angles : the θ2 at the ends of the intervals (coupler and rocker collinear).
+    """The crank angles θ2 at which the loop closes: ``full_rotation``, the closed ``intervals``
+    (start < end, rad; ((0, 2π),) for a full turn, () if it never assembles) and the ``toggle_angles``
+    at their ends.
 
     >>> r = FourBar(crank=0.12, coupler=0.06, rocker=0.18, ground=0.20).input_range()
     >>> r.full_rotation, len(r.intervals)
@@ -184,7 +148,6 @@ class InputRange:
 @dataclass(frozen=True)
 class CouplerPointMotion(Unpacks):
     """Position, velocity and acceleration of a coupler point, each (..., 2), in m, m/s, m/s².
-    Unpacks as ``position, velocity, acceleration``.
 
     >>> motion = FourBar(0.06, 0.18, 0.12, 0.20).coupler_point(0.0, p=0.09, delta=0.0)
     >>> motion.position.shape, motion.velocity.tolist()
@@ -199,9 +162,7 @@ class CouplerPointMotion(Unpacks):
 
 @dataclass(frozen=True)
 class FourBar:
-    """A four-bar linkage: crank l2, coupler l3, rocker l4, ground l1 (metres).
-
-    Raises ``InvalidGeometryError`` naming the length when one is ≤ 0 or not finite.
+    """A four-bar linkage: crank l2, coupler l3, rocker l4, ground l1 (m, each > 0 and finite).
 
     >>> linkage = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
     >>> linkage.l1, linkage.l2, linkage.l3, linkage.l4
@@ -224,8 +185,8 @@ class FourBar:
 
     @cached_property
     def mechanism(self):
-        """The loop declared on :class:`~course_lib.mechanism.Mechanism` with these lengths (the rates of
-        :meth:`solve` come from there; points O2, A, B, O4 for drawing).
+        """The loop declared on :class:`~course_lib.mechanism.Mechanism` with these lengths (points O2, A,
+        B, O4 for drawing).
 
         >>> loop = FourBar(0.06, 0.18, 0.12, 0.20).mechanism
         >>> round(loop.solve({"theta2": 0.7}, guess={"theta3": 0.4, "theta4": 1.6}).position["theta4"], 6)
@@ -245,7 +206,7 @@ class FourBar:
 
     def loop_jacobian(self, theta3, theta4) -> np.ndarray:
         """J = ∂(loop)/∂(θ3, θ4) = [[−l3 sin θ3, l4 sin θ4], [l3 cos θ3, −l4 cos θ4]], shape (..., 2, 2);
-        det J = l3·l4·sin(θ3 − θ4) is zero when coupler and rocker are collinear (a toggle).
+        det J = l3·l4·sin(θ3 − θ4) is zero at a toggle.
 
         >>> np.round(FourBar(1.0, 2.0, 3.0, 4.0).loop_jacobian(np.pi / 2, 0.0), 12).tolist()
         [[-2.0, 0.0], [0.0, -3.0]]
@@ -261,23 +222,22 @@ class FourBar:
                                                        strict=True)))
 
     def _unit_lengths(self) -> tuple[float, float, float, float]:
-        """l1 … l4 divided by the longest: the angles and rates do not depend on the scale, and lengths of
-        order 1 keep every square and product clear of overflow and underflow."""
+        """l1 … l4 divided by the longest: the same angles and rates, no overflow or underflow."""
         longest = max(self.l1, self.l2, self.l3, self.l4)
         return self.l1 / longest, self.l2 / longest, self.l3 / longest, self.l4 / longest
 
     def _block_positions(self, theta2: np.ndarray, branch: str, theta3: np.ndarray, theta4: np.ndarray,
                          unreachable: np.ndarray):
-        """The closed form on one block of crank angles (1-d), in place: θ3, θ4 into ``theta3``,
-        ``theta4`` (NaN where unreachable or undetermined), the unreachable mask into ``unreachable``.
-        Returns the undetermined mask (None unless coupler = rocker), the mask of NaN positions (None
-        if none), (cos, sin) of θ2, θ3, θ4, and whether the block is provably toggle-free.  Norton's
-        A, B, C are used times 2·l2·l4 > 0 (same roots, no ratio of lengths that could overflow)."""
+        """The closed form on a block of crank angles (1-d), in place: θ3, θ4 into ``theta3``, ``theta4``
+        (NaN where unreachable or undetermined), the unreachable mask into ``unreachable``.  Returns the
+        undetermined mask (None unless coupler = rocker), the mask of NaN positions (None if none), (cos,
+        sin) of θ2, θ3, θ4 and whether the block is provably toggle-free.  Norton's A, B, C are used times
+        2·l2·l4 > 0 (same roots, no ratio of lengths that could overflow)."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
         cos2, sin2 = np.cos(theta2), np.sin(theta2)
-        # A = 2 l2 l4 cos θ2 − 2 l1 l4 − 2 l1 l2 cos θ2 + k3, B = −4 l2 l4 sin θ2,
-        # C = 2 l1 l4 − 2 (l1 l2 + l2 l4) cos θ2 + k3: each operation in that order, one buffer each
+        # A = 2 l2 l4 cos θ2 − 2 l1 l4 − 2 l1 l2 cos θ2 + k3, B = −4 l2 l4 sin θ2, C = 2 l1 l4 − 2 (l1 l2
+        # + l2 l4) cos θ2 + k3, each operation in that order (as in _solve_one)
         A = np.multiply(cos2, 2 * l2 * l4)
         A -= 2 * l1 * l4
         work = np.multiply(cos2, 2 * l1 * l2)
@@ -293,7 +253,7 @@ class FourBar:
         np.subtract(square, discriminant, out=discriminant)  # B² − 4AC (B² ≥ +0: never −0)
         smallest = discriminant.min()
         clean = smallest >= 0  # the usual case: every loop closes
-        # B² − 4AC = 16 l3² l4² sin²(θ3 − θ4), with a rounding error below 1e-12 (|A|, |B|, |C| < 10)
+        # B² − 4AC = 16 l3² l4² sin²(θ3 − θ4), rounding error below 1e-12 (|A|, |B|, |C| < 10)
         toggle_free = smallest >= max(16 * l3**2 * l4**2 * TOGGLE_FREE**2, 1e-9)
         if clean:
             unreachable[...] = False
@@ -305,7 +265,7 @@ class FourBar:
             np.less(discriminant, work, out=unreachable)
             np.maximum(discriminant, 0.0, out=discriminant)
         bad, undetermined = unreachable, None
-        if abs(l3 - l4) < SINGULAR_TOL**2:  # crank pin A on O4 with coupler = rocker: B anywhere on a circle
+        if abs(l3 - l4) < SINGULAR_TOL**2:  # A on O4 with coupler = rocker: B anywhere on a circle
             distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
             undetermined = distance_AO4 < SINGULAR_TOL**2
             unreachable &= ~undetermined
@@ -331,7 +291,7 @@ class FourBar:
         y, x = y2, x2
         np.copyto(y, y1, where=first)
         np.copyto(x, x1, where=first)
-        # θ4 = 2·atan2(y, x): its cosine and sine by the double-angle formulas, no wrap needed
+        # θ4 = 2·atan2(y, x): cosine and sine by the double-angle formulas
         xx, yy = np.multiply(x, x, out=size1), np.multiply(y, y, out=size2)
         norm = np.add(xx, yy, out=work)
         cos4 = np.subtract(xx, yy, out=xx)
@@ -358,8 +318,8 @@ class FourBar:
         return self._unit_mechanism.rates(q, u, u_rate, u_acceleration, trig=pairs, singular=toggle)[:2]
 
     def _solve_one(self, theta2: float, omega2: float, alpha2: float, branch: str):
-        """θ3, θ4, ω3, ω4, α3, α4 and the masks of :meth:`solve` for one instant: :meth:`_block_positions`
-        in Python numbers, operation for operation (and numpy's cos, sin, arctan2), so the same bits."""
+        """θ3, θ4, ω3, ω4, α3, α4, unreachable, singular and 0 if undetermined (else None) for one
+        instant: :meth:`_block_positions` in Python numbers, operation for operation (the same bits)."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
         cos2, sin2 = float(np.cos(theta2)), float(np.sin(theta2))
@@ -400,13 +360,12 @@ class FourBar:
                                              np.array([[omega2]]), np.array([[alpha2]]),
                                              [np.array([v]) for v in trig], np.array([toggle]))
             rates = [*q_rate[0].tolist(), *q_acc[0].tolist()]
-        return [theta3, theta4, *rates], unreachable, singular or undetermined, undetermined
+        return [theta3, theta4, *rates], unreachable, singular or undetermined, 0 if undetermined else None
 
     def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, toggle_free: bool,
                      moving_any: bool, omegas: np.ndarray, alphas: np.ndarray, singular: np.ndarray) -> None:
-        """(ω3, ω4) and (α3, α4) of one block into ``omegas`` and ``alphas`` (n, 2), by
-        :meth:`_core_rates`; NaN at a toggle while moving (flagged in ``singular``) and where ``bad``
-        (a mask or None) marks a NaN position.  ``omega2``, ``alpha2``: numbers or arrays like ``theta2``."""
+        """(ω3, ω4) and (α3, α4) of a block into ``omegas``, ``alphas`` (n, 2); NaN at a toggle while
+        moving (flagged in ``singular``) and where ``bad`` (a mask or None) marks a NaN position."""
         cos2, sin2, cos3, sin3, cos4, sin4 = trig
         if not moving_any:  # at rest: no rates to solve for, nothing singular
             singular[...] = False
@@ -436,19 +395,11 @@ class FourBar:
 
     def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open",
               on_unreachable: str = "raise") -> FourBarSolution:
-        """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²).
-
-        Inputs broadcast together.  Position: closed form (half-angle quadratic); rates from the declared
-        loop (:attr:`mechanism`).  Arrays are worked through in blocks of :data:`BLOCK` angles.
-
-        Raises
-        ------
-        InvalidGeometryError : unknown ``branch`` / ``on_unreachable``, non-finite inputs.
-        UnreachableError : the loop cannot close at some θ2 (named; for arrays how many and the first).
-        SingularJacobianError : a toggle (coupler and rocker collinear) with ω2 ≠ 0 or α2 ≠ 0, or an
-            undetermined position (crank pin on O4 with coupler = rocker).
-        With ``on_unreachable="nan"`` neither of the last two raises: the entries are NaN and flagged
-        in ``mask`` or ``singular``.
+        """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²),
+        broadcast together.  Raises ``UnreachableError`` where the loop cannot close and
+        ``SingularJacobianError`` at a toggle while ω2 or α2 ≠ 0 or where the position is undetermined
+        (crank pin on O4 with coupler = rocker); with ``on_unreachable="nan"`` those entries are NaN,
+        flagged in ``mask`` or ``singular``.
 
         >>> crossed = FourBar(0.06, 0.18, 0.12, 0.20).solve(np.pi / 2, branch="crossed")
         >>> round(crossed.theta3, 6), round(crossed.theta4, 6)
@@ -469,40 +420,32 @@ class FourBar:
                 theta2, omega2, alpha2, shape, branch)
             any_unreachable, any_singular = unreachable.any(), singular.any()
         else:  # one instant: Python numbers throughout
-            values, unreachable, singular, undetermined = self._solve_one(
+            values, unreachable, singular, first_undetermined = self._solve_one(
                 float(theta2), float(omega2), float(alpha2), branch)
             any_unreachable, any_singular = unreachable, singular
-            first_undetermined = 0 if undetermined else None
         if any_unreachable:
             what = f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle " \
                 "quadratic)"
             report_unreachable(np.reshape(unreachable, shape), {"theta2": theta2}, what, on_unreachable)
-        if on_unreachable == "raise" and first_undetermined is not None:
-            at = np.broadcast_to(theta2, shape)[np.unravel_index(first_undetermined, shape)]
-            raise SingularJacobianError(
-                f"at theta2={at:.6g} the crank pin A lands on O4 and coupler = rocker, so B "
-                "may be anywhere on a circle of radius l3: the position is not determined (a change "
-                "point; any other theta2 is fine)", x=float(at))
-        if on_unreachable == "raise" and any_singular:  # a toggle while moving (nothing else is left)
-            first = int(np.flatnonzero(singular)[0])
-            index = np.unravel_index(first, shape)
+        if on_unreachable == "raise" and any_singular:  # undetermined, else a toggle while moving
+            first = int(np.flatnonzero(singular)[0]) if first_undetermined is None else first_undetermined
+            at = [np.broadcast_to(v, shape)[np.unravel_index(first, shape)] for v in (theta2, omega2, alpha2)]
+            if first_undetermined is not None:
+                raise SingularJacobianError(
+                    f"at theta2={at[0]:.6g} the crank pin A lands on O4 and coupler = rocker, so B "
+                    "may be anywhere on a circle of radius l3: the position is not determined (a change "
+                    "point; any other theta2 is fine)", x=float(at[0]))
             count = f" ({int(singular.sum())} of {singular.size} inputs, first at index {first})" if shape \
                 else ""
-            at = [np.broadcast_to(v, shape)[index] for v in (theta2, omega2, alpha2)]
             raise SingularJacobianError(
                 f"the loop Jacobian is singular at theta2={at[0]:.6g} (coupler and rocker "
                 f"collinear: a toggle position), so omega3, omega4 are undefined for "
                 f"omega2={at[1]:.6g}, alpha2={at[2]:.6g}{count}", x=float(at[0]))
-        if shape:
-            values = [v.reshape(shape) for v in values]
-            unreachable, singular = unreachable.reshape(shape), singular.reshape(shape)
         return FourBarSolution(*values, mask=unreachable, singular=singular, branch=branch)
 
     def _solve_blocks(self, theta2, omega2, alpha2, shape, branch: str):
-        """θ3, θ4, ω3, ω4, α3, α4 (flat arrays), the unreachable and singular masks and the flat index
-        of the first undetermined position (or None) for inputs broadcast to ``shape`` (not ()),
-        worked through in blocks of :data:`BLOCK` angles."""
-        # flat views (copies only where an input is broadcast); a number stays a number
+        """:meth:`_solve_one` for inputs broadcast to ``shape`` (not ()), in blocks of :data:`BLOCK` angles:
+        the six values and two masks in that shape, and the flat index of the first undetermined position."""
         angles = np.broadcast_to(theta2, shape).ravel()
         speed, acceleration = (float(v) if np.ndim(v) == 0 else np.broadcast_to(v, shape).ravel()
                                for v in (omega2, alpha2))
@@ -526,8 +469,8 @@ class FourBar:
                     singular[block] |= undetermined
                     if first_undetermined is None:
                         first_undetermined = start + int(np.flatnonzero(undetermined)[0])
-        values = [angles3, angles4, omegas[:, 0], omegas[:, 1], alphas[:, 0], alphas[:, 1]]
-        return values, unreachable, singular, first_undetermined
+        values = [v.reshape(shape) for v in (angles3, angles4, *omegas.T, *alphas.T)]
+        return values, unreachable.reshape(shape), singular.reshape(shape), first_undetermined
 
     def joints(self, theta2, branch: str = "open", on_unreachable: str = "raise") -> np.ndarray:
         """Coordinates of O2, A, B, O4 (m) for drawing, shape (..., 4, 2).

@@ -34,7 +34,7 @@ from .errors import (
     require_positive,
 )
 from .newton import linear_solver
-from .planar import Unpacks, scalar_or_array, wrap_angle
+from .planar import Unpacks, scalar_or_array
 
 __all__ = ["FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures", "WorkspaceMap",
            "WORKING_MODES", "SINGULAR_TOL"]
@@ -53,9 +53,6 @@ _DISCRIMINANT_SLACK = 1e-12
 
 #: Points per block of the closed forms over large arrays (the memory beyond the results stays flat).
 _BLOCK = 65_536
-
-#: Up to this many points the closed forms run on whole arrays (cheaper than the blocks' bookkeeping).
-_SMALL = 4096
 
 
 @dataclass(frozen=True)
@@ -146,44 +143,17 @@ def _working_mode(modes) -> tuple[int, int]:
     return _sign_choice("sigma1 (modes[0])", modes[0]), _sign_choice("sigma2 (modes[1])", modes[1])
 
 
-class _Scratch:
-    """Arrays of one block's length for a kernel's temporaries, made at the first block and handed out
-    again at every later one (fresh arrays would cost page faults)."""
-
-    def __init__(self, length: int) -> None:
-        self._length = length
-        self._arrays: dict = {}
-        self._taken: dict = {}
-        self._size = 0
-
-    def start(self, size: int) -> None:
-        """A new block of ``size`` entries: every array is free again."""
-        self._size, self._taken = size, {}
-
-    def take(self, dtype: type = float) -> np.ndarray:
-        """A free array of the block's length (its values are left over: write it before reading)."""
-        index = self._taken.get(dtype, 0)
-        self._taken[dtype] = index + 1
-        if (dtype, index) not in self._arrays:
-            self._arrays[dtype, index] = np.empty(self._length, dtype=dtype)
-        return self._arrays[dtype, index][: self._size]
-
-
-def _blockwise(whole, block, inputs, dtypes):
-    """``whole(*inputs)`` for the float arrays ``inputs`` (of one shape) up to ``_SMALL`` points, else
-    the same numbers by ``block(scratch, *blocks)`` in blocks of ``_BLOCK`` (C order, temporaries
-    reused), into new arrays of ``dtypes``."""
-    if inputs[0].size <= _SMALL:
-        return whole(*inputs)
+def _blockwise(kernel, inputs, dtypes):
+    """``kernel(*inputs)`` for the float arrays ``inputs`` (of one shape); above ``_BLOCK`` points the
+    same numbers block by block (C order) into new arrays of ``dtypes``, so the memory stays flat."""
+    if inputs[0].size <= _BLOCK:
+        return kernel(*inputs)
     flags = ["external_loop", "buffered", "zerosize_ok"]
     op_flags = [["readonly"]] * len(inputs) + [["writeonly", "allocate"]] * len(dtypes)
     with np.nditer([*inputs, *(None for _ in dtypes)], flags, op_flags, [float] * len(inputs) + list(dtypes),
                    order="C", buffersize=_BLOCK) as blocks:
-        scratch = _Scratch(min(blocks.itersize, _BLOCK))
         for operands in blocks:
-            scratch.start(len(operands[0]))
-            values = block(scratch, *operands[: len(inputs)])
-            for result, value in zip(operands[len(inputs):], values, strict=True):
+            for result, value in zip(operands[len(inputs):], kernel(*operands[: len(inputs)]), strict=True):
                 result[...] = value
         return blocks.operands[len(inputs):]
 
@@ -193,73 +163,24 @@ def _half_angle_root(a, b, c, sigma: int):
     2c/(−b − σ√Δ), and the fraction with the larger numerator/denominator pair is used, as
     2·atan2(numerator, denominator) (right also when a → 0, θ = ±π).  Returns θ in (−π, π] and two
     masks: out of reach (Δ < 0 beyond rounding, or b² or 4ac overflow) and undetermined (a = b = c = 0)."""
-    discriminant = b * b - 4 * a * c
-    slack = _DISCRIMINANT_SLACK * (b * b + 4 * np.abs(a * c))
-    root = np.sqrt(np.clip(discriminant, 0.0, None))
-    numerator_1, denominator_1 = -b + sigma * root, 2 * a
-    numerator_2, denominator_2 = 2 * c, -b - sigma * root
+    b_squared = b * b
+    discriminant = b_squared - 4 * a * c
+    root = sigma * np.sqrt(np.clip(discriminant, 0.0, None))
+    numerator_1, denominator_1 = -b + root, 2 * a
+    numerator_2, denominator_2 = 2 * c, -b - root
     size_1 = np.maximum(np.abs(numerator_1), np.abs(denominator_1))
     size_2 = np.maximum(np.abs(numerator_2), np.abs(denominator_2))
     use_first = size_1 >= size_2
-    numerator = np.where(use_first, numerator_1, numerator_2)
-    denominator = np.where(use_first, denominator_1, denominator_2)
-    theta = wrap_angle(2 * np.arctan2(numerator, denominator), nan_ok=True)
+    theta = 2 * np.arctan2(np.where(use_first, numerator_1, numerator_2),
+                           np.where(use_first, denominator_1, denominator_2))
+    # into (−π, π] as np.mod(θ + π, 2π) − π does, without its division: θ + π lies in [−π, 3π]
+    theta = theta + np.pi
+    theta -= (theta >= 2 * np.pi) * (2 * np.pi)
+    theta += (theta < 0.0) * (2 * np.pi)
+    theta -= np.pi
+    far = (discriminant < -_DISCRIMINANT_SLACK * (b_squared + 4 * np.abs(a * c))) | ~np.isfinite(discriminant)
     undetermined = np.maximum(size_1, size_2) <= 1e-14 * (np.abs(a) + np.abs(b) + np.abs(c) + 1e-300)
-    return theta, (discriminant < -slack) | ~np.isfinite(discriminant), undetermined
-
-
-def _half_angle_root_in_place(scratch: _Scratch, a, b, c, sigma: int):
-    """``_half_angle_root`` on one block, operation for operation, in place."""
-    b_squared = np.multiply(b, b, out=scratch.take())
-    discriminant = np.multiply(4, a, out=scratch.take())
-    discriminant *= c
-    np.subtract(b_squared, discriminant, out=discriminant)
-    bound = np.multiply(a, c, out=scratch.take())   # slack: 1e-12·(b² + 4|ac|)
-    np.abs(bound, out=bound)
-    bound *= 4
-    bound += b_squared
-    bound *= -_DISCRIMINANT_SLACK
-    far = np.less(discriminant, bound, out=scratch.take(bool))
-    far |= np.logical_not(np.isfinite(discriminant, out=scratch.take(bool)), out=scratch.take(bool))
-    root = np.sqrt(np.clip(discriminant, 0.0, None, out=b_squared), out=b_squared)
-    if sigma < 0:
-        np.negative(root, out=root)                                        # σ√Δ
-    numerator_2 = np.multiply(2, c, out=bound)                             # 2c / (−b − σ√Δ)
-    denominator_2 = np.negative(b, out=scratch.take())
-    numerator_1 = np.add(denominator_2, root, out=scratch.take())          # (−b + σ√Δ) / 2a
-    denominator_2 -= root
-    denominator_1 = np.multiply(2, a, out=root)
-    size_1 = np.abs(numerator_1, out=scratch.take())
-    np.maximum(size_1, np.abs(denominator_1, out=discriminant), out=size_1)
-    size_2 = np.abs(numerator_2, out=scratch.take())
-    np.maximum(size_2, np.abs(denominator_2, out=discriminant), out=size_2)
-    use_first = np.greater_equal(size_1, size_2, out=scratch.take(bool))
-    numerator = np.where(use_first, numerator_1, numerator_2)
-    denominator = np.where(use_first, denominator_1, denominator_2)
-    theta = np.arctan2(numerator, denominator, out=numerator_1)
-    theta *= 2
-    _wrap_in_place(theta, scratch)
-    scale = np.abs(a, out=discriminant)
-    scale += np.abs(b, out=numerator_2)
-    scale += np.abs(c, out=numerator_2)
-    scale += 1e-300
-    scale *= 1e-14
-    undetermined = np.less_equal(np.maximum(size_1, size_2, out=size_1), scale, out=scratch.take(bool))
-    return theta, far, undetermined
-
-
-def _wrap_in_place(angle: np.ndarray, scratch: _Scratch) -> np.ndarray:
-    """``wrap_angle`` of a doubled atan2 (in [−2π, 2π]) in place, NaN kept: on [−π, 3π] the remainder of
-    ``np.mod(angle + π, 2π)`` is one exact subtraction of 2π at and above 2π, or one addition below 0."""
-    full_turn = 2 * np.pi
-    flag, step = scratch.take(bool), scratch.take()
-    angle += np.pi
-    angle -= np.multiply(np.greater_equal(angle, full_turn, out=flag), full_turn, out=step)
-    angle += np.multiply(np.less(angle, 0.0, out=flag), full_turn, out=step)
-    angle -= np.pi
-    if np.equal(angle, -np.pi, out=flag).any():
-        angle[flag] = np.pi
-    return angle
+    return np.where(theta == -np.pi, np.pi, theta), far, undetermined
 
 
 @dataclass(frozen=True)
@@ -436,9 +357,8 @@ class FiveBar:
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
         X, Y = require_broadcast(x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
         with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
-            theta1, theta4, far1, far4, free = _blockwise(
-                partial(self._inverse_whole, sigmas=sigmas), partial(self._inverse_block, sigmas=sigmas),
-                (X, Y), (float, float, bool, bool, bool))
+            theta1, theta4, far1, far4, free = _blockwise(partial(self._inverse_points, sigmas=sigmas),
+                                                          (X, Y), (float, float, bool, bool, bool))
         inputs = {"x3": x3, "y3": y3}
         report_unreachable(far1, inputs, "leg 1 (l1, l2) cannot reach the point", on_unreachable)
         report_unreachable(far4, inputs, "leg 4 (l4, l3) cannot reach the point", on_unreachable)
@@ -447,7 +367,7 @@ class FiveBar:
         reachable = np.logical_not(np.logical_or(reachable, free, out=reachable), out=reachable)
         return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(reachable))
 
-    def _inverse_whole(self, X, Y, sigmas: tuple[int, int]):
+    def _inverse_points(self, X, Y, sigmas: tuple[int, int]):
         """θ1, θ4 (NaN where out of reach) and the masks leg 1 out of reach, leg 4 out of reach, a crank
         angle undetermined, for checked arrays or numbers X, Y."""
         k = self._inverse_coefficients(X, Y)
@@ -456,38 +376,6 @@ class FiveBar:
         free = (free1 | free4) & ~(far1 | far4)
         bad = far1 | far4 | free
         return np.where(bad, np.nan, theta1), np.where(bad, np.nan, theta4), far1, far4, free
-
-    def _inverse_block(self, scratch: _Scratch, x, y, sigmas: tuple[int, int]):
-        """``_inverse_whole`` on one block, operation for operation, in place."""
-        l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
-        common = np.multiply(x, x, out=scratch.take())
-        common += np.multiply(y, y, out=scratch.take())
-        common += l5**2 / 4
-        zero_x = np.multiply(0, x, out=scratch.take())   # 0·x: a zero b gets the sign it has there
-        signed_l5_x = scratch.take()
-        roots = []
-        for crank, distal, sign, sigma in ((l1, l2, -1, sigmas[0]), (l4, l3, 1, sigmas[1])):
-            first = crank**2 - distal**2
-            two_crank_x = np.multiply(2 * crank, x, out=scratch.take())
-            a = np.add(two_crank_x, first + sign * crank * l5, out=scratch.take())
-            c = np.subtract(first - sign * crank * l5, two_crank_x, out=two_crank_x)
-            signed_l5_x = np.multiply(sign * l5, x, out=signed_l5_x)   # ∓l5·X
-            a += signed_l5_x
-            c += signed_l5_x
-            a += common
-            c += common
-            b = np.multiply(-4 * crank, y, out=scratch.take())
-            b += zero_x
-            roots.append(_half_angle_root_in_place(scratch, a, b, c, sigma))
-        (theta1, far1, free1), (theta4, far4, free4) = roots
-        bad = np.logical_or(far1, far4, out=scratch.take(bool))
-        free = np.logical_or(free1, free4, out=free1)
-        free &= ~bad
-        bad |= free
-        if bad.any():
-            theta1[bad] = np.nan
-            theta4[bad] = np.nan
-        return theta1, theta4, far1, far4, free
 
     @cached_property
     def _cores(self) -> dict:
@@ -534,41 +422,13 @@ class FiveBar:
 
     def _measures(self, theta1, theta4, x3, y3):
         """The three singularity measures without the input checks: NaN in, NaN out."""
-        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
         half = self.l5 / 2
-        leg1 = ((p2x - half) * (y3 - p2y) - p2y * (x3 - p2x)) / (self.l1 * self.l2)
-        leg4 = ((p4x + half) * (y3 - p4y) - p4y * (x3 - p4x)) / (self.l4 * self.l3)
-        parallel = ((x3 - p2x) * (y3 - p4y) - (y3 - p2y) * (x3 - p4x)) / (self.l2 * self.l3)
-        return leg1, leg4, parallel
-
-    def _measures_block(self, scratch: _Scratch, theta1, theta4, x3, y3):
-        """``_measures`` on one block, operation for operation, in place."""
-        half = self.l5 / 2
-        p2x, p2y = np.cos(theta1, out=scratch.take()), np.sin(theta1, out=scratch.take())
-        p4x, p4y = np.cos(theta4, out=scratch.take()), np.sin(theta4, out=scratch.take())
-        p2x *= self.l1
-        p2x += half
-        p2y *= self.l1
-        p4x *= self.l4
-        p4x -= half
-        p4y *= self.l4
-        x_2, y_2 = np.subtract(x3, p2x, out=scratch.take()), np.subtract(y3, p2y, out=scratch.take())
-        x_4, y_4 = np.subtract(x3, p4x, out=scratch.take()), np.subtract(y3, p4y, out=scratch.take())
-        term = scratch.take()
-        legs = []
-        for p_x, across, p_y, x_p, y_p, lengths in ((p2x, -half, p2y, x_2, y_2, self.l1 * self.l2),
-                                                    (p4x, half, p4y, x_4, y_4, self.l4 * self.l3)):
-            leg = np.add(p_x, across, out=p_x)   # ((p_x ∓ half)·(y3 − p_y) − p_y·(x3 − p_x)) / (crank·distal)
-            leg *= y_p
-            term = np.multiply(p_y, x_p, out=term)
-            leg -= term
-            leg /= lengths
-            legs.append(leg)
-        parallel = np.multiply(x_2, y_4, out=p2y)
-        term = np.multiply(y_2, x_4, out=term)
-        parallel -= term
-        parallel /= self.l2 * self.l3
-        return *legs, parallel
+        p2x, p2y = self.l1 * np.cos(theta1) + half, self.l1 * np.sin(theta1)
+        p4x, p4y = self.l4 * np.cos(theta4) - half, self.l4 * np.sin(theta4)
+        x_2, y_2, x_4, y_4 = x3 - p2x, y3 - p2y, x3 - p4x, y3 - p4y
+        leg1 = ((p2x - half) * y_2 - p2y * x_2) / (self.l1 * self.l2)
+        leg4 = ((p4x + half) * y_4 - p4y * x_4) / (self.l4 * self.l3)
+        return leg1, leg4, (x_2 * y_4 - y_2 * x_4) / (self.l2 * self.l3)
 
     def _singular(self, kind, on_singular, theta1, theta4, x3, y3):
         """The mask of a "parallel" or "serial" singularity of a checked configuration; raises there
@@ -659,23 +519,15 @@ class FiveBar:
         if x.ndim != 1 or y.ndim != 1:
             raise InvalidGeometryError(f"x and y must be 1-D grid vectors; got shapes {x.shape}, {y.shape}")
         X, Y = np.meshgrid(x, y)
-        sigmas = _working_mode(modes)
+        kernel = partial(self._workspace_points, sigmas=_working_mode(modes))
         with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
-            maps = _blockwise(partial(self._workspace_whole, sigmas=sigmas), partial(self._workspace_block,
-                              sigmas=sigmas), (X, Y), (bool,) + (float,) * 5)
+            maps = _blockwise(kernel, (X, Y), (bool,) + (float,) * 5)
         return WorkspaceMap(X, Y, *maps, tuple(modes))
 
-    def _workspace_whole(self, X, Y, sigmas: tuple[int, int]):
+    def _workspace_points(self, X, Y, sigmas: tuple[int, int]):
         """Reachable mask, θ1, θ4 and the three measures of checked arrays X, Y."""
-        theta1, theta4, far1, far4, free = self._inverse_whole(X, Y, sigmas)
+        theta1, theta4, far1, far4, free = self._inverse_points(X, Y, sigmas)
         return ~(far1 | far4 | free), theta1, theta4, *self._measures(theta1, theta4, X, Y)
-
-    def _workspace_block(self, scratch: _Scratch, x, y, sigmas: tuple[int, int]):
-        """Reachable mask, θ1, θ4 and the three measures of 1-d arrays x, y."""
-        theta1, theta4, far1, far4, free = self._inverse_block(scratch, x, y, sigmas)
-        reachable = np.logical_or(np.logical_or(far1, far4, out=far1), free, out=far1)
-        reachable = np.logical_not(reachable, out=reachable)
-        return reachable, theta1, theta4, *self._measures_block(scratch, theta1, theta4, x, y)
 
     def draw(self, theta1: float, theta4: float, x3: float, y3: float, ax=None, title: str | None = None,
              **style):

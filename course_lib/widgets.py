@@ -1,16 +1,11 @@
 """Interactive explorers (ipywidgets): move a slider, watch the mechanism move.
 
-Each builder (:func:`fourbar_explorer`, :func:`saw_explorer`, :func:`fivebar_explorer`,
-:func:`mechanism_explorer`) returns an :class:`Explorer`: the controls, **one** matplotlib figure reused
-for every event (a bare ``Figure`` on an Agg canvas, never registered with pyplot) rendered to PNG for an
-``ipywidgets.Image``, a readout, and the update step ``update(**state)``.  The picture is cached in
-layers: axes and fixed curves (redrawn only when an axis' limits change); the *geometry layer*, what
-depends on a length, branch or mode; and the moving links, drawn at every event (blitting).
-
-``update`` never raises for a value (it refuses, clamps or wraps, and says so); an input for which the
-mechanism cannot be assembled is explained in the readout and on the drawing.  A builder's argument
-outside its slider's range raises ``InvalidGeometryError`` naming it, its value and the range.  Where no
-widget manager runs (GitHub, ``nbconvert``) an explorer shows a PNG of its figure with its readout.
+Each builder returns an :class:`Explorer`: controls, **one** matplotlib figure (Agg, never registered
+with pyplot) redrawn in cached layers (axes; the geometry a length, branch or mode sets; the moving
+links, blitted) into a PNG ``ipywidgets.Image``, a readout, and the update step ``update(**state)``.
+``update`` never raises for a value; a state the mechanism cannot take is explained in the readout and
+on the drawing; a builder's argument outside its slider's range raises ``InvalidGeometryError``.
+Where no widget manager runs (GitHub, ``nbconvert``) an explorer shows a PNG of figure and readout.
 Units: metres and seconds; sliders show angles in degrees (the state keys say so: ``theta2_deg``).
 
 >>> explorer = fourbar_explorer()
@@ -80,12 +75,10 @@ class Readout:
 class Explorer:
     """Controls + one reused figure + readout, tied together by a plain update step.
 
-    ``controls``: the input widgets by state key (e.g. "theta2_deg"), whose values are the state;
-    ``artists``: what the update step changes, by name (those created ``animated`` are drawn at every
-    event, the rest belong to the cached picture); ``draw(state, geometry_changed) -> Readout`` computes
-    the mechanism and moves the artists; ``geometry_keys``: the state keys that alter the geometry layer,
-    made of the ``geometry_artists``; ``extra``: widgets under the controls, not part of the state.
-    Made here: ``image``, ``readout``, ``widget`` (to display) and ``last``, the latest :class:`Readout`.
+    ``controls``: input widgets by state key, whose values are the state; ``artists``: what the update
+    step changes, by name (``animated`` ones drawn at every event); ``draw(state, geometry_changed) ->
+    Readout`` moves them; ``geometry_keys``: the state keys that alter the ``geometry_artists`` (a cached
+    layer); ``extra``: more widgets.  Made here: ``image``, ``readout``, ``widget`` and ``last``.
 
     >>> explorer = fourbar_explorer()
     >>> explorer.status, sorted(explorer.state)[:3], "Grashof" in explorer.message
@@ -143,10 +136,9 @@ class Explorer:
     def update(self, **state) -> Readout:
         """Set some inputs (by state key) and redraw once; returns the :class:`Readout`.
 
-        Never raises for a value: a toggle takes one of its options (text in any letter case); a slider
-        a finite number, clamped to its range (angles in degrees wrapped into [−180°, 180°]), the readout
-        saying so.  Any other value is refused: the control keeps its value, the status is "invalid" and
-        the readout's first line says why.  Only an unknown key raises ``InvalidGeometryError``.
+        A toggle takes one of its options (text in any case), a slider a finite number, clamped (angles
+        wrapped) to its range; any other value is refused: kept, status "invalid", the readout says why.
+        Only an unknown key raises ``InvalidGeometryError``.
 
         >>> readout = fourbar_explorer().update(theta2_deg=float("nan"))
         >>> readout.status, readout.lines[0]
@@ -381,6 +373,16 @@ def _failed(artists, drawing, points, text: str, status: str, lines, circles=())
     return Readout(status, tuple(lines))
 
 
+def _solved(artists, drawing, points, lines, **shown) -> Readout:
+    """A solved step: the linkage at ``points``, no failure text, the ``shown`` line artists at their
+    (x, y) data; the Readout "ok" of ``lines``."""
+    artists["failure"].set_text("")
+    drawing.move(points)
+    for name, data in shown.items():
+        artists[name].set(data=data, visible=True)
+    return Readout("ok", tuple(lines))
+
+
 def _num(value: float, digits: int) -> str:
     """``value`` with ``digits`` decimals and no "-0.000" (rounded first); "undefined" if not finite."""
     number = float(value)
@@ -535,19 +537,13 @@ def fourbar_explorer(
                 "Move θ2 back into the input range, or change the lengths.", *lines, says),
                 circles=(("reach_A", A, l3), ("reach_O4", O4, l4)))
         B = O4 + l4 * np.array([np.cos(solution.theta4), np.sin(solution.theta4)])
-        _visible(artists, "point_p mu_cursor", True)
-        artists["failure"].set_text("")
-        linkage.move({"O2": O2, "A": A, "B": B, "O4": O4, "P": point})
-        artists["point_p"].set_data([point[0]], [point[1]])
-        artists["mu_cursor"].set_data([np.degrees(theta2)], [np.degrees(mu)])
         warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
-        return Readout("ok", (
+        return _solved(artists, linkage, {"O2": O2, "A": A, "B": B, "O4": O4, "P": point}, (
             f"θ2 = {np.degrees(theta2):.1f}°  →  θ3 = {np.degrees(solution.theta3):.2f}°, "
             f"θ4 = {np.degrees(solution.theta4):.2f}°  ({branch} branch)",
             f"transmission angle μ = {np.degrees(mu):.2f}°{warning}",
-            f"coupler point P = ({point[0]:.4f}, {point[1]:.4f}) m",
-            *lines,
-        ))
+            f"coupler point P = ({point[0]:.4f}, {point[1]:.4f}) m", *lines),
+            point_p=([point[0]], [point[1]]), mu_cursor=([np.degrees(theta2)], [np.degrees(mu)]))
 
     return Explorer("four-bar", controls, figure, artists, draw, (*named, "branch", "p", "delta_deg"),
                     geometry_artists=("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4",
@@ -652,12 +648,8 @@ def saw_explorer(
             artists["profile_points"].set_visible(False)
             return _failed(artists, drawing, {}, f"no assembly at t = {t:.3f} s", "unreachable",
                            (f"t = {t:.3f} s: the saw cannot be solved here.", f"course_lib says: {err}"))
-        artists["profile_points"].set_visible(True)
-        artists["failure"].set_text("")
-        drawing.move(dict(zip(("O2", "A", "B"), joints, strict=True)))
         artists["title"].set_text(f"t = {t:.3f} s")
         artists["profile_cursor"].set_xdata([t, t])
-        artists["profile_points"].set_data([t, t, t], [theta2, omega2, alpha2])
         for k, (key, _label) in enumerate(_SAW_PANELS):
             artists[f"cursor_{key}"].set_xdata([t, t])
             artists[f"point_{key}"].set_data([t], [values[k]])
@@ -665,14 +657,14 @@ def saw_explorer(
                  else "steady speed")
         shown = [label.replace(" (", f" = {_num(value, 5)} ")[:-1]  # "r1 (m)" → "r1 = -0.09967 m"
                  for (_, label), value in zip(_SAW_PANELS, values, strict=True)]
-        return Readout("ok", (
+        return _solved(artists, drawing, dict(zip(("O2", "A", "B"), joints, strict=True)), (
             f"t = {t:.3f} s ({'start-up, ' + phase if t < turn else phase}; "
             f"first turn ends at T = {turn:.4f} s)",
             f"motor: θ2 = {_num(theta2, 4)} rad ({np.degrees(theta2):.1f}°), ω2 = {_num(omega2, 4)} rad/s, "
             f"α2 = {_num(alpha2, 4)} rad/s²",
             *(f"{kind}: {', '.join(shown[3 * k:3 * k + 3])}"
-              for k, kind in enumerate(("position", "velocity", "acceleration"))),
-        ))
+              for k, kind in enumerate(("position", "velocity", "acceleration")))),
+            profile_points=([t, t, t], [theta2, omega2, alpha2]))
 
     explorer = Explorer("power saw", {"t": time_slider}, figure, artists, draw, (), (play,))
     explorer.play = play  # the Play button (frame k ↔ t = k·dt), also in ``extra``
@@ -813,9 +805,6 @@ def fivebar_explorer(
                 "The robot's position is undefined for these inputs (the closed form returns no number).",
                 "Move a slider a little."))
         P2, P4 = pins(theta1, theta4)
-        artists["failure"].set_text("")
-        artists["end_effector"].set(data=([x3], [y3]), visible=True)
-        drawing.move({"P1": P1, "P2": P2, "P3": np.array([x3, y3]), "P4": P4, "P5": P5})
         measures = robot.singularity_measures(theta1, theta4, x3, y3)
         parallel = float(measures.parallel)
         serial = min(abs(float(measures.serial_leg1)), abs(float(measures.serial_leg4)))
@@ -826,13 +815,13 @@ def fivebar_explorer(
         else:
             head = (f"forward, σ = {int(state['sigma']):+d}: θ1 = {np.degrees(theta1):.1f}°, "
                     f"θ4 = {np.degrees(theta4):.1f}°  →  P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m")
-        return Readout("ok", (
+        return _solved(artists, drawing, {"P1": P1, "P2": P2, "P3": np.array([x3, y3]), "P4": P4, "P5": P5}, (
             head,
             f"singularity measures (0 = singular): leg 1 {_num(measures.serial_leg1, 3)}, "
             f"leg 4 {_num(measures.serial_leg4, 3)}, parallel {_num(parallel, 3)}",
             *["near a parallel (type-2) singularity: l2 and l3 almost aligned"] * (abs(parallel) < 0.05),
-            *["near a serial (type-1) singularity: a leg almost stretched or folded"] * (serial < 0.05),
-        ))
+            *["near a serial (type-1) singularity: a leg almost stretched or folded"] * (serial < 0.05)),
+            end_effector=([x3], [y3]))
 
     return Explorer("five-bar", controls, figure, artists, draw, ("mode", "sigma1", "sigma2"),
                     geometry_artists=("singularity",))
@@ -918,10 +907,8 @@ def mechanism_explorer(
             return _failed(artists, drawing, {}, f"no assembly at {name} = {state[key]:g}", "unreachable", (
                 f"{name} = {state[key]:g}: the loops cannot be closed here from the nearest solved instant.",
                 f"course_lib says: {err}"))
-        artists["failure"].set_text("")
-        drawing.move(mechanism.joints(now))
-        lines = readout(now) if readout is not None else [f"{unknown} = {value:.4g}"
-                                                          for unknown, value in now.position.items()]
-        return Readout("ok", tuple(lines))
+        _solved(artists, drawing, mechanism.joints(now), ())  # drawn first: a readout may raise
+        return Readout("ok", tuple(readout(now) if readout is not None else
+                                   [f"{unknown} = {value:.4g}" for unknown, value in now.position.items()]))
 
     return Explorer(title, controls, figure, artists, draw)

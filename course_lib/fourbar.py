@@ -488,9 +488,8 @@ class FourBar:
 
     def transmission_angle(self, theta2, branch: str = "open", acute: bool = True,
                            on_unreachable: str = "raise"):
-        """Transmission angle μ (rad) between coupler and rocker: the joint angle at B, |θ4 − θ3| folded
-        into [0, π], and with ``acute=True`` (Norton's design value) into [0, π/2].  Good force
-        transmission wants μ ≥ 40° or so.
+        """Transmission angle μ (rad): the joint angle at B, |θ4 − θ3| folded into [0, π], with ``acute``
+        (Norton's design value) into [0, π/2]; good force transmission wants μ ≥ 40° or so.
 
         >>> round(float(np.degrees(FourBar(0.06, 0.18, 0.12, 0.20).transmission_angle(np.pi / 2))), 4)
         85.752
@@ -503,9 +502,8 @@ class FourBar:
 
     def coupler_point(self, theta2, p: float, delta: float, omega2=0.0, alpha2=0.0, branch: str = "open",
                       on_unreachable: str = "raise") -> CouplerPointMotion:
-        """Motion of the coupler point P at distance p (m) from A along AB turned by δ (rad):
-        r = p(cos(θ3 + δ), sin(θ3 + δ)); P = A + r; V_P = V_A + ω3 k̂×r; A_P = A_A + α3 k̂×r − ω3² r,
-        with V_A = ω2 k̂×R2 and A_A = α2 k̂×R2 − ω2² R2.
+        """Motion of the coupler point P = A + r, r = p(cos(θ3 + δ), sin(θ3 + δ)) (p in m, δ in rad):
+        V_P = ω2 k̂×R2 + ω3 k̂×r, A_P = α2 k̂×R2 − ω2² R2 + α3 k̂×r − ω3² r.
 
         >>> motion = FourBar(1.0, 1.0, 1.0, 1.0).coupler_point(np.pi / 2, p=0.5, delta=0.0, omega2=1.0)
         >>> motion.position.round(12).tolist(), motion.velocity.round(12).tolist()
@@ -525,11 +523,8 @@ class FourBar:
         return CouplerPointMotion(position=position, velocity=velocity, acceleration=acceleration)
 
     def grashof(self) -> GrashofResult:
-        """Grashof class from s + l (shortest + longest) against p + q (the other two).
-
-        s + l < p + q: Grashof — crank-rocker if the shortest link is the crank or the rocker,
-        double-crank if it is the ground, double-rocker if it is the coupler; s + l = p + q:
-        change-point; s + l > p + q: non-Grashof triple-rocker.
+        """Grashof class: s + l < p + q is Grashof (shortest link ground: double-crank, coupler:
+        double-rocker, else crank-rocker), s + l = p + q change-point, else non-Grashof triple-rocker.
 
         >>> FourBar(crank=0.12, coupler=0.18, rocker=0.20, ground=0.06).grashof().name
         'Grashof double-crank'
@@ -549,11 +544,8 @@ class FourBar:
         return GrashofResult(name, s_plus_l, p_plus_q, shortest, longest, name != "non-Grashof triple-rocker")
 
     def input_range(self) -> InputRange:
-        """The crank angles θ2 (rad) at which the loop closes, and the toggle angles.
-
-        |AO4|² = l1² + l2² − 2 l1 l2 cos θ2 must lie between (l3 − l4)² and (l3 + l4)²; each bound that
-        binds gives a toggle angle by the law of cosines (coupler and rocker collinear: extended at
-        l3 + l4, folded at |l3 − l4|).
+        """The crank angles θ2 (rad) at which the loop closes: |AO4| between |l3 − l4| and l3 + l4, each
+        bound that binds a toggle angle (coupler and rocker folded or extended).
 
         >>> r = FourBar(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20).input_range()
         >>> r.full_rotation, [round(a, 6) for a in r.toggle_angles]
@@ -575,7 +567,7 @@ class FourBar:
             return InputRange(full_rotation=False, intervals=(), toggle_angles=())
         theta_max = np.pi if extended is None else extended  # binds when < π
         theta_min = 0.0 if folded is None else folded  # binds when > 0
-        # a toggle within rounding of π or 0 (a change point: l3 ± l4 = l1 ± l2) does not stop a full turn
+        # a toggle within rounding of π or 0 (a change point) does not stop a full turn
         upper, lower = theta_max < np.pi - TOGGLE_TOL, theta_min > TOGGLE_TOL
         if not upper and not lower:
             return InputRange(full_rotation=True, intervals=((0.0, 2 * np.pi),), toggle_angles=())

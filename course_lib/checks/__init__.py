@@ -1,15 +1,8 @@
-"""Checkers for the exercise notebooks and the lessons' "Try it" cells: take a student's answer,
-return friendly feedback.
-
-Each checker returns a :class:`Feedback` (``ok`` and a ``message``) for any answer, never raising.
-The message names what looks wrong — the other branch, degrees, a sign, missing ω² terms, mm — and
-never the reference value.  Equivalent answers pass: angles modulo 2π, equal sympy expressions, an
-equation times a constant, either order where order does not matter.  SI units and radians.
-
+"""Checkers for the exercise notebooks and the lessons' "Try it" cells: a :class:`Feedback` (``ok``, a
+``message`` naming what looks wrong, never the reference value) for any answer, never raising.
+Equivalent answers pass (angles modulo 2π, equal sympy expressions, scaled equations); SI units, radians.
 One module per exercise set (``ex01`` … ``ex06``) and one for the lessons, on the shared ``engine``.
 
->>> check_mobility({"links": 6, "full_joints": 7, "half_joints": 0, "mobility": 1}).ok
-True
 >>> print(check_mobility((5, 7, 0, -2)))
 ✘ Not yet: count the ground (the frame, bancada) as one of the links.
 """

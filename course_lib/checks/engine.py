@@ -1,10 +1,8 @@
-"""The feedback engine every checker shares: read the answer, compare it, diagnose it.
-
-A parser (:func:`vector`, :func:`number`, :func:`integer`, :func:`word`, :func:`fields`) reads the answer;
-:func:`diagnose` tries (candidate, verdict) rules in order: the reference and its ✔ first, then known
-mistakes with their hints.  A candidate is a value (None in a tuple: any entry), a list of values, or a
-function of the answer; a :class:`Feedback` verdict is returned as it is.  Sympy answers go to
-:func:`judge_expression`; sympy is imported only to judge them.
+"""The feedback engine every checker shares: a parser (:func:`vector`, :func:`number`, :func:`integer`,
+:func:`word`, :func:`fields`) reads the answer; :func:`diagnose` tries (candidate, verdict) rules in order,
+the reference and its ✔ first, then known mistakes with their hints.  A candidate is a value (None in a
+tuple: any entry), a list of values, or a function of the answer; a :class:`Feedback` verdict is returned
+as it is.  Sympy answers go to :func:`judge_expression`; sympy is imported only to judge them.
 """
 
 import functools
@@ -264,7 +262,6 @@ def angle_verdict(value: float, reference: float, alternatives, otherwise: str) 
 def _evaluate(expr, names: Sequence[str], count: int = 6) -> tuple[np.ndarray, list]:
     """``expr`` at random points: lengths in [0.5, 2], everything else in [−1.4, 1.4] (fixed seed)."""
     import sympy as sp
-
     generator = np.random.default_rng(20240601)
     ranges = [(0.5, 2.0) if re.fullmatch(r"l\d|r\d|r1y", name) else (-1.4, 1.4) for name in names]
     points = [[generator.uniform(*limits) for limits in ranges] for _ in range(count)]
@@ -276,7 +273,6 @@ def same(expr, reference, names: Sequence[str]) -> bool:
     """Algebraically equal: equal at random points in double precision, then at three of them to 30
     digits (evaluated with 40).  Not ``sympy.simplify``: its run time depends on the hash seed."""
     import sympy as sp
-
     (a, points), (b, _) = _evaluate(expr, names), _evaluate(reference, names)
     if not np.allclose(a, b, rtol=1e-9, atol=1e-12):
         return False
@@ -291,7 +287,6 @@ def same(expr, reference, names: Sequence[str]) -> bool:
 def proportional(expr, reference, names: Sequence[str]) -> bool:
     """expr = k·reference for a nonzero constant k (the same equation expr = 0)."""
     import sympy as sp
-
     (a, _), (b, _) = _evaluate(expr, names), _evaluate(reference, names)
     ratio = a / b
     if (np.any(np.abs(b) < 1e-9) or not np.all(np.isfinite(a)) or not 1e-12 < abs(ratio[0])
@@ -353,10 +348,9 @@ def _entries(answer: Any) -> tuple[Any, str]:
 
 
 def judge_expression(answer: Any, symbols: Sequence, rules, otherwise: str, system: str = "") -> Feedback:
-    """A sympy answer in ``symbols`` (or their names) judged by :func:`diagnose` (the reference first in
-    ``rules``): one expression compared by :func:`same`; a Matrix or list of them (LUsolve's, solve's)
-    is told which element to pass.  With ``system`` (how to give it) the answer is a system of
-    equations "= 0" instead, each may be scaled by a constant, in any order (candidates are tuples)."""
+    """A sympy answer in ``symbols`` (or their names) judged by :func:`diagnose`, the reference first:
+    one expression compared by :func:`same` (a Matrix or list of them is told which element to pass), or
+    with ``system`` (how to give it) equations "= 0", each up to a constant factor, in any order."""
     names = tuple(map(str, symbols))
 
     def matches(expr, candidate):

@@ -43,7 +43,6 @@ def check_tilted_loop(answer) -> Feedback:
     True
     """
     import sympy as sp
-
     l1, l2, l3, l4, t1, t2, t3, t4 = symbols = sp.symbols("l1:5 theta1:5", real=True)
 
     def loop(sign3=1, t1=t1):

@@ -9,6 +9,7 @@ from .engine import *  # the feedback engine's helpers (engine.__all__)
 __all__ = ["check_saw_omega3_expression", "check_saw_position", "check_saw_slider_acceleration",
            "check_saw_linear_stage"]
 
+
 @reads()
 def check_saw_omega3_expression(answer) -> Feedback:
     """Exercise 04, task 1: ω3 of the saw as a sympy expression in r2, r3, θ2, θ3, ω2.
@@ -19,7 +20,6 @@ def check_saw_omega3_expression(answer) -> Feedback:
     True
     """
     import sympy as sp
-
     _, r2, r3, _, t2, t3, w2 = symbols = sp.symbols("r1y r2 r3 theta1 theta2 theta3 omega2", real=True)
     reference = -w2 * r2 * sp.cos(t2) / (r3 * sp.cos(t3))
     swapped = -w2 * r2 * sp.sin(t2) / (r3 * sp.sin(t3))
@@ -34,13 +34,10 @@ def check_saw_omega3_expression(answer) -> Feedback:
 
 @reads(vector(3, "(r1, θ1, θ3)"))
 def check_saw_position(answer, saw: Saw, theta2: float) -> Feedback:
-    """Exercise 04, task 2: (r1 in m, θ1 in rad, θ3 in rad) of ``saw`` at crank angle ``theta2``.
+    """Exercise 04, task 2: (r1 in m, θ1, θ3 in rad) of ``saw`` at crank angle ``theta2``; θ1 in (−π/2, π/2]
+    makes r1 < 0 here, (−r1, θ1 + π) is the same vector and is accepted with a remark.
 
-    The course keeps θ1 in (−π/2, π/2] so r1 < 0 here; (−r1, θ1 + π) describes the same
-    vector and is accepted with a remark.
-
-    >>> saw = Saw(r1y=0.03, r2=0.06, r3=0.15)
-    >>> check_saw_position(analytic(0.9, saw=saw)[:3], saw, 0.9).ok
+    >>> check_saw_position(analytic(0.9, saw=Saw())[:3], Saw(), 0.9).ok
     True
     """
     r1, theta1, theta3 = analytic(theta2, saw=saw)[:3]
@@ -65,8 +62,7 @@ def check_saw_position(answer, saw: Saw, theta2: float) -> Feedback:
 def check_saw_slider_acceleration(answer, saw: Saw, theta2: float, omega2: float, alpha2: float) -> Feedback:
     """Exercise 04, task 3: a_r (m/s²), the acceleration along r1, at the given motor state.
 
-    >>> saw = Saw(r1y=0.03, r2=0.06, r3=0.15)
-    >>> check_saw_slider_acceleration(analytic(0.9, 6.0, 4.0, saw=saw)[6], saw, 0.9, 6.0, 4.0).ok
+    >>> check_saw_slider_acceleration(analytic(0.9, 6.0, 4.0, saw=Saw())[6], Saw(), 0.9, 6.0, 4.0).ok
     True
     """
     x = analytic(theta2, omega2, alpha2, saw=saw)

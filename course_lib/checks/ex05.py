@@ -13,12 +13,11 @@ __all__ = ["check_fivebar_forward", "check_fivebar_inverse", "check_fivebar_g", 
 
 @reads(vector(2, "(x3, y3)"))
 def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, mode: int) -> Feedback:
-    """Exercise 05, task 1: the end effector (x3, y3) in metres for crank angles θ1, θ4 in working
-    mode σ = ``mode`` (+1 arms up, −1 arms down).
+    """Exercise 05, task 1: the end effector (x3, y3) in m for crank angles θ1, θ4 in working mode
+    σ = ``mode`` (+1 arms up, −1 arms down).
 
-    >>> robot = FiveBar(0.11, 0.16, 0.17, 0.12, 0.09)
-    >>> check_fivebar_forward(tuple(robot.forward(1.2, 2.2, -1)), robot, 1.2, 2.2, -1).ok
-    True
+    >>> check_fivebar_forward((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 1.2, 2.2, -1).ok
+    False
     """
     reference, other = (np.array(tuple(robot.forward(theta1, theta4, mode=m))) for m in (mode, -mode))
     in_degrees = robot.forward(*np.degrees([theta1, theta4]), mode=mode, on_unreachable="nan")
@@ -34,12 +33,11 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
 
 @reads(vector(2, "(θ1, θ4)"))
 def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: tuple[int, int]) -> Feedback:
-    """Exercise 05, task 2: crank angles (θ1, θ4) in rad that put the end effector at (x3, y3)
-    in working mode ``modes`` = (σ1, σ2).  Angles are compared modulo 2π.
+    """Exercise 05, task 2: crank angles (θ1, θ4) in rad (modulo 2π) that put the end effector at
+    (x3, y3) in working mode ``modes`` = (σ1, σ2).
 
-    >>> robot = FiveBar(0.11, 0.16, 0.17, 0.12, 0.09)
-    >>> check_fivebar_inverse(tuple(robot.inverse(0.01, 0.2, (1, -1))), robot, 0.01, 0.2, (1, -1)).ok
-    True
+    >>> check_fivebar_inverse((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 0.01, 0.2, (1, -1)).ok
+    False
     """
     modes = tuple(modes)
     solutions = {m: np.array(tuple(robot.inverse(x3, y3, modes=m))) for m in WORKING_MODES}
@@ -70,7 +68,6 @@ def check_fivebar_g(answer) -> Feedback:
     True
     """
     import sympy as sp
-
     l1, l2, l3, l4, l5, t1, t4 = symbols = sp.symbols("l1 l2 l3 l4 l5 theta1 theta4", real=True)
     g = (-2 * l1 * sp.sin(t1) + 2 * l4 * sp.sin(t4)) / (2 * (l5 + l1 * sp.cos(t1) - l4 * sp.cos(t4)))
     return judge_expression(answer, symbols, [
@@ -97,12 +94,11 @@ _SINGULARITIES = {
             clean=lambda text: re.sub(r"[\s_\-,()]|leg", "", text.lower())))
 def check_fivebar_singularity(answer, robot: FiveBar, theta1: float, theta4: float, x3: float, y3: float
                               ) -> Feedback:
-    """Exercise 05, task 4: which singularity the robot is in — "serial1" (leg 1 stretched or
-    folded), "serial4", "parallel" (distal links aligned) or "none".
+    """Exercise 05, task 4: which singularity the robot is in: "serial1" (leg 1 stretched or folded),
+    "serial4", "parallel" (distal links aligned) or "none".
 
     >>> robot = FiveBar(0.11, 0.16, 0.17, 0.12, 0.09)
-    >>> x3, y3 = robot.forward(1.2, 2.2, 1)
-    >>> check_fivebar_singularity("none", robot, 1.2, 2.2, x3, y3).ok
+    >>> check_fivebar_singularity("none", robot, 1.2, 2.2, *robot.forward(1.2, 2.2, 1)).ok
     True
     """
     measures = zip(_SINGULARITIES, robot.singularity_measures(theta1, theta4, x3, y3), strict=False)

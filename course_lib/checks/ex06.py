@@ -120,7 +120,6 @@ SHAPER = ShaperDrawing()
 def _loop_rows(answer: Any):
     """The answer's scalar equations as sympy expressions in plain real symbols; else the feedback."""
     import sympy as sp
-
     if isinstance(getattr(answer, "equations", None), sp.MatrixBase):
         answer = list(answer.equations)  # a Mechanism
     if isinstance(answer, str | bytes):
@@ -162,7 +161,6 @@ def _loop_hint(row, k: int, turned: str, moves: bool) -> str:
     """What looks wrong with equation ``k``, which the drawn shaper does not satisfy (``turned``: a vector
     that would satisfy it pointing the other way, or "")."""
     import sympy as sp
-
     names = {s.name for s in row.free_symbols}
     theta2, theta4, theta5 = sp.symbols(("theta2", "theta4", "theta5"), real=True)
     y_component = row.has(sp.sin(theta4)) and not row.has(sp.cos(theta4))
@@ -202,7 +200,6 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
 
     """
     import sympy as sp
-
     if len(rows) != 4:
         only = " — only one loop?" if len(rows) == 2 else ""
         return wrong("two vector loops give four scalar equations (the x and y components of each); "

@@ -16,13 +16,12 @@ __all__ = ["check_crank_angle_for_rocker", "check_rocker_pin_speed", "check_moto
 
 @reads(number("θ2"))
 def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Feedback:
-    """Lesson 02: the crank angle θ2 in (0, π) (rad) at which ``linkage`` has its rocker at ``theta4``,
-    judged by the loop: the crank pin A must be exactly l3 from the rocker pin B.
+    """Lesson 02: the crank angle θ2 in (0, π) (rad) that puts the rocker at ``theta4``: the crank pin A
+    must be exactly l3 from the rocker pin B.
 
     >>> bar = FourBar(crank=0.10, coupler=0.25, rocker=0.20, ground=0.30)
-    >>> theta4 = bar.solve(1.0).theta4
-    >>> check_crank_angle_for_rocker(1.0, bar, theta4).ok, check_crank_angle_for_rocker(1.1, bar, theta4).ok
-    (True, False)
+    >>> check_crank_angle_for_rocker(1.0, bar, bar.solve(1.0).theta4).ok
+    True
     """
     B = polar(linkage.l4, theta4) + [linkage.l1, 0.0]
 
@@ -45,11 +44,10 @@ def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Fee
 @reads(number("the speed of B"))
 def check_rocker_pin_speed(answer, linkage: FourBar, theta2: float, omega2: float, branch: str = "open"
                            ) -> Feedback:
-    """Lesson 04: the speed |V_B| (m/s) of the rocker pin B at crank angle ``theta2`` (rad) and crank
-    speed ``omega2`` (rad/s).
+    """Lesson 04: the speed |V_B| (m/s) of the rocker pin B at crank angle ``theta2`` (rad), crank speed
+    ``omega2`` (rad/s).
 
-    >>> bar = FourBar(crank=0.10, coupler=0.25, rocker=0.20, ground=0.30)
-    >>> check_rocker_pin_speed(-1.0, bar, 1.0, 10.0).message
+    >>> check_rocker_pin_speed(-1.0, FourBar(0.10, 0.25, 0.20, 0.30), 1.0, 10.0).message
     'Not yet: a speed is a magnitude: it cannot be negative.'
     """
     omega4 = abs(linkage.solve(theta2, omega2, branch=branch).omega4)
@@ -66,8 +64,8 @@ def check_rocker_pin_speed(answer, linkage: FourBar, theta2: float, omega2: floa
 
 @reads(vector(2, "(T, rpm)"))
 def check_motor_start(answer, alpha_max: float) -> Feedback:
-    """Lesson 05: (T in s, final speed in rpm) of the rise–hold–fall start-up with peak acceleration
-    ``alpha_max`` (rad/s²) over the first revolution.
+    """Lesson 05: (T in s, final speed in rpm) of the rise–hold–fall start-up over the first revolution
+    with peak acceleration ``alpha_max`` (rad/s²).
 
     >>> check_motor_start((1.9416, 61.8), 5.0).ok
     True
@@ -86,8 +84,7 @@ def check_motor_start(answer, alpha_max: float) -> Feedback:
 
 @reads(vector(3, "(V_r, ω1, ω3)"))
 def check_saw_rates(answer, saw: Saw, theta2: float, omega2: float) -> Feedback:
-    """Lesson 06: the rates (V_r in m/s, ω1, ω3 in rad/s) of ``saw`` at ``theta2`` (rad) and ``omega2``
-    (rad/s), α2 = 0.
+    """Lesson 06: the rates (V_r in m/s, ω1, ω3 in rad/s) of ``saw`` at ``theta2`` (rad), ``omega2`` (rad/s).
 
     >>> check_saw_rates([0.0, 0.0, 0.0], Saw(), 0.0, 1.0).ok
     False
@@ -102,8 +99,8 @@ def check_saw_rates(answer, saw: Saw, theta2: float, omega2: float) -> Feedback:
 
 @reads(number("the blade speed"))
 def check_blade_peak_speed(answer, saw: Saw, omega2: float) -> Feedback:
-    """Lesson 07: the largest blade (slider) speed |ẋ| (m/s) over a revolution at constant ``omega2``
-    (rad/s).  Three significant digits are enough.
+    """Lesson 07: the largest blade (slider) speed |ẋ| (m/s, to 0.2 %) over a revolution at constant
+    ``omega2`` (rad/s).
 
     >>> check_blade_peak_speed(0.075 * 6.472, Saw(), 6.472).ok
     False
@@ -124,9 +121,8 @@ def check_blade_peak_speed(answer, saw: Saw, omega2: float) -> Feedback:
 def check_fivebar_theta4(answer, robot: FiveBar, x3: float, y3: float, sigma2: int) -> Feedback:
     """Lesson 09: the crank angle θ4 (rad) of leg 4 that puts the pen at (x3, y3) with σ2 = ``sigma2``.
 
-    >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-    >>> check_fivebar_theta4(robot.inverse(0.0, 0.2, (1, -1)).theta4 - 2 * np.pi, robot, 0.0, 0.2, -1).ok
-    True
+    >>> check_fivebar_theta4(0.0, FiveBar(0.10, 0.15, 0.15, 0.10, 0.08), 0.0, 0.2, -1).ok
+    False
     """
     this, that = (robot.inverse(x3, y3, modes=(1, s)) for s in (sigma2, -sigma2))
     return angle_verdict(answer, this.theta4, [

@@ -114,8 +114,8 @@ class Explorer:
         for control in self.controls.values():
             control.observe(self._on_change, names="value")
         column = widgets.VBox([*self.controls.values(), *self.extra], layout={"width": "360px"})
-        self.widget = widgets.HBox([column, widgets.VBox([self.image, self.readout])])
-        self.widget.add_class("course-explorer")
+        view = widgets.VBox([self.image, self.readout])
+        self.widget = widgets.HBox([column, view]).add_class("course-explorer")
         self.refresh()
 
     @property
@@ -453,8 +453,7 @@ def fourbar_explorer(
                             styles={"plate": plate, "plate PB": plate}, labels={"A": "A", "B": "B", "P": "P"},
                             animated=True)
     artists = {
-        "coupler_curve": curve_line,
-        "mu_curve": mu_line,
+        "coupler_curve": curve_line, "mu_curve": mu_line,
         "ground": _moving_line(ax, [], [], "--", color=LINK_COLORS[3], lw=1.5),
         **linkage.artists,
         "point_p": _moving_line(ax, [], [], "o", ms=6, color="tab:purple", zorder=5),
@@ -728,8 +727,7 @@ def fivebar_explorer(
     ax.plot([], [], "s", color=(0.12, 0.47, 0.71, 0.3), label="workspace (both legs reach)")
     ax.legend(loc="lower left", fontsize=8)
     artists = {
-        "workspace": shading,
-        "singularity": singular_line,
+        "workspace": shading, "singularity": singular_line,
         "base": _moving_line(ax, [-half, half], [0.0, 0.0], color=LINK_COLORS[4], lw=2),
         **drawing.artists,
         "end_effector": _moving_line(ax, [], [], "o", ms=8, color="black", zorder=5),
@@ -793,10 +791,10 @@ def fivebar_explorer(
             distance, l2, l3 = float(np.hypot(*(P2 - P4))), robot.l2, robot.l3
             why = (f"|P2P4| = {distance:.4f} m > l2 + l3 = {l2 + l3:.4f} m" if distance > l2 + l3
                    else f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(l2 - l3):.4f} m")
+            at = f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°"
             return _failed(artists, drawing, {"P1": P1, "P2": P2, "P4": P4, "P5": P5},
                            "the distal links cannot meet", "unreachable", (
-                               f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°: "
-                               "the robot cannot be assembled.",
+                               f"{at}: the robot cannot be assembled.",
                                why + " (the dashed circles about P2 and P4 do not meet).",
                                "Move θ1 or θ4 until the circles meet again.", says),
                            circles=(("reach_a", P2, l2), ("reach_b", P4, l3)))
@@ -808,13 +806,11 @@ def fivebar_explorer(
         measures = robot.singularity_measures(theta1, theta4, x3, y3)
         parallel = float(measures.parallel)
         serial = min(abs(float(measures.serial_leg1)), abs(float(measures.serial_leg4)))
-        if inverse:
-            head = (f"inverse, modes (σ1, σ2) = ({modes[0]:+d}, {modes[1]:+d}): "
-                    f"P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m  →  θ1 = {_num(np.degrees(theta1), 2)}°, "
-                    f"θ4 = {_num(np.degrees(theta4), 2)}°")
-        else:
-            head = (f"forward, σ = {int(state['sigma']):+d}: θ1 = {np.degrees(theta1):.1f}°, "
-                    f"θ4 = {np.degrees(theta4):.1f}°  →  P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m")
+        head = (f"inverse, modes (σ1, σ2) = ({modes[0]:+d}, {modes[1]:+d}): "
+                f"P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m  →  θ1 = {_num(np.degrees(theta1), 2)}°, "
+                f"θ4 = {_num(np.degrees(theta4), 2)}°" if inverse
+                else f"forward, σ = {int(state['sigma']):+d}: θ1 = {np.degrees(theta1):.1f}°, "
+                f"θ4 = {np.degrees(theta4):.1f}°  →  P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m")
         return _solved(artists, drawing, {"P1": P1, "P2": P2, "P3": np.array([x3, y3]), "P4": P4, "P5": P5}, (
             head,
             f"singularity measures (0 = singular): leg 1 {_num(measures.serial_leg1, 3)}, "

@@ -84,7 +84,7 @@ def check_motor_start(answer, alpha_max: float) -> Feedback:
 
 @reads(vector(3, "(V_r, ω1, ω3)"))
 def check_saw_rates(answer, saw: Saw, theta2: float, omega2: float) -> Feedback:
-    """Lesson 06: the rates (V_r in m/s, ω1, ω3 in rad/s) of ``saw`` at ``theta2`` (rad), ``omega2`` (rad/s).
+    """Lesson 06: the rates (V_r in m/s, ω1, ω3 in rad/s) at ``theta2`` (rad), ``omega2`` (rad/s), α2 = 0.
 
     >>> check_saw_rates([0.0, 0.0, 0.0], Saw(), 0.0, 1.0).ok
     False

@@ -1,11 +1,6 @@
 """The five-bar parallel robot of the course: forward and inverse kinematics, velocities,
-singularities and workspace.
-
-Base pivots P1 = (+l5/2, 0), P5 = (−l5/2, 0); crank l1 turns about P1 (θ1), crank l4 about P5 (θ4),
-distal links l2 (P2–P3) and l3 (P4–P3) meet at the end effector P3 = (X3, Y3).  SI units, angles from
-+x counter-clockwise.  The constraints are the course's EcL2, EcL3: |P3 − P2|² − l2² = |P3 − P4|² − l3² = 0.
-Forward: X3 = g·Y3 + f, then a·Y3² + b·Y3 + c = 0, σ = +1 "arms up" (larger Y3) or −1 "arms down".
-Inverse: tangent half-angle, θ1 = 2·atan((−b1 + σ1√(b1² − 4a1c1))/2a1), θ4 likewise with σ2.
+singularities and workspace.  The constraints are the course's EcL2, EcL3: |P3 − P2|² − l2² = 0 and
+|P3 − P4|² − l3² = 0 (see :class:`FiveBar`); SI units, angles from +x counter-clockwise.
 
 >>> robot = FiveBar(l1=0.10, l2=0.15, l3=0.15, l4=0.10, l5=0.08)
 >>> x3, y3 = robot.forward(1.2, 1.9, mode=+1)
@@ -51,7 +46,7 @@ LENGTH_RANGE = (1e-60, 1e60)
 #: Relative slack for a discriminant that is negative only by rounding (clipped to zero).
 _DISCRIMINANT_SLACK = 1e-12
 
-#: Points per block of the closed forms over large arrays (the memory beyond the results stays flat).
+#: Points per block of the closed forms over large arrays.
 _BLOCK = 65_536
 
 
@@ -89,8 +84,8 @@ class SingularityMeasures(Unpacks):
 
 @dataclass(frozen=True)
 class WorkspaceMap:
-    """Inverse kinematics of working mode ``modes`` over the grid ``x``, ``y`` (m, shape (ny, nx)):
-    ``reachable`` mask, crank angles and singularity measures, NaN where unreachable."""
+    """Inverse kinematics of working mode ``modes`` over the grid ``x``, ``y`` (m, shape (ny, nx)), NaN
+    where not ``reachable``."""
 
     x: np.ndarray
     y: np.ndarray
@@ -132,8 +127,7 @@ def _configuration(theta1, theta4, x3, y3) -> list[np.ndarray]:
 
 
 def _sign_choice(name: str, value: Any) -> int:
-    require_choice(name, value, (1, -1))
-    return int(value)
+    return int(require_choice(name, value, (1, -1)))
 
 
 def _working_mode(modes) -> tuple[int, int]:
@@ -144,8 +138,8 @@ def _working_mode(modes) -> tuple[int, int]:
 
 
 def _blockwise(kernel, inputs, dtypes):
-    """``kernel(*inputs)`` for the float arrays ``inputs`` (of one shape); above ``_BLOCK`` points the
-    same numbers block by block (C order) into new arrays of ``dtypes``, so the memory stays flat."""
+    """``kernel(*inputs)`` for float arrays of one shape; above ``_BLOCK`` points block by block into new
+    arrays of ``dtypes``, so that the memory stays flat."""
     if inputs[0].size <= _BLOCK:
         return kernel(*inputs)
     flags = ["external_loop", "buffered", "zerosize_ok"]
@@ -159,10 +153,9 @@ def _blockwise(kernel, inputs, dtypes):
 
 
 def _half_angle_root(a, b, c, sigma: int):
-    """θ = 2·atan((−b + σ√Δ)/2a), Δ = b² − 4ac, without dividing by a small number: the root also equals
-    2c/(−b − σ√Δ), and the fraction with the larger numerator/denominator pair is used, as
-    2·atan2(numerator, denominator) (right also when a → 0, θ = ±π).  Returns θ in (−π, π] and two
-    masks: out of reach (Δ < 0 beyond rounding, or b² or 4ac overflow) and undetermined (a = b = c = 0)."""
+    """θ = 2·atan((−b + σ√Δ)/2a), Δ = b² − 4ac, in (−π, π], as 2·atan2 of the larger of that pair and
+    (2c, −b − σ√Δ) (no division by a small a), and the masks out of reach (Δ < 0 beyond rounding, or
+    overflow) and undetermined (a = b = c = 0)."""
     b_squared = b * b
     discriminant = b_squared - 4 * a * c
     root = sigma * np.sqrt(np.clip(discriminant, 0.0, None))
@@ -185,9 +178,9 @@ def _half_angle_root(a, b, c, sigma: int):
 
 @dataclass(frozen=True)
 class FiveBar:
-    """A five-bar parallel robot: cranks l1 (at P1 = (+l5/2, 0)) and l4 (at P5 = (−l5/2, 0)), distal
-    links l2 (P2–P3) and l3 (P4–P3), base l5, in metres; l1…l4 > 0, l5 ≥ 0 (0: one pivot).  Every method
-    raises ``InvalidGeometryError`` naming an input that is not a finite number (NaN angles included).
+    """A five-bar robot: crank l1 turns about P1 = (+l5/2, 0) (θ1), crank l4 about P5 = (−l5/2, 0) (θ4),
+    distal links l2 (P2–P3) and l3 (P4–P3) meet at the end effector P3 = (X3, Y3); metres, l1…l4 > 0,
+    l5 ≥ 0.  Every method raises ``InvalidGeometryError`` naming an input that is not a finite number.
 
     >>> FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).l5
     0.08
@@ -242,8 +235,8 @@ class FiveBar:
         return self._cores["forward"].residual(p[..., :2], p[..., 2:])
 
     def forward_coefficients(self, theta1, theta4) -> dict[str, np.ndarray]:
-        """The course's forward coefficients (X3 = g·Y3 + f in EcL3): ``f``, ``g``, ``a`` = 1 + g², ``b``,
-        ``c`` and ``D`` = l5 + l1 cos θ1 − l4 cos θ4; f, g, b, c are ±inf/NaN where D = 0.
+        """The course's forward coefficients (X3 = g·Y3 + f in EcL3) ``f``, ``g``, ``a`` = 1 + g², ``b``,
+        ``c`` and ``D`` = l5 + l1 cos θ1 − l4 cos θ4 (f, g, b, c: ±inf/NaN where D = 0).
 
         >>> k = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).forward_coefficients(np.pi / 2, np.pi / 2)
         >>> round(float(k["f"]), 12), round(float(k["g"]), 12), round(float(k["D"]), 12)
@@ -264,12 +257,8 @@ class FiveBar:
 
     def forward(self, theta1, theta4, mode: int = 1, on_unreachable: str = "raise") -> ForwardResult:
         """End effector P3 = (X3, Y3) (m) from the crank angles θ1, θ4 (rad); ``mode`` σ = +1 "arms up"
-        (the larger Y3) or −1 "arms down".
-
-        Where |D| ≥ |E| (D = P2x − P4x, E = P2y − P4y) the course's route X3 = g·Y3 + f is used, elsewhere
-        the swapped Y3 = g'·X3 + f' (σ still picks the larger Y3); at D = 0 σ = +1 takes the limit from
-        D > 0.  Raises ``UnreachableError`` where |P2 − P4| > l2 + l3 or < |l2 − l3| or P2 = P4 (unless
-        ``on_unreachable="nan"``), ``InvalidGeometryError`` for a mode other than ±1.
+        (the larger Y3) or −1 "arms down".  The course's route X3 = g·Y3 + f where |D| ≥ |E| (D = P2x − P4x,
+        E = P2y − P4y), else Y3 = g'·X3 + f'.  ``UnreachableError`` where the distal links cannot meet.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> bool(robot.forward(1.0, 2.0, +1).y3 > robot.forward(1.0, 2.0, -1).y3)
@@ -289,14 +278,11 @@ class FiveBar:
         coincident = (D == 0) & (E == 0)
         safe_D = np.where(course & ~coincident, D, 1.0)
         safe_E = np.where(course | coincident, 1.0, E)
-        g, f = -E / safe_D, K / safe_D   # the course's route, a quadratic in Y3
-        a, u = 1 + g**2, f + l5 / 2 - l4 * c4
-        b, c = 2 * g * u - 2 * l4 * s4, u**2 + (l4 * s4) ** 2 - l3**2
-        g_s, f_s = -D / safe_E, K / safe_E   # the swapped route, a quadratic in X3
-        a_s, w = 1 + g_s**2, f_s - l4 * s4
-        b_s = 2 * (l5 / 2 - l4 * c4) + 2 * g_s * w
-        c_s = (l5 / 2 - l4 * c4) ** 2 + w**2 - l3**2
-        A, B, C = np.where(course, a, a_s), np.where(course, b, b_s), np.where(course, c, c_s)
+        # the other coordinate = g·unknown + f; the unknown is Y3 on the course's route, X3 on the swapped
+        g, f = np.where(course, -E / safe_D, -D / safe_E), np.where(course, K / safe_D, K / safe_E)
+        u = np.where(course, f + l5 / 2 - l4 * c4, f - l4 * s4)   # EcL3: (g·unknown + u)² + (unknown ∓ v)²
+        v = np.where(course, l4 * s4, l5 / 2 - l4 * c4)
+        A, B, C = 1 + g**2, 2 * g * u + np.where(course, -2 * l4 * s4, 2 * v), u**2 + v**2 - l3**2
         discriminant = B * B - 4 * A * C
         far = (discriminant < -_DISCRIMINANT_SLACK * (B * B + 4 * np.abs(A * C))) & ~coincident
         inputs = {"theta1": theta1, "theta4": theta4}
@@ -309,9 +295,9 @@ class FiveBar:
         direction = np.where(D >= 0, 1.0, -1.0) * np.where(E >= 0, 1.0, -1.0)
         tau = np.where(course, sigma, -sigma * direction)
         unknown = (-B + tau * root) / (2 * A)
-        x3 = np.where(course, g * unknown + f, unknown)
-        y3 = np.where(course, unknown, g_s * unknown + f_s)
-        x3, y3 = np.where(bad, np.nan, x3), np.where(bad, np.nan, y3)
+        other = g * unknown + f
+        x3 = np.where(bad, np.nan, np.where(course, other, unknown))
+        y3 = np.where(bad, np.nan, np.where(course, unknown, other))
         return ForwardResult(scalar_or_array(x3), scalar_or_array(y3), scalar_or_array(~bad))
 
     def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:
@@ -341,11 +327,8 @@ class FiveBar:
     def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1),
                 on_unreachable: str = "raise") -> InverseResult:
         """Crank angles θ1, θ4 (rad, in (−π, π]) that put the end effector at (x3, y3) (m); ``modes`` =
-        (σ1, σ2), the signs of the half-angle roots: the four working modes.
-
-        Raises ``UnreachableError`` where a leg cannot reach (x3, y3) or its crank angle is undetermined
-        (P3 on P1 with l1 = l2, or on P5 with l4 = l3), unless ``on_unreachable="nan"``;
-        ``InvalidGeometryError`` for a bad mode.
+        (σ1, σ2), the signs in θ = 2·atan((−b + σ√(b² − 4ac))/2a): the four working modes.
+        ``UnreachableError`` where a leg cannot reach (x3, y3) or a crank angle is undetermined.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(+1, -1))

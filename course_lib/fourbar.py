@@ -1,13 +1,7 @@
-"""The four-bar linkage: position, velocity and acceleration from one vector loop.
-
-l1 = ground, l2 = crank (input θ2), l3 = coupler (θ3), l4 = rocker (θ4); pivots O2 = (0, 0),
-O4 = (l1, 0), pins A = O2 + R2, B = O4 + R4.  The loop R2 + R3 − R4 − R1 = 0 is solved in closed form
-by the tangent half-angle substitution (a quadratic in tan(θ4/2), Norton, *Design of Machinery*, §4.5);
-the rates come from the loop declared on :mod:`course_lib.mechanism` (:attr:`FourBar.mechanism`).
-Branches (Norton's circuits): ``"open"``, B left of the directed line A → O4 (Norton's minus sign; a
-parallelogram is open), and ``"crossed"``, B to the right.  Each is one continuous circuit up to a toggle
-(coupler and rocker collinear, J singular).  SI units, angles from +x counter-clockwise; angle inputs
-may be arrays (broadcast).
+"""The four-bar linkage: l1 = ground O2O4, l2 = crank O2A (input θ2), l3 = coupler AB (θ3), l4 = rocker
+O4B (θ4), O2 = (0, 0), O4 = (l1, 0).  The loop R2 + R3 − R4 − R1 = 0 is solved by the tangent half-angle
+substitution (Norton, *Design of Machinery*, §4.5), the rates from :attr:`FourBar.mechanism`.  Branches:
+``"open"`` (B left of the line A → O4, Norton's minus sign) and ``"crossed"``.  SI units.
 
 >>> linkage = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
 >>> solution = linkage.solve(np.pi / 2, omega2=10.0)
@@ -218,8 +212,8 @@ class FourBar:
     @cached_property
     def _unit_mechanism(self):
         """:attr:`mechanism` with the lengths of :meth:`_unit_lengths`: the same angles and rates."""
-        return _declaration().with_parameters(dict(zip(("l1", "l2", "l3", "l4"), self._unit_lengths(),
-                                                       strict=True)))
+        l1, l2, l3, l4 = self._unit_lengths()
+        return _declaration().with_parameters({"l1": l1, "l2": l2, "l3": l3, "l4": l4})
 
     def _unit_lengths(self) -> tuple[float, float, float, float]:
         """l1 … l4 divided by the longest: the same angles and rates, no overflow or underflow."""
@@ -236,21 +230,12 @@ class FourBar:
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
         cos2, sin2 = np.cos(theta2), np.sin(theta2)
-        # A = 2 l2 l4 cos θ2 − 2 l1 l4 − 2 l1 l2 cos θ2 + k3, B = −4 l2 l4 sin θ2, C = 2 l1 l4 − 2 (l1 l2
-        # + l2 l4) cos θ2 + k3, each operation in that order (as in _solve_one)
-        A = np.multiply(cos2, 2 * l2 * l4)
-        A -= 2 * l1 * l4
-        work = np.multiply(cos2, 2 * l1 * l2)
-        A -= work
-        A += k3
-        B = np.multiply(sin2, -4 * l2 * l4)
-        C = np.multiply(cos2, 2 * (l1 * l2 + l2 * l4))
-        np.subtract(2 * l1 * l4, C, out=C)
-        C += k3
-        square = np.multiply(B, B)
-        discriminant = np.multiply(A, 4)
-        discriminant *= C
-        np.subtract(square, discriminant, out=discriminant)  # B² − 4AC (B² ≥ +0: never −0)
+        # the numbers of _solve_one (a − b as −b + a), chains updated in place by numpy
+        A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
+        B = -4 * l2 * l4 * sin2
+        C = -2 * (l1 * l2 + l2 * l4) * cos2 + 2 * l1 * l4 + k3
+        square = B * B
+        discriminant = -4 * A * C + square  # B² − 4AC, never −0
         smallest = discriminant.min()
         clean = smallest >= 0  # the usual case: every loop closes
         # B² − 4AC = 16 l3² l4² sin²(θ3 − θ4), rounding error below 1e-12 (|A|, |B|, |C| < 10)
@@ -258,11 +243,7 @@ class FourBar:
         if clean:
             unreachable[...] = False
         else:  # the scale: B² + (A − C)² = 16 l4² |AO4|²
-            np.subtract(A, C, out=work)
-            work *= work
-            work += square
-            work *= -DISCRIMINANT_TOL
-            np.less(discriminant, work, out=unreachable)
+            np.less(discriminant, -DISCRIMINANT_TOL * ((A - C) * (A - C) + square), out=unreachable)
             np.maximum(discriminant, 0.0, out=discriminant)
         bad, undetermined = unreachable, None
         if abs(l3 - l4) < SINGULAR_TOL**2:  # A on O4 with coupler = rocker: B anywhere on a circle
@@ -275,7 +256,7 @@ class FourBar:
             discriminant[bad] = np.nan
         root = np.sqrt(discriminant, out=discriminant)
         # t = y/x with (y, x) = (−B ± √Δ, 2A) or, the same root, (2C, −B ∓ √Δ): take the larger pair
-        minus_B = np.negative(B, out=B)
+        minus_B, work = np.negative(B, out=B), np.empty_like(B)
         if branch == "open":  # Norton's minus sign
             y1 = minus_B - root
             x2 = np.add(minus_B, root, out=root)
@@ -283,25 +264,21 @@ class FourBar:
             y1 = minus_B + root
             x2 = np.subtract(minus_B, root, out=root)
         x1, y2 = np.multiply(A, 2, out=A), np.multiply(C, 2, out=C)
-        size1 = np.abs(y1, out=square)
+        size1, size2 = np.abs(y1, out=square), np.abs(y2, out=minus_B)
         size1 += np.abs(x1, out=work)
-        size2 = np.abs(y2, out=minus_B)
         size2 += np.abs(x2, out=work)
-        first = size1 >= size2
-        y, x = y2, x2
+        y, x, first = y2, x2, size1 >= size2  # the larger pair, in place
         np.copyto(y, y1, where=first)
         np.copyto(x, x1, where=first)
-        # θ4 = 2·atan2(y, x): cosine and sine by the double-angle formulas
         xx, yy = np.multiply(x, x, out=size1), np.multiply(y, y, out=size2)
-        norm = np.add(xx, yy, out=work)
+        norm = np.add(xx, yy, out=work)  # θ4 = 2·atan2(y, x), by the double-angle formulas
         cos4 = np.subtract(xx, yy, out=xx)
         cos4 /= norm
         sin4 = np.multiply(x, 2, out=x)
         sin4 *= y
         sin4 /= norm
         np.arctan2(sin4, cos4, out=theta4)
-        # θ3 from the loop: R3 = R1 + R4 − R2 = B − A, of length l3
-        coupler_x = np.multiply(cos4, l4, out=y1)
+        coupler_x = np.multiply(cos4, l4, out=y1)  # R3 = B − A, of length l3
         coupler_x += l1
         coupler_x -= np.multiply(cos2, l2, out=yy)
         coupler_y = np.multiply(sin4, l4, out=x1)
@@ -561,9 +538,8 @@ class FourBar:
             return float(2 * np.arctan2(np.sqrt(below), np.sqrt(above)))
 
         extended, folded = toggle(l3 + l4), toggle(abs(l3 - l4))  # need θ2 ≤ extended, θ2 ≥ folded
-        if (l3 + l4 < abs(l1 - l2)) or (abs(l3 - l4) > l1 + l2) or (
-            extended is not None and folded is not None and extended < folded
-        ):
+        if l3 + l4 < abs(l1 - l2) or abs(l3 - l4) > l1 + l2 or (None not in (extended, folded)
+                                                                  and extended < folded):
             return InputRange(full_rotation=False, intervals=(), toggle_angles=())
         theta_max = np.pi if extended is None else extended  # binds when < π
         theta_min = 0.0 if folded is None else folded  # binds when > 0

@@ -72,9 +72,8 @@ class InverseResult(Unpacks):
 
 @dataclass(frozen=True)
 class SingularityMeasures(Unpacks):
-    """Sines of angles, each zero at a singularity: ``serial_leg1`` (crank l1 to distal l2,
-    cross(P2 − P1, P3 − P2)/(l1·l2)), ``serial_leg4`` (the same for l4, l3) and ``parallel`` (between
-    the distal links, cross(P3 − P2, P3 − P4)/(l2·l3))."""
+    """Sines, zero at a singularity: ``serial_leg1`` cross(P2 − P1, P3 − P2)/(l1·l2), ``serial_leg4`` the
+    same for l4, l3, ``parallel`` cross(P3 − P2, P3 − P4)/(l2·l3) (the distal links aligned)."""
 
     serial_leg1: Any
     serial_leg4: Any
@@ -138,8 +137,7 @@ def _working_mode(modes) -> tuple[int, int]:
 
 
 def _blockwise(kernel, inputs, dtypes):
-    """``kernel(*inputs)`` for float arrays of one shape; above ``_BLOCK`` points block by block into new
-    arrays of ``dtypes``, so that the memory stays flat."""
+    """``kernel(*inputs)`` for float arrays of one shape, above ``_BLOCK`` points in blocks (flat memory)."""
     if inputs[0].size <= _BLOCK:
         return kernel(*inputs)
     flags = ["external_loop", "buffered", "zerosize_ok"]
@@ -153,9 +151,8 @@ def _blockwise(kernel, inputs, dtypes):
 
 
 def _half_angle_root(a, b, c, sigma: int):
-    """θ = 2·atan((−b + σ√Δ)/2a), Δ = b² − 4ac, in (−π, π], as 2·atan2 of the larger of that pair and
-    (2c, −b − σ√Δ) (no division by a small a), and the masks out of reach (Δ < 0 beyond rounding, or
-    overflow) and undetermined (a = b = c = 0)."""
+    """θ = 2·atan((−b + σ√Δ)/2a) in (−π, π] by the larger pair of it and 2c/(−b − σ√Δ) (no small divisor),
+    and the masks out of reach (Δ = b² − 4ac < 0 beyond rounding, or overflow) and a = b = c = 0."""
     b_squared = b * b
     discriminant = b_squared - 4 * a * c
     root = sigma * np.sqrt(np.clip(discriminant, 0.0, None))
@@ -178,9 +175,8 @@ def _half_angle_root(a, b, c, sigma: int):
 
 @dataclass(frozen=True)
 class FiveBar:
-    """A five-bar robot: crank l1 turns about P1 = (+l5/2, 0) (θ1), crank l4 about P5 = (−l5/2, 0) (θ4),
-    distal links l2 (P2–P3) and l3 (P4–P3) meet at the end effector P3 = (X3, Y3); metres, l1…l4 > 0,
-    l5 ≥ 0.  Every method raises ``InvalidGeometryError`` naming an input that is not a finite number.
+    """Crank l1 turns about P1 = (+l5/2, 0) (θ1), crank l4 about P5 = (−l5/2, 0) (θ4), distal links l2
+    (P2–P3) and l3 (P4–P3) meet at the end effector P3 = (X3, Y3); metres, l1…l4 > 0, l5 ≥ 0.
 
     >>> FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).l5
     0.08
@@ -256,9 +252,8 @@ class FiveBar:
         return {"f": f, "g": g, "a": a, "b": b, "c": c, "D": D}
 
     def forward(self, theta1, theta4, mode: int = 1, on_unreachable: str = "raise") -> ForwardResult:
-        """End effector P3 = (X3, Y3) (m) from the crank angles θ1, θ4 (rad); ``mode`` σ = +1 "arms up"
-        (the larger Y3) or −1 "arms down".  The course's route X3 = g·Y3 + f where |D| ≥ |E| (D = P2x − P4x,
-        E = P2y − P4y), else Y3 = g'·X3 + f'.  ``UnreachableError`` where the distal links cannot meet.
+        """End effector P3 = (X3, Y3) (m) for crank angles θ1, θ4 (rad); ``mode`` +1 "arms up" (larger Y3),
+        −1 "arms down".  X3 = g·Y3 + f where |P2x − P4x| ≥ |P2y − P4y|, else Y3 = g'·X3 + f'.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> bool(robot.forward(1.0, 2.0, +1).y3 > robot.forward(1.0, 2.0, -1).y3)
@@ -328,7 +323,6 @@ class FiveBar:
                 on_unreachable: str = "raise") -> InverseResult:
         """Crank angles θ1, θ4 (rad, in (−π, π]) that put the end effector at (x3, y3) (m); ``modes`` =
         (σ1, σ2), the signs in θ = 2·atan((−b + σ√(b² − 4ac))/2a): the four working modes.
-        ``UnreachableError`` where a leg cannot reach (x3, y3) or a crank angle is undetermined.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(+1, -1))
@@ -351,8 +345,7 @@ class FiveBar:
         return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(reachable))
 
     def _inverse_points(self, X, Y, sigmas: tuple[int, int]):
-        """θ1, θ4 (NaN where out of reach) and the masks leg 1 out of reach, leg 4 out of reach, a crank
-        angle undetermined, for checked arrays or numbers X, Y."""
+        """θ1, θ4 (NaN where out of reach), the masks leg 1 or leg 4 out of reach and undetermined."""
         k = self._inverse_coefficients(X, Y)
         theta1, far1, free1 = _half_angle_root(k["a1"], k["b1"], k["c1"], sigmas[0])
         theta4, far4, free4 = _half_angle_root(k["a2"], k["b2"], k["c2"], sigmas[1])
@@ -414,8 +407,7 @@ class FiveBar:
         return leg1, leg4, (x_2 * y_4 - y_2 * x_4) / (self.l2 * self.l3)
 
     def _singular(self, kind, on_singular, theta1, theta4, x3, y3):
-        """The mask of a "parallel" or "serial" singularity of a checked configuration; raises there
-        unless on_singular="nan", and where (x3, y3) is not the end effector of (θ1, θ4)."""
+        """The mask of a "parallel" or "serial" singularity; raises there, or for an unassembled one."""
         require_choice("on_singular", on_singular, ("raise", "nan"))
         residual = np.abs(self._constraints(theta1, theta4, x3, y3))
         scale = max(self.l1, self.l2, self.l3, self.l4, self.l5) ** 2
@@ -442,9 +434,8 @@ class FiveBar:
         return singular
 
     def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = "raise") -> np.ndarray:
-        """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4), by linear solves.  This and the
-        two rate functions raise ``SingularJacobianError`` at their singularity (``on_singular="nan"``:
-        NaN there) and ``InvalidGeometryError`` when (x3, y3) is not the end effector of (θ1, θ4).
+        """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4).  ``SingularJacobianError`` at a
+        parallel singularity (``on_singular="nan"``: NaN), as the two rate functions at theirs.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
@@ -474,8 +465,7 @@ class FiveBar:
         return self._cores["forward"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     def crank_rates(self, theta1, theta4, x3, y3, vx, vy, on_singular: str = "raise"):
-        """(ω1, ω4) (rad/s), shape (..., 2), for the end-effector velocity (vx, vy) (m/s): B·ω = −A·ṗ;
-        singular where a leg is stretched or folded (serial, type 1).
+        """(ω1, ω4) (rad/s), shape (..., 2), for the end-effector velocity (vx, vy) (m/s): B·ω = −A·ṗ.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
@@ -489,8 +479,7 @@ class FiveBar:
         return self._cores["inverse"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     def workspace(self, x, y, modes: tuple[int, int] = (1, 1)) -> WorkspaceMap:
-        """Inverse kinematics of working mode ``modes`` over the grid of the 1-D vectors ``x``, ``y`` (m)
-        (see ``WorkspaceMap``).
+        """:class:`WorkspaceMap` of working mode ``modes`` over the grid of the 1-D vectors ``x``, ``y`` (m).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> w = robot.workspace(np.linspace(-0.3, 0.3, 61), np.linspace(-0.3, 0.3, 61))

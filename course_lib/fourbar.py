@@ -74,11 +74,9 @@ def _declaration():
 
 @dataclass(frozen=True)
 class FourBarSolution(Unpacks):
-    """Coupler (3) and rocker (4) motion: ``theta3``, ``theta4`` (rad, in (−π, π]), ``omega3``,
-    ``omega4`` (rad/s), ``alpha3``, ``alpha4`` (rad/s²), and the ``branch``.  With
-    ``on_unreachable="nan"``, ``mask`` is True where the loop cannot close and ``singular`` where the
-    rates are undefined (a toggle while ω2 or α2 ≠ 0) or the position is (crank pin on O4 with
-    coupler = rocker); those entries are NaN.  Unpacks as the six values; ``np.array`` gives (6, ...).
+    """θ3, θ4 (rad, in (−π, π]), ω3, ω4 (rad/s), α3, α4 (rad/s²) of coupler and rocker; ``mask`` True
+    where the loop cannot close, ``singular`` where rates or position are undefined (NaN entries, with
+    ``on_unreachable="nan"``).  Unpacks as the six values; ``np.array`` gives (6, ...).
 
     >>> np.array(FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0])).shape
     (6, 2)
@@ -125,9 +123,8 @@ class GrashofResult:
 
 @dataclass(frozen=True)
 class InputRange:
-    """The crank angles θ2 at which the loop closes: ``full_rotation``, the closed ``intervals``
-    (start < end, rad; ((0, 2π),) for a full turn, () if it never assembles) and the ``toggle_angles``
-    at their ends.
+    """The crank angles θ2 at which the loop closes: ``full_rotation``, closed ``intervals`` (rad, ((0, 2π),)
+    for a full turn, () if it never assembles) and the ``toggle_angles`` at their ends.
 
     >>> r = FourBar(crank=0.12, coupler=0.06, rocker=0.18, ground=0.20).input_range()
     >>> r.full_rotation, len(r.intervals)
@@ -179,8 +176,7 @@ class FourBar:
 
     @cached_property
     def mechanism(self):
-        """The loop declared on :class:`~course_lib.mechanism.Mechanism` with these lengths (points O2, A,
-        B, O4 for drawing).
+        """The loop declared on :class:`~course_lib.mechanism.Mechanism` with these lengths.
 
         >>> loop = FourBar(0.06, 0.18, 0.12, 0.20).mechanism
         >>> round(loop.solve({"theta2": 0.7}, guess={"theta3": 0.4, "theta4": 1.6}).position["theta4"], 6)
@@ -222,11 +218,9 @@ class FourBar:
 
     def _block_positions(self, theta2: np.ndarray, branch: str, theta3: np.ndarray, theta4: np.ndarray,
                          unreachable: np.ndarray):
-        """The closed form on a block of crank angles (1-d), in place: θ3, θ4 into ``theta3``, ``theta4``
-        (NaN where unreachable or undetermined), the unreachable mask into ``unreachable``.  Returns the
-        undetermined mask (None unless coupler = rocker), the mask of NaN positions (None if none), (cos,
-        sin) of θ2, θ3, θ4 and whether the block is provably toggle-free.  Norton's A, B, C are used times
-        2·l2·l4 > 0 (same roots, no ratio of lengths that could overflow)."""
+        """θ3, θ4 and the unreachable mask of a block into the arrays given; returns the undetermined and NaN
+        masks (or None), (cos, sin) of θ2, θ3, θ4 and whether the block is toggle-free.  Norton's A, B, C
+        times 2·l2·l4 (the same roots, no ratio of lengths that could overflow)."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
         cos2, sin2 = np.cos(theta2), np.sin(theta2)
@@ -289,14 +283,12 @@ class FourBar:
         return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4), toggle_free
 
     def _core_rates(self, q, u, u_rate, u_acceleration, trig, toggle):
-        """(ω3, ω4) and (α3, α4), each (n, 2), from :meth:`Mechanism.rates` of the declared loop for
-        q = (θ3, θ4), u = θ2 and its rates, with the closed form's (cos, sin) ``trig`` and toggle mask."""
+        """(ω3, ω4) and (α3, α4), each (n, 2), from the declared loop with the closed form's (cos, sin)."""
         pairs = {"theta2": trig[:2], "theta3": trig[2:4], "theta4": trig[4:]}
         return self._unit_mechanism.rates(q, u, u_rate, u_acceleration, trig=pairs, singular=toggle)[:2]
 
     def _solve_one(self, theta2: float, omega2: float, alpha2: float, branch: str):
-        """θ3, θ4, ω3, ω4, α3, α4, unreachable, singular and 0 if undetermined (else None) for one
-        instant: :meth:`_block_positions` in Python numbers, operation for operation (the same bits)."""
+        """:meth:`_solve_blocks` for one instant in Python numbers, operation for operation (same bits)."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
         cos2, sin2 = float(np.cos(theta2)), float(np.sin(theta2))
@@ -341,8 +333,7 @@ class FourBar:
 
     def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, toggle_free: bool,
                      moving_any: bool, omegas: np.ndarray, alphas: np.ndarray, singular: np.ndarray) -> None:
-        """(ω3, ω4) and (α3, α4) of a block into ``omegas``, ``alphas`` (n, 2); NaN at a toggle while
-        moving (flagged in ``singular``) and where ``bad`` (a mask or None) marks a NaN position."""
+        """(ω3, ω4), (α3, α4) of a block into ``omegas``, ``alphas``; NaN at a toggle while moving, at bad."""
         cos2, sin2, cos3, sin3, cos4, sin4 = trig
         if not moving_any:  # at rest: no rates to solve for, nothing singular
             singular[...] = False
@@ -373,10 +364,8 @@ class FourBar:
     def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open",
               on_unreachable: str = "raise") -> FourBarSolution:
         """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²),
-        broadcast together.  Raises ``UnreachableError`` where the loop cannot close and
-        ``SingularJacobianError`` at a toggle while ω2 or α2 ≠ 0 or where the position is undetermined
-        (crank pin on O4 with coupler = rocker); with ``on_unreachable="nan"`` those entries are NaN,
-        flagged in ``mask`` or ``singular``.
+        broadcast.  ``UnreachableError`` where the loop cannot close, ``SingularJacobianError`` at a toggle
+        while moving or where A is on O4 with coupler = rocker (``on_unreachable="nan"``: NaN there).
 
         >>> crossed = FourBar(0.06, 0.18, 0.12, 0.20).solve(np.pi / 2, branch="crossed")
         >>> round(crossed.theta3, 6), round(crossed.theta4, 6)
@@ -421,8 +410,7 @@ class FourBar:
         return FourBarSolution(*values, mask=unreachable, singular=singular, branch=branch)
 
     def _solve_blocks(self, theta2, omega2, alpha2, shape, branch: str):
-        """:meth:`_solve_one` for inputs broadcast to ``shape`` (not ()), in blocks of :data:`BLOCK` angles:
-        the six values and two masks in that shape, and the flat index of the first undetermined position."""
+        """The six values, unreachable, singular and the flat index of the first undetermined position."""
         angles = np.broadcast_to(theta2, shape).ravel()
         speed, acceleration = (float(v) if np.ndim(v) == 0 else np.broadcast_to(v, shape).ravel()
                                for v in (omega2, alpha2))

@@ -36,16 +36,12 @@ __all__ = ["FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures", "
 
 #: The four working modes (σ1, σ2) of the inverse kinematics, in the course's order.
 WORKING_MODES = ((1, 1), (-1, 1), (1, -1), (-1, -1))
-
 #: A normalized singularity measure (a sine, see ``singularity_measures``) below this is singular.
 SINGULAR_TOL = 1e-7
-
 #: The lengths (m) the five-bar accepts: fourth powers of them stay far from under- and overflow.
 LENGTH_RANGE = (1e-60, 1e60)
-
 #: Relative slack for a discriminant that is negative only by rounding (clipped to zero).
 _DISCRIMINANT_SLACK = 1e-12
-
 #: Points per block of the closed forms over large arrays.
 _BLOCK = 65_536
 
@@ -486,8 +482,7 @@ class FiveBar:
         >>> w.reachable.shape, bool(w.reachable[30, 30]), bool(w.reachable[0, 0])
         ((61, 61), False, False)
         """
-        x = require_finite("x", x, "m")
-        y = require_finite("y", y, "m")
+        x, y = require_finite("x", x, "m"), require_finite("y", y, "m")
         if x.ndim != 1 or y.ndim != 1:
             raise InvalidGeometryError(f"x and y must be 1-D grid vectors; got shapes {x.shape}, {y.shape}")
         X, Y = np.meshgrid(x, y)

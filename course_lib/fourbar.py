@@ -31,19 +31,14 @@ __all__ = ["BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRang
 
 #: The two assembly circuits, named as in Norton's *Design of Machinery*.
 BRANCHES = ("open", "crossed")
-
 #: |sin(θ3 − θ4)| below this counts as a toggle: J = l3·l4·sin(θ3 − θ4) is singular.
 SINGULAR_TOL = 1e-7
-
 #: A toggle angle this close (rad) to π or 0 is a full turn's change point (rounding), not a limit.
 TOGGLE_TOL = 1e-7
-
 #: A discriminant below −(this)·(B² + (A − C)²) cannot close; above, it is rounding and counts as 0.
 DISCRIMINANT_TOL = 1e-12
-
 #: A block whose smallest discriminant proves |sin(θ3 − θ4)| above this skips the toggle test.
 TOGGLE_FREE = 1e-3
-
 #: Crank angles per block of an array solve (the memory beyond the results stays flat).
 BLOCK = 1 << 16
 
@@ -337,10 +332,7 @@ class FourBar:
         cos2, sin2, cos3, sin3, cos4, sin4 = trig
         if not moving_any:  # at rest: no rates to solve for, nothing singular
             singular[...] = False
-            omegas[...], alphas[...] = 0.0, 0.0
-            undefined = np.isnan(cos3)
-            if undefined.any():
-                omegas[undefined], alphas[undefined] = np.nan, np.nan
+            omegas[...] = alphas[...] = np.where(np.isnan(cos3), np.nan, 0.0)[:, None]  # NaN: no position
             return
         if toggle_free:
             toggle = np.zeros(theta2.shape, bool)

@@ -267,10 +267,9 @@ class FiveBar:
         K = (p2x**2 + p2y**2 - p4x**2 - p4y**2 - self.l2**2 + l3**2) / 2  # D·X3 + E·Y3 = K
         course = np.abs(D) >= np.abs(E)
         coincident = (D == 0) & (E == 0)
-        safe_D = np.where(course & ~coincident, D, 1.0)
-        safe_E = np.where(course | coincident, 1.0, E)
         # the other coordinate = g·unknown + f; the unknown is Y3 on the course's route, X3 on the swapped
-        g, f = np.where(course, -E / safe_D, -D / safe_E), np.where(course, K / safe_D, K / safe_E)
+        divisor = np.where(coincident, 1.0, np.where(course, D, E))
+        g, f = -np.where(course, E, D) / divisor, K / divisor
         u = np.where(course, f + l5 / 2 - l4 * c4, f - l4 * s4)   # EcL3: (g·unknown + u)² + (unknown ∓ v)²
         v = np.where(course, l4 * s4, l5 / 2 - l4 * c4)
         A, B, C = 1 + g**2, 2 * g * u + np.where(course, -2 * l4 * s4, 2 * v), u**2 + v**2 - l3**2
@@ -285,10 +284,9 @@ class FiveBar:
         # on the swapped route the larger Y3 is the larger X3 when g' > 0 (tie D = 0: D → 0⁺)
         direction = np.where(D >= 0, 1.0, -1.0) * np.where(E >= 0, 1.0, -1.0)
         tau = np.where(course, sigma, -sigma * direction)
-        unknown = (-B + tau * root) / (2 * A)
+        unknown = np.where(bad, np.nan, (-B + tau * root) / (2 * A))
         other = g * unknown + f
-        x3 = np.where(bad, np.nan, np.where(course, other, unknown))
-        y3 = np.where(bad, np.nan, np.where(course, unknown, other))
+        x3, y3 = np.where(course, other, unknown), np.where(course, unknown, other)
         return ForwardResult(scalar_or_array(x3), scalar_or_array(y3), scalar_or_array(~bad))
 
     def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:

@@ -29,7 +29,7 @@ from .errors import (
     require_positive,
 )
 from .newton import linear_solver
-from .planar import Unpacks, scalar_or_array
+from .planar import Unpacks, scalar_or_array, wrap_angle
 
 __all__ = ["FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures", "WorkspaceMap",
            "WORKING_MODES", "SINGULAR_TOL"]
@@ -157,16 +157,11 @@ def _half_angle_root(a, b, c, sigma: int):
     size_1 = np.maximum(np.abs(numerator_1), np.abs(denominator_1))
     size_2 = np.maximum(np.abs(numerator_2), np.abs(denominator_2))
     use_first = size_1 >= size_2
-    theta = 2 * np.arctan2(np.where(use_first, numerator_1, numerator_2),
-                           np.where(use_first, denominator_1, denominator_2))
-    # into (−π, π] as np.mod(θ + π, 2π) − π does, without its division: θ + π lies in [−π, 3π]
-    theta = theta + np.pi
-    theta -= (theta >= 2 * np.pi) * (2 * np.pi)
-    theta += (theta < 0.0) * (2 * np.pi)
-    theta -= np.pi
+    theta = wrap_angle(2 * np.arctan2(np.where(use_first, numerator_1, numerator_2),
+                                      np.where(use_first, denominator_1, denominator_2)), nan_ok=True)
     far = (discriminant < -_DISCRIMINANT_SLACK * (b_squared + 4 * np.abs(a * c))) | ~np.isfinite(discriminant)
     undetermined = np.maximum(size_1, size_2) <= 1e-14 * (np.abs(a) + np.abs(b) + np.abs(c) + 1e-300)
-    return np.where(theta == -np.pi, np.pi, theta), far, undetermined
+    return theta, far, undetermined
 
 
 @dataclass(frozen=True)

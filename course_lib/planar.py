@@ -63,7 +63,14 @@ def wrap_angle(angle, nan_ok: bool = False) -> np.ndarray:
     True
     """
     angle = np.asarray(angle, dtype=float) if nan_ok else require_finite("angle", angle, "rad")
-    wrapped = np.mod(angle + np.pi, 2 * np.pi) - np.pi
+    shifted = angle + np.pi
+    if shifted.size and -np.pi <= shifted.min() and shifted.max() <= 3 * np.pi:
+        # np.mod(shifted, 2π) without its division: one exact step of 2π on [−π, 3π] (NaN takes np.mod)
+        shifted = shifted - (shifted >= 2 * np.pi) * (2 * np.pi)
+        shifted += (shifted < 0.0) * (2 * np.pi)
+    else:
+        shifted = np.mod(shifted, 2 * np.pi)
+    wrapped = shifted - np.pi
     return np.where(wrapped == -np.pi, np.pi, wrapped)
 
 

@@ -388,8 +388,7 @@ class FiveBar:
     def _measures(self, theta1, theta4, x3, y3):
         """The three singularity measures without the input checks: NaN in, NaN out."""
         half = self.l5 / 2
-        p2x, p2y = self.l1 * np.cos(theta1) + half, self.l1 * np.sin(theta1)
-        p4x, p4y = self.l4 * np.cos(theta4) - half, self.l4 * np.sin(theta4)
+        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
         x_2, y_2, x_4, y_4 = x3 - p2x, y3 - p2y, x3 - p4x, y3 - p4y
         leg1 = ((p2x - half) * y_2 - p2y * x_2) / (self.l1 * self.l2)
         leg4 = ((p4x + half) * y_4 - p4y * x_4) / (self.l4 * self.l3)

@@ -27,7 +27,8 @@ def check_mobility(answer) -> Feedback:
         (J1 == 6, "at B three links meet (coupler, rocker and link 5): a pin joining three links counts as "
                   "two full joints."),
         (J1 != 7, "recount the pins; where k links share one pin it counts as k − 1 joints."),
-        (M != 1, "the counts are right, but M does not follow from them: M = 3(L − 1) − 2·J1 − J2."),
+        (M != 3 * (L - 1) - 2 * J1 - J2, "the counts are right, but M does not follow from them: "
+                                         "M = 3(L − 1) − 2·J1 − J2."),
     ], "Correct: one input (the crank) drives the whole six-bar.")
 
 

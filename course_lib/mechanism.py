@@ -1,13 +1,10 @@
 """One core for every planar mechanism: write the vector loops once, get position, velocity, acceleration.
 
-A mechanism is declared by its loop equations F(q, u) = 0 in sympy: the unknowns q (angles, or
-lengths such as a slider's travel), the inputs u (the driven joints) and a number for every other
-symbol.  From that the core derives, once and when first needed, lambdified with common
-subexpressions: F, J = ∂F/∂q and F_u = ∂F/∂u; the velocity system J·q̇ = −F_u·u̇ and the
-acceleration system J·q̈ = −(the rest of d²F/dt²), by differentiating the loops in time; and the
-stacked 3n system in (q, q̇, q̈).  :meth:`Mechanism.solve` finds the position by Newton–Raphson
-(:mod:`course_lib.newton`), then the rates by linear solves with the same J; :meth:`~Mechanism.consecutive`
-and :meth:`~Mechanism.simultaneous` are the course's two Newton routes.  SI units, radians.
+A mechanism is declared by its loop equations F(q, u) = 0 in sympy: unknowns q (angles or lengths),
+inputs u and a number for every other symbol.  The core derives once, lambdified with cse: F,
+J = ∂F/∂q, F_u = ∂F/∂u, the velocity system J·q̇ = −F_u·u̇, the acceleration system J·q̈ = −(the rest of
+d²F/dt²) and the stacked 3n system.  :meth:`Mechanism.solve` finds the position by Newton–Raphson, then
+the rates by linear solves with the same J.  SI units, radians.
 
 >>> import numpy as np, sympy as sp
 >>> th2, th3, th4 = sp.symbols("theta2 theta3 theta4")
@@ -70,17 +67,12 @@ SAME_ROOT = 1e-6
 
 @dataclass(frozen=True)
 class Motion:
-    """What :meth:`Mechanism.solve` found, shaped like the (broadcast) inputs.
+    """What :meth:`Mechanism.solve` found, shaped like the broadcast inputs (Python numbers for scalars).
 
-    position, velocity, acceleration : unknown's name → q, q̇, q̈ (m or rad, per s, per s²);
-        ``velocity`` and ``acceleration`` are None unless ``rates`` or ``accelerations`` was given.
-    converged : True where Newton converged (position and rates are NaN elsewhere).
-    singular : True where J is singular at the solution or stopped Newton (rates are NaN there).
-    iterations : Newton updates that produced each instant's position.
-    inputs : input's name → its values, broadcast to the common shape.
-    newton : for a single instant, the ``NewtonResult`` with its history; None for a sweep.
-
-    Masks are True where their name holds; scalar inputs give Python numbers.
+    position, velocity, acceleration : unknown's name → q, q̇, q̈ (SI); the rates None unless asked.
+    converged, singular : masks, True where Newton converged / J is singular (NaN values there).
+    iterations : Newton updates per instant.  inputs : input's name → its broadcast values.
+    newton : one instant's ``NewtonResult`` with its history; None for a sweep.
     """
 
     position: Mapping[str, float | np.ndarray]
@@ -172,11 +164,8 @@ _BLOCK = 65_536  # points per block of a long sweep's evaluation
 
 
 def _one_instant(function, values, arrays, where, angles_of, known, same_point, seen) -> np.ndarray | None:
-    """A compiled function's terms (k,) at one instant with Python numbers, not 0-d arrays (whose every
-    operation costs a microsecond): numpy's own cos and sin, IEEE arithmetic and :class:`_Printer`'s
-    squares give the array path's bits on any CPU.  ``known`` and ``seen`` as in the array path.  None
-    where Python refuses a value (a division by zero, an overflow, a complex power): the array path
-    then gives inf or NaN."""
+    """A compiled function's terms (k,) at one instant in Python numbers (0-d arrays cost a microsecond per
+    operation), the array path's bits; None where Python refuses a value (the array path gives inf/NaN)."""
     columns = [float(arrays[k][j]) for k, j in where]
     angles = _angles(angles_of, known, same_point, seen, lambda func, index: float(func(columns[index])))
     try:
@@ -187,8 +176,8 @@ def _one_instant(function, values, arrays, where, angles_of, known, same_point, 
 
 
 def _angles(angles_of, known, same_point, seen, make) -> list:
-    """The cos and sin a compiled function takes: each from ``known``, else ``make(func, index)`` — kept
-    in ``known`` if it is an input's (or with ``same_point``) — and every one given to ``seen``."""
+    """The cos and sin a compiled function takes: from ``known``, else ``make(func, index)`` (kept in
+    ``known`` if an input's, or with ``same_point``); each given to ``seen``."""
     angles = []
     for key, func, index, is_input in angles_of:
         value = None if known is None else known.get(key)
@@ -355,14 +344,11 @@ class Mechanism:
 
     def _compile(self, expressions, *groups, keep: int | None = None) -> Callable[..., np.ndarray]:
         """f(values, *arrays, known=None, same_point=False, seen=None): array k (..., len(groups[k])) →
-        (len(expressions), ...), or the first ``keep`` expressions only, each computed as among all of
-        them (the common subexpressions of all, the ones it uses): a part gives the bits of the whole.
+        (len(expressions), ...); with ``keep``, the first ``keep`` only, with the bits of the whole.
 
-        Lambdified once with cse; the parameters' ``values`` are arguments.  cos and sin of an unknown
-        or input are arguments too, computed once per call, or taken from ``known`` ({(name, "cos"):
-        array}), where those of inputs are kept for the next call with the same inputs, and with
-        ``same_point`` those of unknowns too (the next call is at the same q).  ``seen``, a dict, is
-        given every cos and sin the call used."""
+        cos and sin of unknowns and inputs are arguments, computed once per call or taken from ``known``
+        ({(name, "cos"): array}, where inputs' are kept, and unknowns' with ``same_point``); ``seen``
+        receives every one used."""
         symbols = [s for group in groups for s in group]
         expressions = [sp.sympify(e) for e in expressions]
 
@@ -371,9 +357,7 @@ class Mechanism:
                            if f.args[0] in symbols}, key=str)
 
         trig, cse = angles(expressions), True
-        # cos θ and sin θ become the named symbols _cos_θ, _sin_θ.  A Dummy would make lambdify rename every
-        # argument with fresh Dummies, whose numbers order the printed sums: the bits would then depend on
-        # how many Dummies the process had made before
+        # named symbols, not Dummies: a Dummy's number orders the printed sums, so the bits would vary
         placeholders = {getattr(sp, func)(s): sp.Symbol(f"_{func}_{s.name}") for func, s in trig}
         replaced = [e.xreplace(placeholders) for e in expressions]
         if keep is not None:
@@ -472,7 +456,6 @@ class Mechanism:
 
     # ------------------------------------------------------------ numbers (arrays ordered as declared)
 
-
     def _newton_terms(self, q, u, known=None, seen=None) -> tuple[np.ndarray, np.ndarray]:
         """F (..., n) and J (..., n, n) from one evaluation (``known``, ``seen``: see _compile)."""
         n = len(self.unknowns)
@@ -563,12 +546,9 @@ class Mechanism:
         return G, JG
 
     def rates(self, q, u, u_rate, u_acceleration=None, *, trig: Mapping | None = None, singular=None):
-        """q̇ and q̈ at known positions by linear solves with J: J·q̇ = −F_u·u̇, J·q̈ = −(the rest of d²F/dt²).
-
-        ``q`` (..., n), ``u``, ``u_rate``, ``u_acceleration`` (..., m), broadcast together; ``trig``
-        may give {name: (cos, sin)} of unknowns or inputs already computed, ``singular`` a mask of the
-        caller's own singularity test (else :func:`~course_lib.newton.is_singular`).  Returns q̇, q̈
-        (None without ``u_acceleration``), each (..., n) and NaN where singular, and that mask.
+        """q̇, q̈ (None without ``u_acceleration``) and the singular mask at known positions, by J·q̇ =
+        −F_u·u̇, J·q̈ = −(the rest of d²F/dt²); NaN where singular.  ``q`` (..., n), the others (..., m);
+        ``trig``: {name: (cos, sin)} already computed; ``singular``: the caller's own mask.
 
         >>> th, x = sp.symbols("theta x")
         >>> [a.tolist() for a in Mechanism([x**2 - th], [x], [th]).rates([2.0], [4.0], [1.0], [0.0])]
@@ -600,11 +580,8 @@ class Mechanism:
     # ------------------------------------------------------------ the course's two Newton routes
 
     def _run(self, stage, u, terms, start, tol, max_iter, direct=False, jacobian=None):
-        """One Newton stage from ``start``: (k,) with history by :func:`newton`, (N, k) by
-        :func:`newton_batch`.  ``terms(x)`` gives (F, J); for a linear stage it gives F alone and
-        ``jacobian`` is its constant J ((k, k), or a :class:`~course_lib.newton.LinearStack` of the batch's),
-        prepared once for every iteration; ``direct``: one linear solve.  Failures raise naming the stage
-        and the inputs."""
+        """One Newton stage from ``start`` (k,) or (N, k); ``terms(x)`` gives (F, J), or F alone for a
+        linear stage of constant ``jacobian`` (``direct``: one linear solve).  Failures raise, named."""
         batch = start.ndim == 2
         if direct:
             F0 = terms(start)
@@ -651,14 +628,12 @@ class Mechanism:
 
     def consecutive(self, u, u_rate, u_acceleration, seed, *, tol: float = 1e-6, max_iter: int = 50,
                     linear_stages: str = "newton", position: Mechanism | None = None) -> dict:
-        """The course's consecutive Newton: position, then velocity with it, then acceleration with
-        both, each stage a Newton run from its third of ``seed`` (guesses of q, q̇, q̈: 3n values).
+        """The course's consecutive Newton: position, then velocity, then acceleration, each stage run
+        from its third of ``seed`` (q, q̇, q̈: 3n values); returns {stage: result}.
 
-        ``u``, ``u_rate``, ``u_acceleration`` (m,) for one instant, giving ``NewtonResult`` s with their
-        history; or (N, m), every instant from the same seed by :func:`newton_batch`.  The rate stages
-        are linear, F(v) = J·v + c with the position's J; ``linear_stages="direct"`` solves each in
-        one linear solve.  ``position``: a declaration of the same unknowns and inputs with equivalent
-        loops (e.g. a constraint substituted) used for the position stage.  Returns {stage: result}.
+        ``u``, ``u_rate``, ``u_acceleration``: (m,) for one instant (``NewtonResult`` s with history) or
+        (N, m) (:func:`newton_batch`).  ``linear_stages="direct"`` solves the linear rate stages in one
+        step; ``position``: an equivalent declaration (e.g. a constraint substituted) for stage one.
 
         >>> th, x = sp.symbols("theta x")
         >>> stages = Mechanism([x**2 - th], [x], [th]).consecutive([4.0], [1.0], [0.0], [1.0, 0.0, 0.0])
@@ -691,8 +666,7 @@ class Mechanism:
 
     def simultaneous(self, u, u_rate, u_acceleration, seed, *, tol: float = 1e-6, max_iter: int = 50,
                      position: Mechanism | None = None):
-        """The course's simultaneous Newton on the stacked 3n system (:meth:`system`) from ``seed``;
-        arguments as :meth:`consecutive`.
+        """The course's simultaneous Newton on the 3n system (:meth:`system`); arguments as in consecutive.
 
         >>> th, x = sp.symbols("theta x")
         >>> result = Mechanism([x**2 - th], [x], [th]).simultaneous([4.0], [1.0], [0.0], [1.0, 0.0, 0.0])
@@ -707,14 +681,9 @@ class Mechanism:
     # ------------------------------------------------------------ solving a motion
 
     def _continuation(self, u: np.ndarray, seed: np.ndarray, tol: float, max_iter: int):
-        """Positions at the rows of ``u`` in order, each on the assembly that Newton from the previous
-        row's solution reaches (the first row's from ``seed``), found with few batched Newton runs.
-
-        One batch solves every remaining row from the same seed.  Row k + 1's solution is accepted
-        when one Newton step from row k's solution lands ten times closer to it than it started, or
-        else when a full Newton run from row k's solution (what continuation does) reaches it.  At the
-        first row that fails both, that run's value is continuation's; the rows after it are solved
-        again from there."""
+        """Positions at the rows of ``u``, each where Newton from the previous row's solution goes (the
+        first from ``seed``), in few batched runs: all rows from one seed, a row accepted when one step
+        from its predecessor lands 10× closer, or a run from it agrees; from the first that fails, again."""
         N, n = u.shape[0], len(self.unknowns)
         q = np.full((N, n), np.nan)
         converged, stuck, iterations = np.zeros(N, bool), np.zeros(N, bool), np.zeros(N, int)
@@ -766,19 +735,11 @@ class Mechanism:
               on_failure: str = "raise") -> Motion:
         """Position, and velocity and acceleration if asked, at each value of the inputs.
 
-        ``inputs`` maps each input (symbol or name) to a number or array; ``rates`` and
-        ``accelerations`` map inputs to u̇, ü (missing entries are 0); all broadcast together.
-        ``guess`` maps every unknown to a number: the seed of Newton at the first instant; each
-        later instant (in C order) continues from the previous solution, so a sweep follows one
-        assembly.  One instant (every input a number) is solved by :func:`~course_lib.newton.newton`
-        and keeps its history in ``Motion.newton``; arrays by batched runs of
-        :func:`~course_lib.newton.newton_batch` that give what continuation gives.  ``tol`` and
-        ``max_iter`` are Newton's.  Rates by :meth:`rates`, with the J of the position.
-
-        Raises (unless ``on_failure="nan"``, which gives NaN and the masks instead):
-        ``SingularJacobianError`` where J is singular during Newton, or at a solution where rates are
-        asked; ``ConvergenceError`` where Newton fails from the guess; ``UnreachableError`` where it
-        fails from the previous instant's solution (the assembly cannot follow the input there).
+        ``inputs``, ``rates``, ``accelerations`` map inputs (symbol or name) to numbers or arrays,
+        broadcast together (missing rates are 0).  ``guess`` seeds Newton at the first instant; each
+        later one (C order) continues from the previous solution.  One instant keeps its history in
+        ``Motion.newton``.  Raises, unless ``on_failure="nan"``: ``SingularJacobianError`` (J singular),
+        ``ConvergenceError`` (no root from the guess), ``UnreachableError`` (lost while continuing).
 
         >>> th, x = sp.symbols("theta x")
         >>> motion = Mechanism([x**2 - th], [x], [th]).solve({th: [1.0, 4.0]}, {th: 1.0}, guess={x: 2.0})

@@ -1,17 +1,11 @@
 """Newton–Raphson for scalars, small systems, and many independent systems at once.
 
-The stopping rule is the course's: stop when the step ‖x_{n+1} − x_n‖ < ``tol``.
-A residual check is added so that a tiny step far from a root is not mistaken
-for convergence: ‖F(x_{n+1})‖ must also be ≤ ``residual_tol`` (default ``tol``).
-Steps are linear solves (Cramer's rule for n ≤ 3, LU above); no inverse is formed.
-
-One rule for both solvers.  A misuse — a bad setting, a seed that is not finite, an ``F`` or
-``jac`` that returns None, complex numbers or the wrong shape — raises ``InvalidGeometryError``
-at once.  A run that fails — a singular Jacobian, a NaN or inf value, ``max_iter`` updates
-without converging — ends with ``converged=False`` and a ``message``; with
-``on_failure="raise"`` (the default of :func:`newton`) it raises ``SingularJacobianError`` or
-``ConvergenceError`` (``err.result`` is the result), with ``on_failure="report"`` (the default
-of :func:`newton_batch`, where one bad system must not stop a million good ones) it returns.
+Stop when the step ‖x_{n+1} − x_n‖ < ``tol`` (the course's rule) and ‖F(x_{n+1})‖ ≤ ``residual_tol``
+(default ``tol``), so that a tiny step far from a root is not taken for convergence.  Steps are linear
+solves (Cramer's rule for n ≤ 3, LU above).  One rule for both solvers: a misuse (bad setting, seed,
+or what ``F``/``jac`` return) raises ``InvalidGeometryError``; a failed run (singular J, NaN, ``max_iter``)
+ends with ``converged=False`` and a ``message``, and with ``on_failure="raise"`` (:func:`newton`'s
+default; :func:`newton_batch`'s is "report") raises ``SingularJacobianError`` or ``ConvergenceError``.
 
 >>> result = newton(lambda x: x**2 - 2.0, 1.0, jac=lambda x: 2.0 * x)
 >>> round(result.x, 12), result.iterations, result.converged, result.message
@@ -135,21 +129,16 @@ def _rows_product(a: list, n: int):
     return product
 
 
-#: Cofactors of a 3×3 matrix, entries a numbered row by row, from this table T:
-#: C[k] = a[T[0, k]]·a[T[1, k]] − a[T[2, k]]·a[T[3, k]], i.e. C[i, j] = A[i+1, j+1]·A[i+2, j+2] −
-#: A[i+1, j+2]·A[i+2, j+1] (indices mod 3): the products of :func:`_adjugate` (adj J = Cᵀ), so that a
-#: stack costs four gathers, not 27 products.
+#: 3×3 cofactors C[k] = a[T[0, k]]·a[T[1, k]] − a[T[2, k]]·a[T[3, k]] (entries a row by row): the
+#: products of :func:`_adjugate` (adj J = Cᵀ) as four gathers of a stack.
 _COFACTORS_3 = np.array([[4, 5, 3, 7, 8, 6, 1, 2, 0], [8, 6, 7, 2, 0, 1, 5, 3, 4],
                          [5, 3, 4, 8, 6, 7, 2, 0, 1], [7, 8, 6, 1, 2, 0, 4, 5, 3]])
 
 
 class LinearStack:
-    """A stack of N matrices J (N, n, n) prepared once for J·x = b: for n ≤ 3 its entries laid out
-    (n, n, N), det J and the cofactors, shared by the singularity test and by every solve (the arithmetic
-    of one matrix in :func:`_adjugate`, so a stack and a single matrix give the same bits); LU above.
-
-    ``rows`` (indices or a mask) keeps those matrices only.  A stack the core lays out (entries first)
-    is used without a copy.
+    """N matrices J (N, n, n) prepared once for J·x = b and the singularity test: for n ≤ 3 entries laid
+    out (n, n, N), det J and cofactors (the bits of :func:`_adjugate` on one matrix); LU above.
+    ``rows`` (indices or a mask) keeps those matrices only.
 
     >>> stack = LinearStack(np.array([[[2.0, 0.0], [0.0, 4.0]], [[1.0, 1.0], [2.0, 2.0]]]))
     >>> stack.singular.tolist(), stack.take(~stack.singular).solve(np.array([[2.0, 8.0]])).tolist()
@@ -267,10 +256,8 @@ class LinearStack:
 
 
 def hadamard_ratio(J: np.ndarray) -> np.ndarray:
-    """|det J| / Π‖row of J‖ per matrix of a stack (N, n, n): 1 for orthogonal rows, 0 when singular.
-
-    The library's one singularity test (:func:`is_singular`): it does not change when a row
-    is scaled, and is written out for n ≤ 3, several times faster than ``numpy.linalg.det``.
+    """|det J| / Π‖row of J‖ per matrix (N, n, n): 1 for orthogonal rows, 0 when singular, unchanged by
+    scaling a row; the library's one singularity test (:func:`is_singular`).
 
     >>> float(hadamard_ratio(np.array([[[2.0, 0.0], [0.0, 3.0]]]))[0])
     1.0
@@ -288,8 +275,7 @@ def is_singular(J: np.ndarray) -> np.ndarray:
 
 
 def linear_solver(J: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
-    """b ↦ x with J·x = b for a stack J (N, n, n) and b (N, n): Cramer's rule with the cofactors
-    formed once (so several right-hand sides cost little) for n ≤ 3, LU for larger n (:class:`LinearStack`).
+    """b ↦ x with J·x = b for a stack J (N, n, n) and b (N, n), J prepared once (:class:`LinearStack`).
 
     >>> solve = linear_solver(np.array([[[2.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 4.0]]]))
     >>> solve(np.array([[3.0, 1.0, 4.0]])).tolist()
@@ -364,14 +350,11 @@ def _real(name: str, value, shape: tuple, x) -> np.ndarray:
 
 def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_iter: int = 50,
            residual_tol: float | None = None, on_failure: str = "raise") -> NewtonResult:
-    """Solve F(x) = 0 by Newton–Raphson from the seed ``x0``, keeping the whole history.
+    """Solve F(x) = 0 by Newton–Raphson from ``x0``, keeping the whole history.
 
-    ``x0`` a number (then ``F`` and ``jac`` take and return numbers) or a vector of n unknowns
-    (``F`` returns n residuals, ``jac`` the n×n Jacobian; without ``jac``, central differences).
-    Each iteration solves J(x_n)·Δx = −F(x_n), x_{n+1} = x_n + Δx; it stops when ‖Δx‖ < ``tol``
-    and ‖F(x_{n+1})‖ ≤ ``residual_tol``.  ``max_iter`` is at most :data:`MAX_ITERATIONS`, which
-    bounds the history.  Failures as in the module's rule: ``SingularJacobianError`` (J singular,
-    see :func:`is_singular`), ``ConvergenceError`` (NaN/inf, or ``max_iter`` updates; ``err.result``).
+    ``x0`` a number (``F`` and ``jac`` then take and return numbers) or n unknowns (``F`` gives n
+    residuals, ``jac`` the n×n Jacobian; without ``jac``, central differences).  Each update solves
+    J(x_n)·Δx = −F(x_n); stopping and failures as in the module's rule.
 
     >>> F = lambda v: np.array([v[0] ** 2 + v[1] ** 2 - 1.0, v[0] - v[1]])
     >>> result = newton(F, np.array([1.0, 0.5]))
@@ -460,14 +443,9 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
                  on_failure: str = "report") -> BatchNewtonResult:
     """Solve N independent systems F(x_i) = 0 at once, one vectorized loop, by the rule of :func:`newton`.
 
-    ``x0`` (N, n); ``F`` maps the (N, n) iterates to (N, n) residuals and ``jac`` to (N, n, n)
-    Jacobians (row i depends on row i only); ``jac=True``: ``F`` returns the pair, so that they
-    share their work (as in ``scipy.optimize.root``).  ``jac`` an (N, n, n) array or a
-    :class:`LinearStack`: a Jacobian that does not change, for an affine F(x) = J·x + c (a linear stage
-    of a mechanism), prepared once for every iteration.  Each system stops on its own; ``F`` is called
-    last at the returned ``x`` (whose residuals give ``residual_norms``).  Failed
-    systems have ``converged`` False (and ``singular`` True if J stopped them); with
-    ``on_failure="raise"`` the first failed one raises as :func:`newton` would.
+    ``x0`` (N, n); ``F`` maps iterates (N, n) to residuals (N, n), ``jac`` to Jacobians (N, n, n);
+    ``jac=True``: ``F`` returns both; ``jac`` an array or :class:`LinearStack`: the constant J of an
+    affine F.  Each system stops on its own; ``F`` is called last at the returned ``x``.
 
     >>> targets = np.array([[2.0], [9.0]])
     >>> result = newton_batch(lambda x: x**2 - targets, np.ones((2, 1)), jac=lambda x: 2 * x[:, :, None])

@@ -156,8 +156,7 @@ def velocity_residual(velocity, position, theta2, omega2, *, saw: Saw = COURSE_S
 
 
 def velocity_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
-    """∂(velocity residuals)/∂(v_r, ω1, ω3), the course's eq. (18), shape (..., 3, 3): the loop
-    position Jacobian, as differentiating F(q(t), θ2(t)) = 0 gives J(q)·q̇ + ∂F/∂θ2·ω2 = 0.
+    """∂(velocity residuals)/∂(v_r, ω1, ω3), eq. (18), shape (..., 3, 3): the position Jacobian.
 
     >>> bool(np.allclose(velocity_jacobian([-0.1, -0.5, 3.0]), position_jacobian([-0.1, -0.5, 3.0])))
     True
@@ -178,8 +177,8 @@ def acceleration_residual(acceleration, velocity, position, theta2, omega2, alph
 
 
 def acceleration_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
-    """∂(acceleration residuals)/∂(a_r, α1, α3), shape (..., 3, 3): again the loop position Jacobian.
-    The course's eq. (19) is the same matrix with its rows listed in the order (Fc, Fx, Fy).
+    """∂(acceleration residuals)/∂(a_r, α1, α3), shape (..., 3, 3): the position Jacobian (eq. 19 lists its
+    rows in the order Fc, Fx, Fy).
 
     >>> bool(np.allclose(acceleration_jacobian([-0.1, -0.5, 3.0]), velocity_jacobian([-0.1, -0.5, 3.0])))
     True
@@ -270,9 +269,8 @@ def _course_assembly(x, seed, method: str, theta2) -> None:
 
 @dataclass(frozen=True)
 class SawSolution:
-    """The nine unknowns ``x`` at one crank angle, ordered as :data:`UNKNOWNS`, and how Newton found them:
-    ``iterations`` (all stages), ``stages`` (a ``NewtonResult`` per stage: "position", "velocity",
-    "acceleration", or "simultaneous") and ``method`` ("consecutive" or "simultaneous")."""
+    """The nine unknowns ``x`` (ordered as :data:`UNKNOWNS`) at one crank angle, the Newton ``iterations``
+    of all ``stages`` (name → ``NewtonResult``) and the ``method``."""
 
     x: np.ndarray
     iterations: int
@@ -291,11 +289,9 @@ class SawSolution:
 def solve_consecutive(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, x0=None, tol: float = 1e-6,
                       *, saw: Saw = COURSE_SAW, variant: str = "loop", linear_stages: str = "newton",
                       max_iter: int = 50) -> SawSolution:
-    """Newton–Raphson stage by stage ("NR consecutivo"): position, then velocity, then acceleration, for
-    the crank's ``theta2`` (rad), ``omega2`` (rad/s), ``alpha2`` (rad/s²) from the seed ``x0`` (default
-    :data:`SEED_PRINTED`) to the step tolerance ``tol``; ``linear_stages="direct"`` solves the linear
-    stages in one step.  ``UnreachableError`` if the rod cannot reach the slider line,
-    ``SingularJacobianError`` at a limit position or from a seed with a singular Jacobian.
+    """Newton–Raphson stage by stage ("NR consecutivo") at the crank's ``theta2`` (rad), ``omega2`` (rad/s),
+    ``alpha2`` (rad/s²) from ``x0`` (default :data:`SEED_PRINTED`); ``linear_stages="direct"``: the linear
+    stages in one step.  ``UnreachableError`` or ``SingularJacobianError`` where the saw cannot move.
 
     >>> solution = solve_consecutive(0.0)
     >>> [solution.stages[s].iterations for s in ("position", "velocity", "acceleration")]
@@ -330,9 +326,8 @@ def solve_simultaneous(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, 
 
 def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreachable: str = "raise"):
     """The nine unknowns in closed form (the course's eqs. 20–28; its eq. 22, labelled r1, is ω3 and its
-    eq. 23, labelled ω3, repeats θ1), shape broadcast(θ2, ω2, α2) + (9,).  With θ1 in (−π/2, π/2], (r1, θ1)
-    would jump if the slider passed over the crank pivot (the course's saw never does).
-    ``on_unreachable="nan"`` gives NaN rows instead of raising ``UnreachableError``.
+    eq. 23, labelled ω3, repeats θ1), shape broadcast(θ2, ω2, α2) + (9,); ``on_unreachable="nan"`` gives
+    NaN rows instead of raising ``UnreachableError``.
 
     >>> np.round(analytic(0.0)[:3], 6).tolist()
     [-0.099672, -0.468422, 2.873694]
@@ -379,9 +374,8 @@ def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
 
 @dataclass(frozen=True)
 class SawSweep:
-    """The nine unknowns (named as in :data:`UNKNOWNS`) over the motor's start-up at the times ``t`` (s),
-    with the motor's ``theta2, omega2, alpha2``, the Newton ``iterations`` per point (0 for "analytic")
-    and ``stage_iterations`` (n, stages)."""
+    """The nine unknowns (:data:`UNKNOWNS`) and the motor's ``theta2, omega2, alpha2`` at the times ``t`` (s),
+    with the Newton ``iterations`` per point and ``stage_iterations`` (n, stages)."""
 
     t: np.ndarray
     theta2: np.ndarray
@@ -412,9 +406,9 @@ class SawSweep:
 
 def sweep(n: int = 1000, method: str = "simultaneous", *, tol: float = 1e-6, x0=None, saw: Saw = COURSE_SAW,
           variant: str = "loop", linear_stages: str = "newton", t_end: float | None = None) -> SawSweep:
-    """The saw at ``n`` equally spaced times on [0, ``t_end``] (default 2T ≈ 3.883 s) of the motor profile:
-    ``method`` "consecutive" or "simultaneous" (a Newton solve per point, seeded with the previous one's
-    solution), "batched" (all points at once, stage by stage, seeded with ``x0``) or "analytic".
+    """The saw at ``n`` times on [0, ``t_end``] (default 2T ≈ 3.883 s) of the motor profile: ``method``
+    "consecutive" or "simultaneous" (point by point, each seeded with the previous solution), "batched"
+    (all points at once from ``x0``) or "analytic".
 
     >>> result = sweep(50, method="consecutive")
     >>> bool(np.allclose(result.x, sweep(50, method="analytic").x, atol=1e-9))

@@ -1,14 +1,6 @@
 """The five-bar parallel robot of the course: forward and inverse kinematics, velocities,
 singularities and workspace.  The constraints are the course's EcL2, EcL3: |P3 − P2|² − l2² = 0 and
 |P3 − P4|² − l3² = 0 (see :class:`FiveBar`); SI units, angles from +x counter-clockwise.
-
->>> robot = FiveBar(l1=0.10, l2=0.15, l3=0.15, l4=0.10, l5=0.08)
->>> x3, y3 = robot.forward(1.2, 1.9, mode=+1)
->>> round(x3, 6), round(y3, 6)
-(0.003204, 0.224225)
->>> theta1, theta4 = robot.inverse(x3, y3, modes=(-1, +1))
->>> round(theta1, 6), round(theta4, 6)
-(1.2, 1.9)
 """
 
 from __future__ import annotations
@@ -314,10 +306,8 @@ class FiveBar:
         (σ1, σ2), the signs in θ = 2·atan((−b + σ√(b² − 4ac))/2a): the four working modes.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(+1, -1))
-        >>> x3, y3 = robot.forward(theta1, theta4, mode=+1)
-        >>> round(x3, 12), round(y3, 12)
-        (0.0, 0.2)
+        >>> [round(v, 12) for v in robot.forward(*robot.inverse(0.0, 0.2, modes=(+1, -1)), mode=+1)]
+        [0.0, 0.2]
         """
         sigmas = _working_mode(modes)
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
@@ -377,8 +367,7 @@ class FiveBar:
         """The three normalized singularity measures (see ``SingularityMeasures``).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
-        >>> m = robot.singularity_measures(theta1, theta4, 0.0, 0.2)
+        >>> m = robot.singularity_measures(*robot.inverse(0.0, 0.2, modes=(-1, +1)), 0.0, 0.2)
         >>> round(m.serial_leg1, 4), round(m.serial_leg4, 4), round(m.parallel, 4)
         (0.9529, -0.9529, -0.9793)
         """
@@ -426,8 +415,7 @@ class FiveBar:
         parallel singularity (``on_singular="nan"``: NaN), as the two rate functions at theirs.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
-        >>> np.round(robot.velocity_jacobian(theta1, theta4, 0.0, 0.2), 4).tolist()
+        >>> np.round(robot.velocity_jacobian(*robot.inverse(0.0, 0.2, modes=(-1, +1)), 0.0, 0.2), 4).tolist()
         [[-0.0754, -0.0754], [0.0614, -0.0614]]
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
@@ -456,8 +444,7 @@ class FiveBar:
         """(ω1, ω4) (rad/s), shape (..., 2), for the end-effector velocity (vx, vy) (m/s): B·ω = −A·ṗ.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-        >>> theta1, theta4 = robot.inverse(0.0, 0.2, modes=(-1, +1))
-        >>> np.round(robot.crank_rates(theta1, theta4, 0.0, 0.2, 0.0, 0.1), 4).tolist()
+        >>> np.round(robot.crank_rates(*robot.inverse(0.0, 0.2, (-1, 1)), 0.0, 0.2, 0.0, 0.1), 4).tolist()
         [0.8137, -0.8137]
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)

@@ -2,11 +2,6 @@
 O4B (θ4), O2 = (0, 0), O4 = (l1, 0).  The loop R2 + R3 − R4 − R1 = 0 is solved by the tangent half-angle
 substitution (Norton, *Design of Machinery*, §4.5), the rates from :attr:`FourBar.mechanism`.  Branches:
 ``"open"`` (B left of the line A → O4, Norton's minus sign) and ``"crossed"``.  SI units.
-
->>> linkage = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
->>> solution = linkage.solve(np.pi / 2, omega2=10.0)
->>> round(solution.theta3, 6), round(solution.theta4, 6), round(solution.omega4, 6)
-(0.318848, 1.815502, 4.761066)
 """
 
 from __future__ import annotations

@@ -389,9 +389,8 @@ class FiveBar:
         residual = np.abs(self._constraints(theta1, theta4, x3, y3))
         scale = max(self.l1, self.l2, self.l3, self.l4, self.l5) ** 2
         if not np.all(residual <= 1e-8 * scale):
-            index = np.unravel_index(int(np.argmax(residual)), residual.shape)
             raise InvalidGeometryError(f"the configuration is not assembled: constraint residual "
-                                       f"{residual[index]:.3g} m² (x3, y3 must be the end effector for "
+                                       f"{residual.max():.3g} m² (x3, y3 must be the end effector for "
                                        "theta1, theta4, e.g. from forward)")
         leg1, leg4, parallel = self._measures(theta1, theta4, x3, y3)
         if kind == "parallel":

@@ -113,15 +113,11 @@ def _configuration(theta1, theta4, x3, y3) -> list[np.ndarray]:
                              x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
 
 
-def _sign_choice(name: str, value: Any) -> int:
-    return int(require_choice(name, value, (1, -1)))
-
-
 def _working_mode(modes) -> tuple[int, int]:
     """(σ1, σ2) from ``modes``, or ``InvalidGeometryError`` naming the bad one."""
     if not (isinstance(modes, tuple | list) and len(modes) == 2):
         raise InvalidGeometryError(f"modes must be a pair (sigma1, sigma2) of ±1; got {modes!r}")
-    return _sign_choice("sigma1 (modes[0])", modes[0]), _sign_choice("sigma2 (modes[1])", modes[1])
+    return tuple(int(require_choice(f"sigma{k + 1} (modes[{k}])", modes[k], (1, -1))) for k in (0, 1))
 
 
 def _blockwise(kernel, inputs, dtypes):
@@ -242,7 +238,7 @@ class FiveBar:
         >>> bool(robot.forward(1.0, 2.0, +1).y3 > robot.forward(1.0, 2.0, -1).y3)
         True
         """
-        sigma = _sign_choice("mode", mode)
+        sigma = int(require_choice("mode", mode, (1, -1)))
         require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
         theta1, theta4 = require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                                            theta4=require_finite("theta4", theta4, "rad"))

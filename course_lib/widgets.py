@@ -1,18 +1,14 @@
 """Interactive explorers (ipywidgets): move a slider, watch the mechanism move.
 
-Each builder returns an :class:`Explorer`: controls, **one** matplotlib figure (Agg, never registered
-with pyplot) redrawn in cached layers (axes; the geometry a length, branch or mode sets; the moving
-links, blitted) into a PNG ``ipywidgets.Image``, a readout, and the update step ``update(**state)``.
-``update`` never raises for a value; a state the mechanism cannot take is explained in the readout and
-on the drawing; a builder's argument outside its slider's range raises ``InvalidGeometryError``.
-Where no widget manager runs (GitHub, ``nbconvert``) an explorer shows a PNG of figure and readout.
+Each builder returns an :class:`Explorer`: controls, one Agg figure redrawn in cached layers into a PNG
+image, a readout, and ``update(**state)``, which never raises for a value (a state the mechanism cannot
+take is explained); a builder argument outside its slider's range raises ``InvalidGeometryError``.
+Without a widget manager (GitHub, ``nbconvert``) an explorer shows a PNG of figure and readout.
 Units: metres and seconds; sliders show angles in degrees (the state keys say so: ``theta2_deg``).
 
 >>> explorer = fourbar_explorer()
->>> explorer.update(theta2_deg=90.0).status
-'ok'
->>> explorer.update(branch="sideways").status
-'invalid'
+>>> explorer.update(theta2_deg=90.0).status, explorer.update(branch="sideways").status
+('ok', 'invalid')
 """
 
 from __future__ import annotations
@@ -47,8 +43,8 @@ _ERROR_COLOR = "#b00020"
 
 @dataclass(frozen=True)
 class Readout:
-    """What one update step reports: ``status``, "ok" or why the picture is not the requested state
-    ("unreachable", "singular", "invalid" for a refused input, "error"), and the readout ``lines``.
+    """One update step's ``status`` ("ok", or why the picture is not the requested state: "unreachable",
+    "singular", "invalid" for a refused input, "error") and readout ``lines``.
 
     >>> Readout("ok", ("a < b", "c")).text
     'a < b\\nc'
@@ -59,10 +55,7 @@ class Readout:
     status: str
     lines: tuple[str, ...] = ()
 
-    @property
-    def text(self) -> str:
-        """The readout as plain text, one line per entry."""
-        return "\n".join(self.lines)
+    text = property(lambda self: "\n".join(self.lines), doc="The readout as plain text, one line per entry.")
 
     def html(self) -> str:
         """The readout as HTML (escaped), red when the status is not "ok"."""
@@ -75,10 +68,9 @@ class Readout:
 class Explorer:
     """Controls + one reused figure + readout, tied together by a plain update step.
 
-    ``controls``: input widgets by state key, whose values are the state; ``artists``: what the update
-    step changes, by name (``animated`` ones drawn at every event); ``draw(state, geometry_changed) ->
-    Readout`` moves them; ``geometry_keys``: the state keys that alter the ``geometry_artists`` (a cached
-    layer); ``extra``: more widgets.  Made here: ``image``, ``readout``, ``widget`` and ``last``.
+    ``controls``: input widgets by state key; ``draw(state, geometry_changed) -> Readout`` moves the
+    ``artists`` (``animated`` ones drawn at every event); ``geometry_keys``: the state keys that alter
+    the ``geometry_artists`` (a cached layer); ``extra``: more widgets.
 
     >>> explorer = fourbar_explorer()
     >>> explorer.status, sorted(explorer.state)[:3], "Grashof" in explorer.message
@@ -101,7 +93,7 @@ class Explorer:
         self.canvas = FigureCanvasAgg(self.figure)
         self._geometry_layer = [self.artists[name] for name in self.geometry_artists]
         for artist in self._geometry_layer:
-            artist.set_animated(True)  # left out of the base picture, drawn into the cached background
+            artist.set_animated(True)  # drawn into the cached background, not the base
         moving = [artist for name, artist in self.artists.items()
                   if name not in self.geometry_artists and artist.get_animated()]
         self._moving = sorted(moving, key=lambda artist: artist.get_zorder())  # stable: ties keep their order
@@ -118,27 +110,15 @@ class Explorer:
         self.widget = widgets.HBox([column, view]).add_class("course-explorer")
         self.refresh()
 
-    @property
-    def state(self) -> dict[str, object]:
-        """The current input values by key (a copy)."""
-        return {key: control.value for key, control in self.controls.items()}
-
-    @property
-    def status(self) -> str:
-        """"ok" or why the last state could not be drawn."""
-        return self.last.status
-
-    @property
-    def message(self) -> str:
-        """The readout of the last update as plain text."""
-        return self.last.text
+    state = property(lambda self: {key: control.value for key, control in self.controls.items()},
+                     doc="The current input values by key (a copy).")
+    status = property(lambda self: self.last.status, doc='"ok" or why the last state could not be drawn.')
+    message = property(lambda self: self.last.text, doc="The readout of the last update as plain text.")
 
     def update(self, **state) -> Readout:
-        """Set some inputs (by state key) and redraw once; returns the :class:`Readout`.
-
-        A toggle takes one of its options (text in any case), a slider a finite number, clamped (angles
-        wrapped) to its range; any other value is refused: kept, status "invalid", the readout says why.
-        Only an unknown key raises ``InvalidGeometryError``.
+        """Set some inputs (by state key) and redraw once.  A toggle takes one of its options (text in any
+        case), a slider a finite number, clamped (angles wrapped) to its range; any other value is kept,
+        status "invalid", the readout says why.  Only an unknown key raises ``InvalidGeometryError``.
 
         >>> readout = fourbar_explorer().update(theta2_deg=float("nan"))
         >>> readout.status, readout.lines[0]
@@ -160,8 +140,7 @@ class Explorer:
                             refused=any(accepted is _REFUSED for _, accepted, _ in checked))
 
     def refresh(self, notes=(), refused: bool = False) -> Readout:
-        """Recompute and redraw from the current widget values; ``notes`` are put first in the readout,
-        ``refused=True`` makes the status "invalid"."""
+        """Redraw from the widget values; ``notes`` lead the readout, ``refused`` makes it "invalid"."""
         state = self.state
         geometry = {key: state[key] for key in self.geometry_keys}
         changed = self._drawn_geometry is None or geometry != self._drawn_geometry
@@ -169,7 +148,6 @@ class Explorer:
             readout = self.draw(state, changed)
             self._drawn_geometry = geometry
         except (CourseLibError, ArithmeticError, ValueError, TypeError, IndexError) as err:
-            # the last safety net for a state the drawing step cannot draw: report, keep the controls working
             self._drawn_geometry = None
             readout = Readout("error", (f"this state cannot be drawn: {err}", "Change an input to continue."))
         if notes or refused:
@@ -187,19 +165,18 @@ class Explorer:
         limits = [(axes.get_xlim(), axes.get_ylim()) for axes in self.figure.axes]
         new_limits = self._base is None or limits != self._base_limits  # then a new PNG palette too
         if full or new_limits:
-            self.canvas.draw()  # animated artists (geometry layer and moving ones) are skipped here ...
+            self.canvas.draw()  # without the animated artists: the geometry layer and the moving ones
             self._base, self._base_limits = self.canvas.copy_from_bbox(self.figure.bbox), limits
             self._background = None
         visible = tuple(artist.get_visible() for artist in self._geometry_layer)
         if self._background is None or geometry_changed or visible != self._background_visible:
             self.canvas.restore_region(self._base)
-            self._draw_artists(self._geometry_layer)  # ... the geometry layer over the base, cached ...
+            self._draw_artists(self._geometry_layer)
             self._background, self._background_visible = self.canvas.copy_from_bbox(self.figure.bbox), visible
         else:
             self.canvas.restore_region(self._background)
-        self._draw_artists(self._moving)  # ... and the moving artists on top, alone
-        # An opaque 256-colour PNG; the palette, with every colour the artists can take, shown or not,
-        # is made for new axis limits and kept while they stay.
+        self._draw_artists(self._moving)
+        # the palette, with every colour the artists can take, is made for new axis limits
         pixels = np.asarray(self.canvas.buffer_rgba())
         if new_limits or self._palette is None:
             self._palette = _Quantizer(pixels, _solid_colours(self.artists.values()))
@@ -251,13 +228,12 @@ def _plain_number(value):
 
 
 def _wrap_degrees(degrees: float) -> float:
-    """An angle in degrees, unchanged inside [−180, 180], else wrapped into [−180, 180)."""
+    """Degrees unchanged inside [−180, 180], else wrapped into [−180, 180)."""
     return degrees if -180.0 <= degrees <= 180.0 else (degrees + 180.0) % 360.0 - 180.0
 
 
 def _option(value, labels, values):
-    """The option ``value`` stands for (a number equal to its value, a text equal to its label or value in
-    any letter case), else ``_REFUSED``."""
+    """The option ``value`` stands for (its value, or its label or value in any case), else _REFUSED."""
     if isinstance(value, str):
         wanted = value.strip().casefold()
         return next((option for label, option in zip(labels, values, strict=True)
@@ -269,7 +245,6 @@ def _option(value, labels, values):
 def _control_value(key: str, control, value) -> tuple[object, str]:
     """What ``update`` sets for ``value`` on ``control`` (or ``_REFUSED``) and a readout note, or ""."""
     name, number = control.description or key, _plain_number(value)
-    # the refused value as the readout quotes it: NaN named as such, never as a computed "nan"
     echo = repr(value) if number is None else "NaN" if math.isnan(number) else f"{number:g}"
     if isinstance(control, widgets.ToggleButtons):
         option = _option(value, control._options_labels, control._options_values)
@@ -279,14 +254,14 @@ def _control_value(key: str, control, value) -> tuple[object, str]:
     if number is None or not math.isfinite(number):
         why = "not a finite number" if number is not None and math.isinf(number) else "not a number"
         return _REFUSED, f"{name}: refused {echo}, {why}; kept {control.value:g}"
-    if key.endswith("_deg") and not control.min <= number <= control.max:
+    if control.min <= number <= control.max:
+        return number, ""
+    if key.endswith("_deg"):
         wrapped = _wrap_degrees(number)
         return wrapped, f"{name} = {number:g} taken as {wrapped:g} (the same direction)"
-    if not control.min <= number <= control.max:
-        clamped = min(max(number, control.min), control.max)
-        return clamped, (f"{name} = {number:g} is outside the slider's range "
-                         f"[{control.min:g}, {control.max:g}]: set to {clamped:g}")
-    return number, ""
+    clamped = min(max(number, control.min), control.max)
+    return clamped, (f"{name} = {number:g} is outside the slider's range "
+                     f"[{control.min:g}, {control.max:g}]: set to {clamped:g}")
 
 
 def _number_argument(name: str, value, unit: str, low: float = -math.inf, high: float = math.inf) -> float:
@@ -318,8 +293,7 @@ def _degrees(name: str, value, description: str, step: float = 1.0):
 
 
 def _toggle(description: str, options, name: str, value):
-    """A toggle set to the builder argument ``name``: one of its options (text in any letter case), else
-    raise.  ``options`` are texts or (label, value) pairs."""
+    """A toggle set to the builder argument ``name``, one of ``options`` (texts or (label, value) pairs)."""
     labels, values = zip(*((option, option) if isinstance(option, str) else option for option in options),
                          strict=True)
     chosen = _option(value, labels, values)
@@ -364,8 +338,7 @@ def _failure_text(ax, y: float = 0.97):
 
 
 def _failed(artists, drawing, points, text: str, status: str, lines, circles=()) -> Readout:
-    """A step whose solve failed: the linkage at the known ``points``, the red ``text`` on the drawing,
-    the reach ``circles`` ((name, centre, radius)) shown; the Readout of ``status`` and ``lines``."""
+    """A failed step: the linkage at the known ``points``, the red ``text``, the reach ``circles`` shown."""
     drawing.move(points)
     artists["failure"].set_text(text)
     for name, center, radius in circles:
@@ -374,8 +347,7 @@ def _failed(artists, drawing, points, text: str, status: str, lines, circles=())
 
 
 def _solved(artists, drawing, points, lines, **shown) -> Readout:
-    """A solved step: the linkage at ``points``, no failure text, the ``shown`` line artists at their
-    (x, y) data; the Readout "ok" of ``lines``."""
+    """A solved step: the linkage at ``points``, the ``shown`` line artists at their (x, y) data."""
     artists["failure"].set_text("")
     drawing.move(points)
     for name, data in shown.items():
@@ -422,9 +394,8 @@ def fourbar_explorer(
     values (m, rad), lengths within the sliders' range 0.02…0.40 m.
 
     Sliders: lengths l1…l4, crank angle θ2, coupler point P at p from A turned δ from AB; toggle: branch.
-    Drawing: the linkage at θ2, the coupler curve of P, the transmission angle μ(θ2) with a cursor.
-    Readout: Grashof class, θ3, θ4, μ, input range; where the loop cannot close, why (|AO4| against
-    l3 + l4 and |l3 − l4|), with the two circles that fail to meet.
+    Drawing: the linkage, the coupler curve of P, the transmission angle μ(θ2).  Readout: Grashof class,
+    θ3, θ4, μ, input range, or why the loop cannot close (with the two circles that fail to meet).
 
     >>> explorer = fourbar_explorer(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20)
     >>> explorer.update(theta2_deg=120.0).status, "outside the input range" in explorer.message
@@ -471,7 +442,7 @@ def fourbar_explorer(
     def draw(state, geometry_changed: bool) -> Readout:
         """Solve the four-bar at the state's θ2 and move the artists."""
         theta2, branch = np.radians(float(state["theta2_deg"])), state["branch"]
-        four = FourBar(**{key: state[key] for key in ("crank", "coupler", "rocker", "ground")})
+        four = FourBar(**{key: state[key] for key in named})
         l1, l2, l3, l4 = four.l1, four.l2, four.l3, four.l4
         p, delta = float(state["p"]), np.radians(float(state["delta_deg"]))
         offset = linkage.label_offset = 0.04 * max(l1, l2, l3, l4)
@@ -481,8 +452,7 @@ def fourbar_explorer(
             mu = four.transmission_angle(sweep, branch=branch, on_unreachable="nan")
             artists["coupler_curve"].set_data(curve[:, 0], curve[:, 1])
             artists["mu_curve"].set_data(np.degrees(sweep), np.degrees(mu))
-            # limits for the crank circle, rocker circle and coupler curve, kept while these stay inside
-            # them and fill at least half of them, else fitted with margins
+            # the limits stay while crank circle, rocker circle and coupler curve fit and fill half of them
             xs = [-l2, l2, l1 - l4, l1 + l4, *np.nan_to_num(curve[:, 0], nan=0.0)]
             ys = [-l2, l2, -l4, l4, *np.nan_to_num(curve[:, 1], nan=0.0)]
             xmin, xmax, ymin, ymax = min(xs), max(xs), min(ys), max(ys)
@@ -562,9 +532,8 @@ def saw_explorer(
     """Explorer of the course's power saw (:mod:`course_lib.saw`) over the motor's start-up profile.
 
     A time slider t (s) over [0, ``t_end``] (default two crank turns, 2T ≈ 3.88 s) in ``frames`` steps,
-    linked to an ``ipywidgets.Play`` button (``interval_ms`` per frame), ``explorer.play``.  Drawing: the
-    saw at t (the vector r1 dashed), the motor profile θ2, ω2, α2 and the nine unknowns over time
-    (closed form :func:`course_lib.saw.analytic`), each with a cursor at t.
+    linked to an ``ipywidgets.Play`` button ``explorer.play`` (``interval_ms`` per frame).  Drawing: the
+    saw at t, the motor profile θ2, ω2, α2 and the nine unknowns over time, each with a cursor at t.
 
     >>> explorer = saw_explorer()
     >>> explorer.play.value = 30  # the Play button's frame k moves the time slider to k·dt
@@ -585,10 +554,10 @@ def saw_explorer(
     interval = _number_argument("interval_ms", interval_ms, "milliseconds per frame")
     if interval <= 0:
         raise InvalidGeometryError(f"interval_ms must be a positive time in ms; got {interval_ms!r}")
-    frames, dt = int(count), end / int(count)
+    dt = end / int(count)
     time_slider = _slider("time t (s)", t, 0.0, end, dt, ".3f")
-    play = widgets.Play(min=0, max=frames, step=1, interval=int(round(interval)), description="play")
-    # t → the nearest frame (t itself is kept); frame k → t = k·dt (each change made once, not echoed back)
+    play = widgets.Play(min=0, max=int(count), step=1, interval=int(round(interval)), description="play")
+    # t → the nearest frame (t itself is kept); frame k → t = k·dt
     widgets.link((time_slider, "value"), (play, "value"), transform=(lambda t: int(round(t / dt)),
                                                                      lambda k: k * dt))
     sweep_t = np.linspace(0.0, end, 481)
@@ -652,13 +621,12 @@ def saw_explorer(
         for k, (key, _label) in enumerate(_SAW_PANELS):
             artists[f"cursor_{key}"].set_xdata([t, t])
             artists[f"point_{key}"].set_data([t], [values[k]])
-        phase = (("α2 rising", "α2 constant", "α2 falling")[min(int(3 * t / turn), 2)] if t < turn
-                 else "steady speed")
+        phase = ("start-up, " + ("α2 rising", "α2 constant", "α2 falling")[min(int(3 * t / turn), 2)]
+                 if t < turn else "steady speed")
         shown = [label.replace(" (", f" = {_num(value, 5)} ")[:-1]  # "r1 (m)" → "r1 = -0.09967 m"
                  for (_, label), value in zip(_SAW_PANELS, values, strict=True)]
         return _solved(artists, drawing, dict(zip(("O2", "A", "B"), joints, strict=True)), (
-            f"t = {t:.3f} s ({'start-up, ' + phase if t < turn else phase}; "
-            f"first turn ends at T = {turn:.4f} s)",
+            f"t = {t:.3f} s ({phase}; first turn ends at T = {turn:.4f} s)",
             f"motor: θ2 = {_num(theta2, 4)} rad ({np.degrees(theta2):.1f}°), ω2 = {_num(omega2, 4)} rad/s, "
             f"α2 = {_num(alpha2, 4)} rad/s²",
             *(f"{kind}: {', '.join(shown[3 * k:3 * k + 3])}"
@@ -681,13 +649,9 @@ def fivebar_explorer(
     x3: float = 0.0, y3: float = 0.2, sigma1: int = 1, sigma2: int = 1,
 ) -> Explorer:
     """Explorer of the five-bar robot (:class:`course_lib.fivebar.FiveBar`); arguments are the initial
-    values (m, rad).
-
-    Toggle ``mode``: "forward", sliders θ1, θ4 and the assembly σ (+1 arms up, −1 arms down) give the end
-    effector P3 = (X3, Y3); "inverse", sliders X3, Y3 and the working mode (σ1, σ2) give θ1, θ4.  The
-    workspace (both legs reach P3) is shaded; in inverse mode the parallel (type-2) singularity curve of
-    the working mode is dotted.  An unreachable input is explained in the readout (which leg, which
-    distance, which bound), with the failing reach circles drawn.
+    values (m, rad).  ``mode`` "forward": sliders θ1, θ4 and the assembly σ (+1 arms up) give the end
+    effector P3 = (X3, Y3); "inverse": sliders X3, Y3 and the working mode (σ1, σ2) give θ1, θ4.  The
+    workspace is shaded; in inverse mode the mode's parallel singularity curve is dotted.
 
     >>> explorer = fivebar_explorer()
     >>> explorer.update(mode="inverse", x3=0.0, y3=0.2).status, explorer.update(x3=0.3, y3=0.3).status
@@ -703,8 +667,7 @@ def fivebar_explorer(
         "theta1_deg": _degrees("theta1", theta1, "θ1 (°)"),
         "theta4_deg": _degrees("theta4", theta4, "θ4 (°)"),
         "sigma": _toggle("assembly σ", _SIGMA, "sigma", sigma),
-        "x3": _metres("x3", x3, "X3 (m)", -limit, limit),
-        "y3": _metres("y3", y3, "Y3 (m)", -limit, limit),
+        "x3": _metres("x3", x3, "X3 (m)", -limit, limit), "y3": _metres("y3", y3, "Y3 (m)", -limit, limit),
         "sigma1": _toggle("σ1 (θ1 root)", _ROOT, "sigma1", sigma1),
         "sigma2": _toggle("σ2 (θ4 root)", _ROOT, "sigma2", sigma2),
     }
@@ -712,9 +675,9 @@ def fivebar_explorer(
     ax = _grid(figure.add_axes((0.12, 0.1, 0.85, 0.86)), xlabel="X (m)", ylabel="Y (m)")
     _set_equal_limits(ax, -limit, limit, -limit, limit)
     grid = np.linspace(-limit, limit, 161)
-    workspace = robot.workspace(grid, grid, modes=(1, 1))
-    shade = np.zeros(workspace.reachable.shape + (4,))
-    shade[workspace.reachable] = (0.12, 0.47, 0.71, 0.16)
+    reachable = robot.workspace(grid, grid, modes=(1, 1)).reachable
+    shade = np.zeros(reachable.shape + (4,))
+    shade[reachable] = (0.12, 0.47, 0.71, 0.16)
     shading = ax.imshow(shade, extent=(-limit, limit, -limit, limit), origin="lower", interpolation="nearest")
     half = robot.l5 / 2
     P1, P5 = np.array([half, 0.0]), np.array([-half, 0.0])
@@ -748,18 +711,14 @@ def fivebar_explorer(
         if geometry_changed:  # the controls of the current mode; in inverse mode the singularity curve
             for key in ("theta1_deg", "theta4_deg", "sigma", "x3", "y3", "sigma1", "sigma2"):
                 controls[key].disabled = inverse == (key in ("theta1_deg", "theta4_deg", "sigma"))
-            if inverse and modes not in curves:
-                # where the parallel measure changes sign between grid neighbours (linear interpolation)
+            if inverse and modes not in curves:  # where the parallel measure changes sign between neighbours
                 parallel, points = robot.workspace(grid, grid, modes=modes).parallel, []
-                for axis in (0, 1):
-                    a, b = parallel, np.roll(parallel, -1, axis=axis)
-                    crossing = (np.sign(a) * np.sign(b) < 0) & np.isfinite(a) & np.isfinite(b)
-                    crossing[(-1, slice(None)) if axis == 0 else (slice(None), -1)] = False
-                    rows, cols = np.nonzero(crossing)
-                    weight = a[rows, cols] / (a[rows, cols] - b[rows, cols])
-                    step = (grid[1] - grid[0]) * weight
-                    points.append(np.stack([grid[cols] + (step if axis == 1 else 0.0),
-                                            grid[rows] + (step if axis == 0 else 0.0)], axis=1))
+                for down, a, b in ((True, parallel[:-1], parallel[1:]),
+                                   (False, parallel[:, :-1], parallel[:, 1:])):
+                    rows, cols = np.nonzero((np.sign(a) * np.sign(b) < 0) & np.isfinite(a) & np.isfinite(b))
+                    step = (grid[1] - grid[0]) * (a[rows, cols] / (a[rows, cols] - b[rows, cols]))
+                    points.append(np.stack([grid[cols] + (0.0 if down else step),
+                                            grid[rows] + (step if down else 0.0)], axis=1))
                 curves[modes] = np.concatenate(points)
             points = curves[modes] if inverse else np.empty((0, 2))
             artists["singularity"].set_data(points[:, 0], points[:, 1])
@@ -831,12 +790,11 @@ def mechanism_explorer(
 ) -> Explorer:
     """Explorer of any declared :class:`~course_lib.mechanism.Mechanism` driven by one input.
 
-    ``motion``, a sweep of the input solved by ``mechanism.solve``, sets the slider's range (degrees over
-    [−180°, 180°] for an input named "theta…"), the drawing's limits and the dotted paths of the
-    ``trace`` points, and seeds each event's solve from its nearest instant (so the explorer stays on
-    the sweep's assembly).  Links are drawn with the fixed-pivot symbol at ``ground``, slider blocks at
-    ``blocks`` and ``styles`` by link name ("link 1", …).  ``rates`` (input → rate) go to each solve,
-    so ``readout(instant) -> lines`` can show velocities; by default each unknown is listed.
+    ``motion``, a sweep of the input solved by ``mechanism.solve``, sets the slider's range (degrees for
+    an input named "theta…"), the limits and the ``trace`` paths, and seeds each solve from its nearest
+    instant (the sweep's assembly).  ``ground`` points get the fixed-pivot symbol, ``blocks`` a slider
+    block, ``styles`` go by link name ("link 1", …); ``rates`` (input → rate) go to each solve, so
+    ``readout(instant) -> lines`` can show velocities; by default each unknown is listed.
 
     >>> import sympy as sp
     >>> from course_lib.mechanism import Mechanism
@@ -903,7 +861,7 @@ def mechanism_explorer(
             return _failed(artists, drawing, {}, f"no assembly at {name} = {state[key]:g}", "unreachable", (
                 f"{name} = {state[key]:g}: the loops cannot be closed here from the nearest solved instant.",
                 f"course_lib says: {err}"))
-        _solved(artists, drawing, mechanism.joints(now), ())  # drawn first: a readout may raise
+        _solved(artists, drawing, mechanism.joints(now), ())  # first: a readout may raise
         return Readout("ok", tuple(readout(now) if readout is not None else
                                    [f"{unknown} = {value:.4g}" for unknown, value in now.position.items()]))
 

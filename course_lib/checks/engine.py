@@ -1,9 +1,7 @@
-"""The feedback engine every checker shares: a parser (:func:`vector`, :func:`number`, :func:`integer`,
-:func:`word`, :func:`fields`) reads the answer; :func:`diagnose` tries (candidate, verdict) rules in order,
-the reference and its ✔ first, then known mistakes with their hints.  A candidate is a value (None in a
-tuple: any entry), a list of values, or a function of the answer; a :class:`Feedback` verdict is returned
-as it is.  Sympy answers go to :func:`judge_expression`; sympy is imported only to judge them.
-"""
+"""The feedback engine every checker shares: a parser (:func:`vector`, :func:`integer`, :func:`word`,
+:func:`fields`) reads the answer; :func:`diagnose` tries (candidate, verdict) rules in order, the reference
+first, then known mistakes with their hints.  Sympy answers go to :func:`judge_expression` (sympy is
+imported only to judge them)."""
 
 import functools
 import inspect
@@ -56,9 +54,8 @@ def wrong(message: str) -> Feedback:
 
 
 def reads(parse: Callable[[Any], Any] | None = None):
-    """Make a checker of ``check``: "no answer yet" for None, the parser's feedback on an answer it cannot
-    read, else ``check`` called with the answer as read.  A failure while judging becomes feedback, never
-    a traceback; a call with the wrong arguments still raises."""
+    """Make a checker of ``check``: "no answer yet" for None, the parser's feedback on an unreadable answer,
+    else ``check`` on the answer as read; a failure while judging becomes feedback, wrong arguments raise."""
 
     def decorate(check):
         signature = inspect.signature(check)

@@ -1,6 +1,8 @@
 """Checkers of exercise set 01 (vector loops and mobility) and of lesson 00's Try it."""
 # ruff: noqa: F403, F405
 
+import functools
+
 import numpy as np
 
 from ..planar import cross_k, polar
@@ -13,8 +15,7 @@ __all__ = ["check_mobility", "check_tilted_loop", "check_link_vector", "check_po
 @reads(fields("(L, J1, J2, M) as a tuple of four integers, or a dict", *map(integer, ("L", "J1", "J2", "M")),
               keys=("links", "full_joints", "half_joints", "mobility")))
 def check_mobility(answer) -> Feedback:
-    """Exercise 01, task 1: counts (L, J1, J2) and mobility M of the six-bar (a four-bar O2-A-B-O4 and a
-    dyad B-C-O6 pinned at B), as a tuple or a dict ``links, full_joints, half_joints, mobility``.
+    """Exercise 01, task 1: counts (L, J1, J2) and mobility M of the six-bar, as a tuple or a dict.
 
     >>> check_mobility((6, 6, 0, 3)).ok
     False
@@ -34,8 +35,7 @@ def check_mobility(answer) -> Feedback:
 
 @reads()
 def check_tilted_loop(answer) -> Feedback:
-    """Exercise 01, task 2: the x and y components of R2 + R3 − R4 − R1 = 0, ground tilted by θ1, as sympy
-    expressions in l1…l4, θ1…θ4 (each "= 0", so a component may be scaled).
+    """Exercise 01, task 2: the x and y components of R2 + R3 − R4 − R1 = 0, ground tilted by θ1 (sympy).
 
     >>> import sympy as sp
     >>> l1, l2, l3, l4, t1, t2, t3, t4 = sp.symbols("l1:5 theta1:5")
@@ -78,8 +78,7 @@ def check_link_vector(answer, length: float, angle_degrees: float) -> Feedback:
 @reads(vector((1, 2), "the velocity (vx, vy)"))
 def check_point_velocity(answer, length: float, angle_degrees: float, speed: float, clockwise: bool
                          ) -> Feedback:
-    """Exercise 01, task 3: velocity (vx, vy) in m/s of the tip of a link of ``length`` (m) at
-    ``angle_degrees``, turning at ``speed`` (rad/s, > 0) about a fixed pivot, ``clockwise`` or not.
+    """Exercise 01, task 3: velocity (vx, vy) in m/s of a link's tip turning at ``speed`` (rad/s, > 0).
 
     >>> check_point_velocity([-0.6, 0.0], 0.1, 90.0, 6.0, clockwise=False).ok
     True
@@ -87,10 +86,7 @@ def check_point_velocity(answer, length: float, angle_degrees: float, speed: flo
     omega = -abs(speed) if clockwise else abs(speed)
     tip = polar(length, np.radians(angle_degrees))
     reference = omega * cross_k(tip)
-
-    def matches(values, candidate):
-        return close(values, candidate, atol=1e-9 * max(abs(omega) * length, 1e-300))
-
+    matches = functools.partial(close, atol=1e-9 * max(abs(omega) * length, 1e-300))
     return diagnose(answer, matches, [
         (reference, "Correct: the tip moves perpendicular to the link with speed l·|ω|."),
         (lambda values: values.size == 1 and close(abs(values[0]), abs(omega) * length),

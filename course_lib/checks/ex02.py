@@ -38,8 +38,7 @@ def check_newton_update(answer) -> Feedback:
 
 @reads(fields("a pair (root, iterations)", number("the root"), integer("the number of iterations")))
 def check_newton_iterations(answer) -> Feedback:
-    """Exercise 02, task 2: (root, iterations) of Newton on x³ − 2x − 5 = 0 from x0 = 2, stopping when
-    |x_{n+1} − x_n| < 1e-6 (iterations = updates x_n → x_{n+1}).
+    """Exercise 02, task 2: (root, number of updates) of Newton on x³ − 2x − 5 = 0 from 2, |Δx| < 1e-6.
 
     >>> check_newton_iterations((2.0945514815423265, 4)).ok
     True
@@ -73,8 +72,7 @@ def check_newton_cycle(answer) -> Feedback:
 
 @reads(vector(2, "the step Δx"))
 def check_fourbar_newton_step(answer, linkage: FourBar, theta2: float, seed) -> Feedback:
-    """Exercise 02, task 4: the first Newton step Δx = (Δθ3, Δθ4) (rad) for the four-bar loop at crank
-    angle ``theta2`` (rad) from ``seed`` = (θ3, θ4).
+    """Exercise 02, task 4: the first Newton step (Δθ3, Δθ4) (rad) of the four-bar loop from ``seed``.
 
     >>> check_fourbar_newton_step((0.0, 0.0), FourBar(0.07, 0.20, 0.15, 0.25), 0.7, (0.5, 1.5)).ok
     False

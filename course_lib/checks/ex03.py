@@ -67,7 +67,7 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
         ((alpha4, omega4), "the two are swapped: give (ω4, α4)."),
         ((other.omega4, other.alpha4), f"those are the rates of the {other_branch} branch; the task is on "
                                        f"the {branch} branch."),
-        ((omega4, linkage.solve(theta2, 0.0, alpha2, branch=branch).alpha4),  # every ω² term dropped
+        ((omega4, linkage.solve(theta2, 0.0, alpha2, branch=branch).alpha4),
          "ω4 is right, but α4 misses the ω² (centripetal) terms: A_k = α_k k̂ × R_k − ω_k² R_k for every "
          "link, including ω2², ω3² and ω4²."),
         ((omega4, -alpha4), "ω4 is right, but α4 has the wrong sign."),
@@ -84,16 +84,15 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
 @reads(fields('a pair (theta2_max, "extended" or "folded")', number("θ2_max"),
               word(("extended", "folded"), 'the second entry is the string "extended" or "folded".')))
 def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
-    """Exercise 03, task 4: (θ2_max in rad, "extended" or "folded"): the largest crank angle the
-    non-Grashof ``linkage`` reaches, and how coupler and rocker lie there.
+    """Exercise 03, task 4: the largest crank angle (rad) of a non-Grashof ``linkage`` and whether coupler
+    and rocker lie "extended" or "folded" there.
 
     >>> check_toggle_angle((float(np.arccos(0.2)), "extended"), FourBar(0.14, 0.12, 0.10, 0.20)).ok
     True
     """
     value, how = answer
     limit = max(linkage.input_range().toggle_angles)
-    # below π the largest angle is where coupler and rocker stretch out (|AO4| = l3 + l4); above, they fold
-    state = "extended" if limit < np.pi else "folded"
+    state = "extended" if limit < np.pi else "folded"  # |AO4| = l3 + l4 below π
     return first([
         (in_degrees(value, limit), "that is the limit in degrees; give it in radians."),
         (near(value, -limit), "that is the mirror-image limit (θ2 < 0); the task asks for the largest θ2."),

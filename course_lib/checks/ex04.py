@@ -34,14 +34,13 @@ def check_saw_omega3_expression(answer) -> Feedback:
 
 @reads(vector(3, "(r1, θ1, θ3)"))
 def check_saw_position(answer, saw: Saw, theta2: float) -> Feedback:
-    """Exercise 04, task 2: (r1 in m, θ1, θ3 in rad) of ``saw`` at crank angle ``theta2``; θ1 in (−π/2, π/2]
-    makes r1 < 0 here, (−r1, θ1 + π) is the same vector and is accepted with a remark.
+    """Exercise 04, task 2: (r1 in m, θ1, θ3 in rad) at crank angle ``theta2``; (−r1, θ1 + π) passes too.
 
     >>> check_saw_position(analytic(0.9, saw=Saw())[:3], Saw(), 0.9).ok
     True
     """
     r1, theta1, theta3 = analytic(theta2, saw=saw)[:3]
-    mirror = np.pi - theta3  # the other root of sin θ3 = (r1y − r2 sin θ2)/r3
+    mirror = np.pi - theta3
     degrees = ((1, theta1), (2, theta3), (1, theta1 + np.pi))
     return diagnose(answer, lambda v, c: near(v[0], c[0]) and angles_close(v[1:], c[1:]), [
         ((r1, theta1, theta3), "Correct: r1 < 0 with θ1 in (−π/2, π/2], as the course writes it."),
@@ -70,7 +69,7 @@ def check_saw_slider_acceleration(answer, saw: Saw, theta2: float, omega2: float
         (x[6], "Correct: a_r holds the α2 terms and every ω² term (r1 ω1², r2 ω2², r3 ω3²)."),
         ([x[6] / 1000.0, x[6] * 1000.0], "a factor 1000: lengths in metres give a_r in m/s²."),
         (-x[6], "a sign error: a_r is along r1, and r1 < 0 here (the course's convention)."),
-        (analytic(theta2, 0.0, alpha2, saw=saw)[6],  # every ω² and the 2·v_r·ω1 term dropped
+        (analytic(theta2, 0.0, alpha2, saw=saw)[6],
          "that keeps only the α2 terms: the ω² (centripetal) terms — r1 ω1², r2 ω2², r3 ω3² — are missing, "
          "and at speed they dominate."),
         (x[3], "that is the velocity v_r; the task asks for the acceleration a_r."),

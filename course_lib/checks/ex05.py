@@ -13,8 +13,7 @@ __all__ = ["check_fivebar_forward", "check_fivebar_inverse", "check_fivebar_g", 
 
 @reads(vector(2, "(x3, y3)"))
 def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, mode: int) -> Feedback:
-    """Exercise 05, task 1: the end effector (x3, y3) in m for crank angles θ1, θ4 in working mode
-    σ = ``mode`` (+1 arms up, −1 arms down).
+    """Exercise 05, task 1: the end effector (x3, y3) in m, in working mode ``mode`` (+1 arms up, −1 down).
 
     >>> check_fivebar_forward((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 1.2, 2.2, -1).ok
     False
@@ -33,8 +32,7 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
 
 @reads(vector(2, "(θ1, θ4)"))
 def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: tuple[int, int]) -> Feedback:
-    """Exercise 05, task 2: crank angles (θ1, θ4) in rad (modulo 2π) that put the end effector at
-    (x3, y3) in working mode ``modes`` = (σ1, σ2).
+    """Exercise 05, task 2: crank angles (θ1, θ4) in rad putting the end effector at (x3, y3), ``modes``.
 
     >>> check_fivebar_inverse((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 0.01, 0.2, (1, -1)).ok
     False
@@ -94,8 +92,7 @@ _SINGULARITIES = {
             clean=lambda text: re.sub(r"[\s_\-,()]|leg", "", text.lower())))
 def check_fivebar_singularity(answer, robot: FiveBar, theta1: float, theta4: float, x3: float, y3: float
                               ) -> Feedback:
-    """Exercise 05, task 4: which singularity the robot is in: "serial1" (leg 1 stretched or folded),
-    "serial4", "parallel" (distal links aligned) or "none".
+    """Exercise 05, task 4: "serial1", "serial4", "parallel" or "none": the robot's singularity.
 
     >>> robot = FiveBar(0.11, 0.16, 0.17, 0.12, 0.09)
     >>> check_fivebar_singularity("none", robot, 1.2, 2.2, *robot.forward(1.2, 2.2, 1)).ok

@@ -1,9 +1,8 @@
-"""Checkers of exercise set 06 (a mechanism of your own: the shaper's quick return) and of lesson 12's Try it.
+"""Checkers of exercise set 06 (the shaper's quick return) and of lesson 12's Try it.
 
-The drawing (:class:`ShaperDrawing`): the crank O2A (r2) turns about O2, a distance d straight above the
-lever's pivot O4 = (0, 0); the block pinned at A slides along the slotted lever O4B (l4) at the unknown
-distance r4 from O4; the link BC (l5) drives the ram, whose pin C runs on the line y = h, at x.  Unknowns
-θ4, r4, θ5, x; input θ2.  Lengths in m, angles in rad, from +x counter-clockwise.
+The drawing (:class:`ShaperDrawing`): the crank O2A (r2) turns about O2, d straight above the lever's pivot
+O4 = (0, 0); the block at A slides along the lever O4B (l4) at the unknown r4 from O4; the link BC (l5)
+drives the ram, whose pin C runs on y = h at x.  Unknowns θ4, r4, θ5, x; input θ2; m, rad.
 """
 # ruff: noqa: F403, F405
 
@@ -12,7 +11,6 @@ from collections.abc import Mapping
 from dataclasses import astuple, dataclass
 from functools import cached_property, partial
 from itertools import permutations
-from typing import Any
 
 import numpy as np
 
@@ -25,14 +23,13 @@ __all__ = ["ShaperDrawing", "SHAPER", "quick_return_time_ratio", "check_shaper_l
 #: The symbols of the loops: the input θ2, the unknowns in the order the exercises ask for them, the lengths.
 NAMES = ("theta2", "theta4", "r4", "theta5", "x", "r2", "d", "l4", "l5", "h")
 UNKNOWNS = NAMES[1:5]
-_PROBES = np.radians(np.arange(10.0, 360.0, 45.0))  # crank angles where the loops are evaluated: none special
-_NUDGE = np.array([0.05, 0.02, -0.04, 0.03])  # how far the unknowns move off the drawing to see a row respond
-_within = partial(close, rtol=5e-3, atol=0.0)  # time ratios and strokes found on a grid: to 0.5 %
+_PROBES = np.radians(np.arange(10.0, 360.0, 45.0))  # crank angles where the loops are evaluated
+_NUDGE = np.array([0.05, 0.02, -0.04, 0.03])  # the unknowns off the drawing, to see a row respond
+_within = partial(close, rtol=5e-3, atol=0.0)  # to 0.5 %, for values found on a grid
 
 
 def quick_return_time_ratio(crank: float, pivot_distance: float) -> float:
-    """Time ratio (π + 2β)/(π − 2β) of a slotted-lever quick return, crank r2, pivots d apart: the lever
-    stops where it is tangent to the crank circle, sin β = r2/d.
+    """Time ratio (π + 2β)/(π − 2β) of a slotted-lever quick return, crank r2, pivots d apart, sin β = r2/d.
 
     >>> quick_return_time_ratio(0.05, 0.10)
     2.0
@@ -46,8 +43,8 @@ def quick_return_time_ratio(crank: float, pivot_distance: float) -> float:
 
 @dataclass(frozen=True)
 class ShaperDrawing:
-    """The shaper of exercise 06 as drawn, solved by geometry alone: ``crank`` r2 = |O2A|, ``pivot_distance``
-    d = |O4O2| (O2 above O4), ``lever`` l4 = |O4B|, ``link`` l5 = |BC|, ``ram_height`` h (C on y = h); m.
+    """The shaper of exercise 06 as drawn, solved by geometry: ``crank`` r2, ``pivot_distance`` d, ``lever``
+    l4, ``link`` l5, ``ram_height`` h, in m.
 
     >>> [round(float(value), 6) for value in ShaperDrawing().configuration(np.pi / 2)]
     [1.570796, 0.21, 0.0, 0.15]
@@ -62,7 +59,7 @@ class ShaperDrawing:
     ram_height: float = 0.30
 
     def __post_init__(self) -> None:
-        quick_return_time_ratio(self.crank, self.pivot_distance)  # positive, and the lever swings
+        quick_return_time_ratio(self.crank, self.pivot_distance)  # checks crank and pivot_distance
         for name in ("lever", "link"):
             require_positive(name, getattr(self, name))
         if not abs(self.ram_height - self.lever) < self.link:
@@ -70,8 +67,7 @@ class ShaperDrawing:
                                        f"lever={self.lever}, link={self.link}, ram_height={self.ram_height}")
 
     def configuration(self, theta2, assembly: int = +1) -> tuple[np.ndarray, ...]:
-        """(θ4, r4, θ5, x) at crank angle(s) ``theta2``; C to the right of B for ``assembly=+1`` (as
-        drawn), to the left for −1."""
+        """(θ4, r4, θ5, x) at crank angle(s) ``theta2``; C right of B for ``assembly=+1`` (as drawn)."""
         theta2 = np.asarray(theta2, float)
         A = np.stack([self.crank * np.cos(theta2), self.pivot_distance + self.crank * np.sin(theta2)])
         theta4, r4 = np.arctan2(A[1], A[0]), np.hypot(A[0], A[1])
@@ -81,7 +77,7 @@ class ShaperDrawing:
 
     @cached_property
     def _derivatives(self):
-        """θ2 ↦ (q, dq/dθ2, d²q/dθ2²) for q = θ4, r4, θ5, x, from the closed form differentiated in sympy."""
+        """θ2 ↦ (q, dq/dθ2, d²q/dθ2²) for q = θ4, r4, θ5, x: the closed form differentiated in sympy."""
         import sympy as sp
 
         th2 = sp.Symbol("theta2", real=True)
@@ -93,13 +89,12 @@ class ShaperDrawing:
         return sp.lambdify(th2, [[q, q.diff(th2), q.diff(th2, 2)] for q in closed], modules="numpy", cse=True)
 
     def rates(self, theta2, omega2: float, alpha2: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-        """Velocities and accelerations of (θ4, r4, θ5, x) as drawn, each shape (4, ...): q′ω2 and
-        q″ω2² + q′α2 with q′, q″ the θ2-derivatives of the closed form."""
+        """Velocities q′ω2 and accelerations q″ω2² + q′α2 of (θ4, r4, θ5, x), each shape (4, ...)."""
         rows = np.array(self._derivatives(np.asarray(theta2, float)), dtype=float)
         return rows[:, 1] * omega2, rows[:, 2] * omega2**2 + rows[:, 1] * alpha2
 
     def limit_angles(self) -> tuple[float, float]:
-        """Crank angles where the lever stops (O4A ⟂ O2A, sin θ2 = −r2/d), counter-clockwise from one."""
+        """Crank angles where the lever stops (O4A ⟂ O2A, sin θ2 = −r2/d)."""
         beta = math.asin(self.crank / self.pivot_distance)
         return -beta, math.pi + beta
 
@@ -117,7 +112,7 @@ class ShaperDrawing:
 SHAPER = ShaperDrawing()
 
 
-def _loop_rows(answer: Any):
+def _loop_rows(answer):
     """The answer's scalar equations as sympy expressions in plain real symbols; else the feedback."""
     import sympy as sp
     if isinstance(getattr(answer, "equations", None), sp.MatrixBase):
@@ -158,8 +153,7 @@ _SIGN_SLIPS = {"theta2": "the crank vector (O2 → A)", "theta4": "the lever vec
 
 
 def _loop_hint(row, k: int, turned: str, moves: bool) -> str:
-    """What looks wrong with equation ``k``, which the drawn shaper does not satisfy (``turned``: a vector
-    that would satisfy it pointing the other way, or "")."""
+    """What looks wrong with equation ``k`` (``turned``: the vector a sign slip turned, or "")."""
     import sympy as sp
     names = {s.name for s in row.free_symbols}
     theta2, theta4, theta5 = sp.symbols(("theta2", "theta4", "theta5"), real=True)
@@ -187,9 +181,8 @@ def _loop_hint(row, k: int, turned: str, moves: bool) -> str:
 
 @reads(_loop_rows)
 def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 1: the two vector loops, four scalar equations (each = 0) in θ2, θ4, r4, θ5, x and
-    r2, d, l4, l5, h — two 2×1 sympy matrices, four expressions, or a ``Mechanism``.  Accepted when each
-    vanishes as drawn at eight crank angles and the four fix θ4, r4, θ5, x (sign, scale, order free).
+    """Exercise 06, task 1: the two vector loops, four expressions "= 0" (two 2×1 matrices or a ``Mechanism``)
+    that vanish as drawn at eight crank angles and fix θ4, r4, θ5, x (sign, scale, order free).
 
     >>> import sympy as sp
     >>> th2, th4, r4, th5, x, r2, d, l4, l5, h = sp.symbols("theta2 theta4 r4 theta5 x r2 d l4 l5 h")
@@ -197,7 +190,6 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
     >>> ram = [l4 * sp.cos(th4) + l5 * sp.cos(th5) - x, l4 * sp.sin(th4) + l5 * sp.sin(th5) - h]
     >>> check_shaper_loops([*lever, *ram]).ok
     True
-
     """
     import sympy as sp
     if len(rows) != 4:
@@ -225,8 +217,8 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
                                              q + np.pi * np.array([n == name for n in UNKNOWNS])[:, None]
                                              )[k:k + 1], scale[k:k + 1])[0]), "")
         return wrong(_loop_hint(rows[k], k + 1, turned, bool(scale[k] > 0)))
-    # the Jacobian (probe, row, unknown) by central differences, each row in units of its size off the
-    # configuration: scaling a row changes nothing, and a squared row (zero gradient) counts as zero
+    # J (probe, row, unknown) by central differences, rows in units of their size off the drawing: scaling
+    # a row changes nothing, a squared row (zero gradient) counts as zero
     J = np.stack([(evaluate(_PROBES, q + step) - evaluate(_PROBES, q - step)).real / 2e-6
                   for step in 1e-6 * np.eye(4)[:, :, None]], axis=2).swapaxes(0, 1)
     singular_values = np.linalg.svd(J / scale[None, :, None], compute_uv=False)
@@ -240,8 +232,7 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
 
 
 def _by_name(names: tuple[str, ...], what: str):
-    """A parser: a dict keyed by ``names`` (strings or sympy symbols; a ``Motion`` gives its position), or
-    the numbers in that order; one float each."""
+    """A parser: the numbers ``names`` in order, or keyed by name or symbol (a ``Motion``: its position)."""
     read = fields(f"{what} as {len(names)} numbers ({', '.join(names)}) or a dict keyed by those names",
                   *(number(name) for name in names), keys=names)
 
@@ -264,8 +255,7 @@ def _position_matches(values, candidate) -> bool:
 
 @reads(_by_name(UNKNOWNS, "the position"))
 def check_shaper_position(answer, theta2: float, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 2: the position (θ4, r4, θ5, x) at crank angle ``theta2`` (rad), C to the right of
-    B as drawn — four numbers, or a dict keyed by those names such as ``motion.position``.
+    """Exercise 06, task 2: the position (θ4, r4, θ5, x) at crank angle ``theta2`` (rad), or a dict of it.
 
     >>> print(check_shaper_position({"theta4": 1.0}, 1.0))
     ✘ Not yet: the dict needs the keys theta4, r4, theta5, x.
@@ -295,8 +285,7 @@ def check_shaper_position(answer, theta2: float, shaper: ShaperDrawing = SHAPER)
 @reads(_by_name(("v_x", "a_x"), "the ram's velocity and acceleration"))
 def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
                      shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 3: the ram's (ẋ, ẍ) in m/s and m/s² at crank angle ``theta2`` (rad), ``omega2``
-    (rad/s) and ``alpha2`` (rad/s²) — two numbers, or a dict with keys ``v_x`` and ``a_x``.
+    """Exercise 06, task 3: the ram's (ẋ, ẍ) in m/s, m/s² (or a dict ``v_x``, ``a_x``) at the crank's state.
 
     >>> velocity, acceleration = SHAPER.rates(1.0, 8.0)
     >>> print(check_ram_motion((velocity[1], acceleration[1]), 1.0, 8.0))
@@ -325,7 +314,7 @@ def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
 @reads(number("the time ratio"))
 def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
     """A time ratio against ``reference``: ✔ ``correct``, or the usual slips."""
-    slow = 2 * np.pi * reference / (1 + reference)  # the crank angle of the slow stroke
+    slow = 2 * np.pi * reference / (1 + reference)  # the slow stroke's crank angle
     return diagnose(ratio, _within, [
         (reference, correct),
         (lambda v: _within(v * reference, 1.0),
@@ -340,8 +329,7 @@ def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
 
 
 def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -> Feedback:
-    """Lesson 12, Try it: the time ratio (slow / fast stroke, to 0.5 %) of the slotted-lever quick return
-    with crank r2 = ``crank``, pivots ``pivot_distance`` apart (else ``InvalidGeometryError``).
+    """Lesson 12, Try it: the time ratio (slow / fast stroke, to 0.5 %) of a slotted-lever quick return.
 
     >>> check_quick_return_time_ratio(2.0, 0.05, 0.10).ok, check_quick_return_time_ratio(0.5, 0.05, 0.10).ok
     (True, False)
@@ -352,8 +340,7 @@ def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -
 
 @reads(vector(2, "(stroke, time_ratio)"))
 def check_ram_stroke(answer, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 4: (stroke, time_ratio) — the ram's travel (m) between its stops and the slow
-    stroke's crank angle over the fast one's, each to 0.5 %.
+    """Exercise 06, task 4: (stroke in m, time ratio), each to 0.5 %.
 
     >>> check_ram_stroke((SHAPER.stroke(), SHAPER.time_ratio())).ok
     True

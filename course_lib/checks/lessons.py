@@ -16,8 +16,7 @@ __all__ = ["check_crank_angle_for_rocker", "check_rocker_pin_speed", "check_moto
 
 @reads(number("θ2"))
 def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Feedback:
-    """Lesson 02: the crank angle θ2 in (0, π) (rad) that puts the rocker at ``theta4``: the crank pin A
-    must be exactly l3 from the rocker pin B.
+    """Lesson 02: the crank angle θ2 in (0, π) (rad) that puts the rocker at ``theta4``.
 
     >>> bar = FourBar(crank=0.10, coupler=0.25, rocker=0.20, ground=0.30)
     >>> check_crank_angle_for_rocker(1.0, bar, bar.solve(1.0).theta4).ok
@@ -44,8 +43,7 @@ def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Fee
 @reads(number("the speed of B"))
 def check_rocker_pin_speed(answer, linkage: FourBar, theta2: float, omega2: float, branch: str = "open"
                            ) -> Feedback:
-    """Lesson 04: the speed |V_B| (m/s) of the rocker pin B at crank angle ``theta2`` (rad), crank speed
-    ``omega2`` (rad/s).
+    """Lesson 04: the speed |V_B| (m/s) of the rocker pin B at ``theta2`` (rad) and ``omega2`` (rad/s).
 
     >>> check_rocker_pin_speed(-1.0, FourBar(0.10, 0.25, 0.20, 0.30), 1.0, 10.0).message
     'Not yet: a speed is a magnitude: it cannot be negative.'
@@ -64,15 +62,14 @@ def check_rocker_pin_speed(answer, linkage: FourBar, theta2: float, omega2: floa
 
 @reads(vector(2, "(T, rpm)"))
 def check_motor_start(answer, alpha_max: float) -> Feedback:
-    """Lesson 05: (T in s, final speed in rpm) of the rise–hold–fall start-up over the first revolution
-    with peak acceleration ``alpha_max`` (rad/s²).
+    """Lesson 05: (T in s, final rpm) of the start-up over the first turn, peak ``alpha_max`` (rad/s²).
 
     >>> check_motor_start((1.9416, 61.8), 5.0).ok
     True
     """
     T_answer, speed = answer
     T = first_turn_time(alpha_max)
-    omega = float(motor_profile(2 * T, alpha_max).omega2)  # the constant speed after T
+    omega = float(motor_profile(2 * T, alpha_max).omega2)
     return first([
         (not close(T_answer, T, rtol=1e-3), f"T is not right yet: solve θ2(T) = A·T²/3 = 2π with A = "
                                             f"{alpha_max:g} rad/s²."),
@@ -99,8 +96,7 @@ def check_saw_rates(answer, saw: Saw, theta2: float, omega2: float) -> Feedback:
 
 @reads(number("the blade speed"))
 def check_blade_peak_speed(answer, saw: Saw, omega2: float) -> Feedback:
-    """Lesson 07: the largest blade (slider) speed |ẋ| (m/s, to 0.2 %) over a revolution at constant
-    ``omega2`` (rad/s).
+    """Lesson 07: the largest blade speed |ẋ| (m/s, to 0.2 %) over a turn at constant ``omega2`` (rad/s).
 
     >>> check_blade_peak_speed(0.075 * 6.472, Saw(), 6.472).ok
     False

@@ -377,11 +377,6 @@ def _solid_colours(artists) -> list[tuple[int, int, int]]:
     return colours
 
 
-def _visible(artists, names: str, shown: bool) -> None:
-    for name in names.split():
-        artists[name].set_visible(shown)
-
-
 # ---------------------------------------------------------------------------- four-bar
 _TRIANGLE = np.array([[0.0, 0.0], [-1.0, -1.6], [1.0, -1.6]])  # the fixed-pivot symbol of unit size
 
@@ -417,14 +412,13 @@ def fourbar_explorer(
     ax_mu.axhline(40.0, color="0.5", linestyle=":", lw=1)
     ax_mu.text(-175, 42, "μ = 40°", color="0.4", fontsize=8)
     curve_line, = ax.plot([], [], color="tab:purple", lw=1.2, label="coupler curve of P")
-    mu_line, = ax_mu.plot([], [], color="tab:purple", lw=1.5)
     plate = {"color": LINK_COLORS[1], "lw": 1, "alpha": 0.6}
     linkage = LinkageArtist(ax, {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"),
                                  "plate": ("A", "P"), "plate PB": ("P", "B")},
                             styles={"plate": plate, "plate PB": plate}, labels={"A": "A", "B": "B", "P": "P"},
                             animated=True)
     artists = {
-        "coupler_curve": curve_line, "mu_curve": mu_line,
+        "coupler_curve": curve_line, "mu_curve": ax_mu.plot([], [], color="tab:purple", lw=1.5)[0],
         "ground": _moving_line(ax, [], [], "--", color=LINK_COLORS[3], lw=1.5),
         **linkage.artists,
         "point_p": _moving_line(ax, [], [], "o", ms=6, color="tab:purple", zorder=5),
@@ -478,7 +472,8 @@ def fourbar_explorer(
         A = np.array([l2 * np.cos(theta2), l2 * np.sin(theta2)])
         O2, O4 = np.zeros(2), np.array([l1, 0.0])
         artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
-        _visible(artists, "reach_A reach_O4 point_p mu_cursor", False)
+        for name in ("reach_A", "reach_O4", "point_p", "mu_cursor"):
+            artists[name].set_visible(False)
         try:
             solution = four.solve(theta2, branch=branch)
             mu = four.transmission_angle(theta2, branch=branch)
@@ -722,7 +717,8 @@ def fivebar_explorer(
                 curves[modes] = np.concatenate(points)
             points = curves[modes] if inverse else np.empty((0, 2))
             artists["singularity"].set_data(points[:, 0], points[:, 1])
-        _visible(artists, "reach_a reach_b target end_effector", False)
+        for name in ("reach_a", "reach_b", "target", "end_effector"):
+            artists[name].set_visible(False)
         try:
             if inverse:
                 x3, y3 = float(state["x3"]), float(state["y3"])

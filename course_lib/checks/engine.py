@@ -93,8 +93,7 @@ _NOT_NUMBERS = (  # what a student is told an entry is instead of a number
 
 def _not_a_number(item: Any) -> str:
     """What ``item`` (or something inside it) is when it cannot be a real number; "" otherwise."""
-    phrase = next((phrase for kind, phrase in _NOT_NUMBERS if isinstance(item, kind)), "")
-    if phrase:
+    if phrase := next((phrase for kind, phrase in _NOT_NUMBERS if isinstance(item, kind)), ""):
         return phrase
     if isinstance(item, np.ndarray) and item.dtype.kind in "bcUSO":
         item = item.ravel().tolist()
@@ -231,8 +230,9 @@ def _holds(matches: Callable[[Any, Any], bool], answer: Any, candidate: Any) -> 
 
 
 def diagnose(answer: Any, matches: Callable[[Any, Any], bool], rules, otherwise: str) -> Feedback:
-    """The verdict of the first rule whose candidate fits the answer (see the module's docstring): ✔ for
-    the first rule, a hint ("Not yet: …") for the others; the hint ``otherwise`` when none fits."""
+    """The verdict of the first (candidate, verdict) rule that fits: a candidate is a value (None in a tuple:
+    any entry), a list of them or a function of the answer; ✔ for the first rule, else the hint ("Not yet:
+    …", a Feedback verdict as it is); the hint ``otherwise`` when none fits."""
     for index, (candidate, verdict) in enumerate(rules):
         if _holds(matches, answer, candidate):
             return verdict if isinstance(verdict, Feedback) else (wrong if index else right)(verdict)

@@ -216,7 +216,6 @@ class Explorer:
         return _Quantizer(picture).png(picture, compress_level=9)
 
 
-# ---------------------------------------------------------------------------- input values
 _REFUSED = object()  # marks a value update() does not set
 
 
@@ -275,7 +274,6 @@ def _number_argument(name: str, value, unit: str, low: float = -math.inf, high: 
     return number
 
 
-# ---------------------------------------------------------------------------- controls and drawing
 def _slider(description: str, value: float, low: float, high: float, step: float, fmt: str = ".3f"):
     return widgets.FloatSlider(value=value, min=low, max=high, step=step, description=description,
                                readout_format=fmt, style=_STYLE, layout={"width": "340px"})
@@ -377,7 +375,6 @@ def _solid_colours(artists) -> list[tuple[int, int, int]]:
     return colours
 
 
-# ---------------------------------------------------------------------------- four-bar
 _TRIANGLE = np.array([[0.0, 0.0], [-1.0, -1.6], [1.0, -1.6]])  # the fixed-pivot symbol of unit size
 
 
@@ -514,7 +511,6 @@ def fourbar_explorer(
                                       "label_O2", "label_O4"))
 
 
-# ---------------------------------------------------------------------------- power saw
 #: (key in saw.UNKNOWNS, panel label with units)
 _SAW_PANELS = (("r1", "r1 (m)"), ("theta1", "θ1 (rad)"), ("theta3", "θ3 (rad)"),
                ("v_r", "v_r (m/s)"), ("omega1", "ω1 (rad/s)"), ("omega3", "ω3 (rad/s)"),
@@ -633,7 +629,6 @@ def saw_explorer(
     return explorer
 
 
-# ---------------------------------------------------------------------------- five-bar robot
 _SIGMA = (("+1 (arms up)", 1), ("−1 (arms down)", -1))  # σ of the forward kinematics (lesson 00)
 _ROOT = (("+1 (+√Δ)", 1), ("−1 (−√Δ)", -1))  # σ1, σ2: the sign before √Δ in the root for θ1, θ4
 
@@ -778,7 +773,6 @@ def fivebar_explorer(
                     geometry_artists=("singularity",))
 
 
-# ---------------------------------------------------------------------------- any declared mechanism
 def mechanism_explorer(
     mechanism, motion, *, ground=(), trace=(), blocks=(), styles: Mapping | None = None,
     rates: Mapping | None = None, readout: Callable[[object], Sequence[str]] | None = None,

@@ -329,7 +329,8 @@ def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
 
 
 def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -> Feedback:
-    """Lesson 12, Try it: the time ratio (slow / fast stroke, to 0.5 %) of a slotted-lever quick return.
+    """Lesson 12, Try it: the time ratio (slow / fast stroke, to 0.5 %) of a slotted-lever quick return;
+    a crank or pivot distance that cannot make one raises ``InvalidGeometryError``.
 
     >>> check_quick_return_time_ratio(2.0, 0.05, 0.10).ok, check_quick_return_time_ratio(0.5, 0.05, 0.10).ok
     (True, False)

@@ -246,10 +246,10 @@ def _one_instant(theta2, omega2, alpha2, x0, variant: str, saw: Saw):
     position equations (:func:`_position`)."""
     theta2 = _scalar("theta2", theta2, "rad")
     motion = (theta2, _scalar("omega2", omega2, "rad/s"), _scalar("alpha2", alpha2, "rad/s²"))
-    require_choice("variant", variant, VARIANTS)
+    position = _position(saw, variant)
     seed = _seed(x0)
     _check_assembly(theta2, saw)
-    return (*motion, seed, _position(saw, variant))
+    return (*motion, seed, position)
 
 
 def _course_assembly(x, seed, method: str, theta2) -> None:

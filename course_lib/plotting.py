@@ -569,7 +569,8 @@ class _Quantizer:
     def png(self, picture: np.ndarray, compress_level: int = 1, trim: bool = True) -> bytes:
         """An RGB or RGBA array as a PNG in this palette; ``trim`` keeps only the colours it uses."""
         word = _pack(picture, little_endian=True)
-        cells = ((word >> 1) & 0x7F) | ((word >> 2) & 0x3F80) | ((word >> 3) & 0x1FC000)
+        # np.intp indices: np.take refuses uint32 ones where np.intp is 32 bits (a "safe" cast only)
+        cells = (((word >> 1) & 0x7F) | ((word >> 2) & 0x3F80) | ((word >> 3) & 0x1FC000)).astype(np.intp)
         indices = np.take(self.table, cells)
         unseen = indices == self._UNSEEN
         if unseen.any():

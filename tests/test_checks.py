@@ -493,7 +493,9 @@ def test_motor_start_against_a_numerical_integration():
     omega = scipy.integrate.quad(lambda t: alpha(t, T), 0, T, points=[T / 3, 2 * T / 3])[0]
     rpm = omega * 60 / (2 * np.pi)
     check = checks.check_motor_start
-    assert check((T, rpm), A).ok and check((round(T, 3), round(rpm, 1)), A).ok
+    assert check((T, rpm), A).ok and check((round(T, 3), round(rpm, 2)), A).ok  # 4 significant figures
+    rejects(check((round(T, 2), round(rpm, 1)), A), "right to 3 significant figures", "give more digits",
+            hidden=[T, rpm])
     rejects(check((T, omega), A), "rad/s", hidden=[T, rpm])
     rejects(check((T, 1.1 * rpm), A), "2·A·T/3", hidden=[T, rpm])
     rejects(check((np.sqrt(6 * np.pi / 5), rpm), A), "T is not right", hidden=[T, rpm])

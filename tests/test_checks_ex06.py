@@ -267,8 +267,12 @@ def test_the_lesson_time_ratio():
     crank, distance = 0.05, 0.08
     reference = sweep_ratio(crank, distance, 400_000)
     accepts(checks.check_quick_return_time_ratio(reference, crank, distance))
-    on_a_grid = np.float64(sweep_ratio(crank, distance, 3600))
-    accepts(checks.check_quick_return_time_ratio(on_a_grid, crank, distance))
+    accepts(checks.check_quick_return_time_ratio(np.float64(sweep_ratio(crank, distance, 36_000)), crank, distance))
+    rejects(checks.check_quick_return_time_ratio(sweep_ratio(crank, distance, 360), crank, distance),
+            "close, but not to 3 significant figures", hidden=(reference,))  # a 1° grid, not interpolated
+    accepts(checks.check_quick_return_time_ratio(2.51, crank, distance))  # 3 significant figures
+    rejects(checks.check_quick_return_time_ratio(2.5, crank, distance), "right to 2 significant figures",
+            "give more digits", hidden=(reference,))
     rejects(checks.check_quick_return_time_ratio(1 / reference, crank, distance), "slow over fast",
             hidden=(reference,))
     rejects(checks.check_quick_return_time_ratio(reference + 0.5, crank, distance), "not the time ratio",

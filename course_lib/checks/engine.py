@@ -16,13 +16,89 @@ import numpy as np
 
 from ..planar import wrap_angle
 
-__all__ = ["ANGLE_TOL", "RELATIVE_TOL", "Feedback", "reads", "right", "wrong", "vector", "number", "integer",
-           "word", "fields", "choice", "close", "near", "angles_close", "in_degrees", "diagnose", "first",
-           "angle_verdict", "plain", "judge_expression"]
+__all__ = ["ANGLE_TOL", "RELATIVE_TOL", "Precision", "FIGURES", "DECIMALS", "Feedback", "reads", "right",
+           "wrong", "vector", "number", "integer", "word", "fields", "choice", "close", "near",
+           "angles_close", "in_degrees", "diagnose", "first", "angle_verdict", "plain", "judge_expression"]
 
-#: Absolute tolerance on angles (rad) and relative tolerance on other numbers.
+#: Absolute tolerance on angles (rad) and relative tolerance on other numbers, where a checker compares
+#: computed quantities (not a student's rounded numbers: those are judged by a :class:`Precision`).
 ANGLE_TOL = 1e-6
 RELATIVE_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class Precision:
+    """The precision a task states, and the rule every numeric checker keeps: an answer is right when each
+    number lies within half a unit of the last digit asked for (``digits`` significant figures, or ``digits``
+    decimals with ``decimals=True``; angles always compared modulo 2π); an answer right only to fewer
+    digits is told to give more, never sent to recheck its method.
+
+    >>> FIGURES.agrees(0.5975, 0.59746), FIGURES.agrees(0.598, 0.59746), FIGURES.fewer(0.598, 0.59746)
+    (True, False, 3)
+    >>> str(DECIMALS), DECIMALS.agrees(3.7635 - 2 * np.pi, 3.76346, angles=True)
+    ('4 decimals', True)
+    """
+
+    digits: int = 4
+    decimals: bool = False
+    scale: float | None = None  # significant figures of this size for every entry (a vector's length)
+
+    def __str__(self) -> str:
+        return f"{self.digits} {'decimals' if self.decimals else 'significant figures'}"
+
+    def unit(self, reference, digits: int | None = None) -> np.ndarray:
+        """Half a unit of the last digit asked for, per entry of ``reference`` (with 10 % slack for a
+        reference that lies on a rounding boundary); a zero reference counts as one of size 1e-9."""
+        digits = self.digits if digits is None else digits
+        reference = np.abs(np.asarray(reference, float))
+        if self.decimals:
+            return np.full(reference.shape, 0.55 * 10.0 ** -digits)
+        size = reference if self.scale is None else np.full(reference.shape, abs(self.scale))
+        exponent = np.floor(np.log10(np.maximum(size, 1e-9)))
+        return 0.55 * 10.0 ** (exponent - digits + 1)
+
+    def agrees(self, value, reference, angles=False, digits: int | None = None) -> bool:
+        """Whether ``value`` is ``reference`` to this precision; ``angles`` (one bool, or one per entry)
+        marks the entries compared modulo 2π; None in a tuple ``reference`` stands for any value."""
+        value, reference = np.asarray(value, float), np.asarray(reference, object)
+        if value.shape != reference.shape:
+            return False
+        kept = np.array([entry is not None for entry in reference.ravel()]).reshape(reference.shape)
+        value, reference = value[kept], reference[kept].astype(float)
+        gaps = value - reference
+        angles = np.broadcast_to(np.asarray(angles, bool), kept.shape)[kept]
+        gaps = np.where(angles, wrap_angle(gaps, nan_ok=True), gaps)
+        return bool(np.all(np.abs(gaps) <= self.unit(reference, digits)))
+
+    def of_size(self, vector) -> "Precision":
+        """The same digits, counted on the size of ``vector`` for each entry (a component that should be 0,
+        as cos 90°, may then be any round-off)."""
+        return Precision(self.digits, self.decimals, float(np.abs(np.asarray(vector, float)).max()))
+
+    def fewer(self, value, reference, angles=False) -> int:
+        """The most digits, one or two fewer than asked (and at least 2), to which ``value`` is ``reference``;
+        0 when it is not even that close."""
+        return next((digits for digits in range(self.digits - 1, max(self.digits - 3, 1), -1)
+                     if _try(lambda d=digits: self.agrees(value, reference, angles, d))), 0)
+
+    def typed(self, value) -> int:
+        """How many digits (significant figures, or decimals) the numbers in ``value`` were written with."""
+        def digits(number: float) -> int:
+            written = (f"{{:.{n}f}}" if self.decimals else f"{{:.{max(n - 1, 0)}e}}" for n in range(18))
+            return next((n for n, text in enumerate(written) if float(text.format(number)) == number), 17)
+        return max((digits(float(number)) for number in np.ravel(value) if number != 0), default=0)
+
+    def more_digits(self, value, reference, angles=False) -> "Feedback | None":
+        """"Give more digits" feedback when ``value`` was written with fewer digits than asked and is
+        ``reference`` to those; else None (a number written in full but off is not a rounding)."""
+        if self.typed(value) < self.digits and (digits := self.fewer(value, reference, angles)):
+            kind = "decimals" if self.decimals else "significant figures"
+            return wrong(f"right to {digits} {kind}; the task asks for {self}: give more digits.")
+        return None
+
+
+#: The usual precisions: 4 significant figures, and 4 decimals (angles in radians, lengths in metres).
+FIGURES, DECIMALS = Precision(4), Precision(4, decimals=True)
 
 
 @dataclass(frozen=True)
@@ -213,9 +289,14 @@ def angles_close(value, reference, tol: float = ANGLE_TOL) -> bool:
     return value.shape == reference.shape and bool(np.all(gaps <= tol))
 
 
-def in_degrees(value, reference) -> bool:
-    """True when ``value`` is ``reference`` written in degrees (modulo 360°)."""
-    return angles_close(np.radians(value), reference) and not angles_close(value, reference)
+def in_degrees(value, reference, precision: Precision | None = None) -> bool:
+    """True when ``value`` is ``reference`` written in degrees (modulo 360°), to ``precision`` in degrees
+    (to :data:`ANGLE_TOL` without one)."""
+    if precision is None:
+        return angles_close(np.radians(value), reference) and not angles_close(value, reference)
+    degrees = np.degrees(np.asarray(reference, float))
+    return (precision.agrees(np.radians(value), np.radians(degrees), angles=True, digits=precision.digits - 2)
+            and not precision.agrees(value, reference, angles=True))
 
 
 def _holds(matches: Callable[[Any, Any], bool], answer: Any, candidate: Any) -> bool:
@@ -229,14 +310,43 @@ def _holds(matches: Callable[[Any, Any], bool], answer: Any, candidate: Any) -> 
         return False
 
 
-def diagnose(answer: Any, matches: Callable[[Any, Any], bool], rules, otherwise: str) -> Feedback:
+def diagnose(answer: Any, matches: "Callable[[Any, Any], bool] | Precision", rules, otherwise: str,
+             angles=False) -> Feedback:
     """The verdict of the first (candidate, verdict) rule that fits: a candidate is a value (None in a tuple:
     any entry), a list of them or a function of the answer; ✔ for the first rule, else the hint ("Not yet:
-    …", a Feedback verdict as it is); the hint ``otherwise`` when none fits."""
+    …", a Feedback verdict as it is); the hint ``otherwise`` when none fits.  ``matches`` a
+    :class:`Precision`: values are compared to it (``angles`` marks the entries compared modulo 2π), and
+    an answer that is the first rule's value to fewer digits is told to give more, before any other rule.
+    """
+    precision = matches if isinstance(matches, Precision) else None
+    if precision is not None:
+        def matches(value, candidate):
+            return precision.agrees(value, candidate, angles)
     for index, (candidate, verdict) in enumerate(rules):
         if _holds(matches, answer, candidate):
             return verdict if isinstance(verdict, Feedback) else (wrong if index else right)(verdict)
+        if index == 0 and precision is not None and not isinstance(candidate, types.FunctionType):
+            references = candidate if isinstance(candidate, list) else [candidate]
+            hints = (_try(lambda r=r: precision.more_digits(answer, r, angles)) for r in references)
+            hint = next((hint for hint in hints if hint is not None), None)
+            known = any(not isinstance(c, types.FunctionType) and not _partial(c) and _holds(matches, answer, c)
+                        for c, _ in rules[1:])
+            if hint is not None and not known:  # close to the answer, and not a known mistake's value
+                return hint
     return wrong(otherwise)
+
+
+def _partial(candidate) -> bool:
+    """Whether a rule's candidate leaves some entries free (None in a tuple)."""
+    return isinstance(candidate, tuple) and any(entry is None for entry in candidate)
+
+
+def _try(compute: Callable[[], Any]) -> Any:
+    """``compute()``, or None when it cannot be computed."""
+    try:
+        return compute()
+    except Exception:
+        return None
 
 
 def first(rules, correct: str) -> Feedback:
@@ -244,16 +354,18 @@ def first(rules, correct: str) -> Feedback:
     return next((wrong(hint) for condition, hint in rules if condition), right(correct))
 
 
-def angle_verdict(value: float, reference: float, alternatives, otherwise: str) -> Feedback:
-    """An angle judged modulo 2π: right, another known angle (each with its hint), or in degrees."""
-    return diagnose(value, angles_close, [
-        (reference, "Correct (angles are compared modulo 2π)."),
+def angle_verdict(value: float, reference: float, alternatives, otherwise: str,
+                  precision: Precision = DECIMALS) -> Feedback:
+    """An angle (rad) judged modulo 2π to ``precision``: right, another known angle (each with its hint), or
+    in degrees."""
+    return diagnose(value, precision, [
+        (reference, f"Correct (to {precision}; angles are compared modulo 2π)."),
         *alternatives,
-        (lambda v: in_degrees(v, reference), "that is the right angle in degrees; the course (and "
-                                             "course_lib) works in radians."),
-        *((lambda v, o=other: in_degrees(v, o), "that is in degrees — and " + hint)
+        (lambda v: in_degrees(v, reference, precision), "that is the right angle in degrees; the course (and "
+                                                        "course_lib) works in radians."),
+        *((lambda v, o=other: in_degrees(v, o, precision), "that is in degrees — and " + hint)
           for other, hint in alternatives),
-    ], otherwise)
+    ], otherwise, angles=True)
 
 
 def _evaluate(expr, names: Sequence[str], count: int = 6) -> tuple[np.ndarray, list]:

@@ -1,8 +1,6 @@
 """Checkers of exercise set 01 (vector loops and mobility) and of lesson 00's Try it."""
 # ruff: noqa: F403, F405
 
-import functools
-
 import numpy as np
 
 from ..planar import cross_k, polar
@@ -60,13 +58,14 @@ def check_tilted_loop(answer) -> Feedback:
 
 @reads(vector(2, "the vector (x, y)"))
 def check_link_vector(answer, length: float, angle_degrees: float) -> Feedback:
-    """Lesson 00, Try it: the vector (x, y) in metres of a link of ``length`` (m) at ``angle_degrees``.
+    """Lesson 00, Try it: the vector (x, y) in metres, to 4 significant figures, of a link of ``length`` (m)
+    at ``angle_degrees``.
 
     >>> check_link_vector((0.0, 0.06), 0.06, 90.0).ok
     True
     """
     reference = polar(length, np.radians(angle_degrees))
-    return diagnose(answer, lambda values, candidate: close(values, candidate, atol=1e-9 * length), [
+    return diagnose(answer, FIGURES.of_size(reference), [
         (reference, "Correct: R = l (cos θ, sin θ)."),
         (reference[::-1], "x and y are swapped: x goes with cos θ, y with sin θ."),
         ([1000 * reference, 100 * reference], "the length is in metres, not mm or cm."),
@@ -78,7 +77,8 @@ def check_link_vector(answer, length: float, angle_degrees: float) -> Feedback:
 @reads(vector((1, 2), "the velocity (vx, vy)"))
 def check_point_velocity(answer, length: float, angle_degrees: float, speed: float, clockwise: bool
                          ) -> Feedback:
-    """Exercise 01, task 3: velocity (vx, vy) in m/s of a link's tip turning at ``speed`` (rad/s, > 0).
+    """Exercise 01, task 3: velocity (vx, vy) in m/s, to 4 significant figures, of a link's tip turning at
+    ``speed`` (rad/s, > 0).
 
     >>> check_point_velocity([-0.6, 0.0], 0.1, 90.0, 6.0, clockwise=False).ok
     True
@@ -86,10 +86,10 @@ def check_point_velocity(answer, length: float, angle_degrees: float, speed: flo
     omega = -abs(speed) if clockwise else abs(speed)
     tip = polar(length, np.radians(angle_degrees))
     reference = omega * cross_k(tip)
-    matches = functools.partial(close, atol=1e-9 * max(abs(omega) * length, 1e-300))
+    matches = FIGURES.of_size(reference)
     return diagnose(answer, matches, [
         (reference, "Correct: the tip moves perpendicular to the link with speed l·|ω|."),
-        (lambda values: values.size == 1 and close(abs(values[0]), abs(omega) * length),
+        (lambda values: values.size == 1 and FIGURES.agrees(abs(values[0]), abs(omega) * length),
          "l·|ω| is only the speed; the velocity is a vector (vx, vy) = ω k̂ × R."),
         (lambda values: values.size == 1, "give the velocity as a vector (vx, vy) in m/s."),
         (1000 * reference, "that looks like mm/s: the length is in metres, so the velocity is in m/s."),
@@ -98,7 +98,7 @@ def check_point_velocity(answer, length: float, angle_degrees: float, speed: flo
         (-reference, "a sign error: clockwise rotation means ω < 0, and k̂ × R turns R by +90° "
                      "(counter-clockwise)."),
         (reference[::-1], "the components are swapped: give (vx, vy)."),
-        (lambda values: matches(np.abs(values), np.abs(omega * tip)),
+        (lambda values: matches.agrees(np.abs(values), np.abs(omega * tip)),
          "that vector is along the link; the velocity is perpendicular to it (k̂ × R)."),
     ], "use v = ω k̂ × R with R = l(cos θ, sin θ): k̂ × (x, y) = (−y, x).")
 

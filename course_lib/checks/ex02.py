@@ -38,14 +38,15 @@ def check_newton_update(answer) -> Feedback:
 
 @reads(fields("a pair (root, iterations)", number("the root"), integer("the number of iterations")))
 def check_newton_iterations(answer) -> Feedback:
-    """Exercise 02, task 2: (root, number of updates) of Newton on x³ − 2x − 5 = 0 from 2, |Δx| < 1e-6.
+    """Exercise 02, task 2: (root to 6 decimals, number of updates) of Newton on x³ − 2x − 5 = 0 from 2,
+    |Δx| < 1e-6.
 
     >>> check_newton_iterations((2.0945514815423265, 4)).ok
     True
     """
     root, count = answer
     reference = newton(lambda x: _wallis(x)[0], 2.0, jac=lambda x: _wallis(x)[1])
-    far, n = not abs(root - reference.x) < 1e-6, reference.iterations
+    far, n = not Precision(6, decimals=True).agrees(root, reference.x), reference.iterations
     return first([
         (far and abs(np.polyval([1, 0, -2, -5], root)) < 1e-3, "close, but not within the tolerance: keep "
                                                                "iterating until |Δx| < 1e-6."),
@@ -72,7 +73,8 @@ def check_newton_cycle(answer) -> Feedback:
 
 @reads(vector(2, "the step Δx"))
 def check_fourbar_newton_step(answer, linkage: FourBar, theta2: float, seed) -> Feedback:
-    """Exercise 02, task 4: the first Newton step (Δθ3, Δθ4) (rad) of the four-bar loop from ``seed``.
+    """Exercise 02, task 4: the first Newton step (Δθ3, Δθ4) (rad, to 4 significant figures) of the four-bar
+    loop from ``seed``.
 
     >>> check_fourbar_newton_step((0.0, 0.0), FourBar(0.07, 0.20, 0.15, 0.25), 0.7, (0.5, 1.5)).ok
     False
@@ -80,7 +82,7 @@ def check_fourbar_newton_step(answer, linkage: FourBar, theta2: float, seed) -> 
     seed = np.asarray(seed, float)
     F, J = linkage.loop_residual(theta2, *seed), linkage.loop_jacobian(*seed)
     step = np.linalg.solve(J, -F)
-    return diagnose(answer, near, [
+    return diagnose(answer, FIGURES, [
         (step, "Correct: J·Δx = −F, solved without forming J⁻¹."),
         (seed + step, "that is the new iterate x1 = x0 + Δx; the task asks for the step Δx itself."),
         (-step, "a sign error: the step solves J·Δx = −F (minus the residual)."),

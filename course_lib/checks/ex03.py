@@ -11,7 +11,8 @@ __all__ = ["check_fourbar_theta4", "check_omega4_expression", "check_fourbar_rat
 
 @reads(number("θ4"))
 def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -> Feedback:
-    """Exercise 03, task 1: the rocker angle θ4 (rad) at crank angle ``theta2`` on ``branch``.
+    """Exercise 03, task 1 and lesson 03's Try it: the rocker angle θ4 (rad, to 4 decimals) at crank angle
+    ``theta2`` on ``branch``.
 
     >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
     >>> check_fourbar_theta4(bar.solve(2.0, branch="crossed").theta4 + 2 * np.pi, bar, 2.0, "crossed").ok
@@ -53,7 +54,8 @@ def check_omega4_expression(answer) -> Feedback:
 @reads(vector(2, "(ω4, α4)"))
 def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, alpha2: float, branch: str
                         ) -> Feedback:
-    """Exercise 03, task 3: (ω4, α4) of the rocker (rad/s, rad/s²) at ``theta2`` on ``branch``.
+    """Exercise 03, task 3: (ω4, α4) of the rocker (rad/s, rad/s², to 4 significant figures) at ``theta2`` on
+    ``branch``.
 
     >>> check_fourbar_rates((0.0, 0.0), FourBar(0.07, 0.20, 0.15, 0.25), 3.5, 15.0, -40.0, "open").ok
     False
@@ -61,7 +63,7 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
     other_branch = "crossed" if branch == "open" else "open"
     this, other = (linkage.solve(theta2, omega2, alpha2, branch=b) for b in (branch, other_branch))
     omega4, alpha4 = this.omega4, this.alpha4
-    return diagnose(answer, near, [
+    return diagnose(answer, FIGURES, [
         ((omega4, alpha4), "Correct: the same Jacobian J solves both the velocity and the acceleration "
                            "equations."),
         ((alpha4, omega4), "the two are swapped: give (ω4, α4)."),
@@ -84,8 +86,8 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
 @reads(fields('a pair (theta2_max, "extended" or "folded")', number("θ2_max"),
               word(("extended", "folded"), 'the second entry is the string "extended" or "folded".')))
 def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
-    """Exercise 03, task 4: the largest crank angle (rad) of a non-Grashof ``linkage`` and whether coupler
-    and rocker lie "extended" or "folded" there.
+    """Exercise 03, task 4: the largest crank angle (rad, to 4 decimals) of a non-Grashof ``linkage`` and
+    whether coupler and rocker lie "extended" or "folded" there.
 
     >>> check_toggle_angle((float(np.arccos(0.2)), "extended"), FourBar(0.14, 0.12, 0.10, 0.20)).ok
     True
@@ -93,11 +95,13 @@ def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
     value, how = answer
     limit = max(linkage.input_range().toggle_angles)
     state = "extended" if limit < np.pi else "folded"  # |AO4| = l3 + l4 below π
-    return first([
-        (in_degrees(value, limit), "that is the limit in degrees; give it in radians."),
-        (near(value, -limit), "that is the mirror-image limit (θ2 < 0); the task asks for the largest θ2."),
-        (not near(value, limit), "at the limit |AO4| = l3 + l4 or |l3 − l4|; use the law of cosines "
-                                 "|AO4|² = l1² + l2² − 2 l1 l2 cos θ2."),
+    angle = diagnose(value, DECIMALS, [
+        (limit, ""),
+        (lambda v: in_degrees(v, limit, DECIMALS), "that is the limit in degrees; give it in radians."),
+        (-limit, "that is the mirror-image limit (θ2 < 0); the task asks for the largest θ2."),
+    ], "at the limit |AO4| = l3 + l4 or |l3 − l4|; use the law of cosines "
+       "|AO4|² = l1² + l2² − 2 l1 l2 cos θ2.", angles=True)
+    return angle if not angle.ok else first([
         (how != state, "the angle is right, but look at the picture there: which of l3 + l4 and |l3 − l4| "
                        "binds?"),
     ], "Correct: coupler and rocker are collinear there (a toggle), det J = 0, and the crank must turn back.")

@@ -8,12 +8,16 @@ import numpy as np
 from ..fivebar import WORKING_MODES, FiveBar
 from .engine import *  # the feedback engine's helpers (engine.__all__)
 
+#: Positions of the end effector: to 6 decimals in metres.
+MICROMETRES = Precision(6, decimals=True)
+
 __all__ = ["check_fivebar_forward", "check_fivebar_inverse", "check_fivebar_g", "check_fivebar_singularity"]
 
 
 @reads(vector(2, "(x3, y3)"))
 def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, mode: int) -> Feedback:
-    """Exercise 05, task 1: the end effector (x3, y3) in m, in working mode ``mode`` (+1 arms up, −1 down).
+    """Exercise 05, task 1 and lesson 08's Try it: the end effector (x3, y3) in m, to 6 decimals (a
+    micrometre), in assembly mode ``mode`` (+1 arms up, −1 arms down).
 
     >>> check_fivebar_forward((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 1.2, 2.2, -1).ok
     False
@@ -21,7 +25,7 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
     reference, other = (np.array(tuple(robot.forward(theta1, theta4, mode=m))) for m in (mode, -mode))
     in_degrees = robot.forward(*np.degrees([theta1, theta4]), mode=mode, on_unreachable="nan")
     names = {1: "arms up (σ = +1)", -1: "arms down (σ = −1)"}
-    return diagnose(answer, near, [
+    return diagnose(answer, MICROMETRES, [
         (reference, "Correct."),
         (other, f"that is the {names[-mode]} assembly; the task asks for {names[mode]}."),
         (1000 * reference, "that looks like millimetres; give metres."),
@@ -32,7 +36,8 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
 
 @reads(vector(2, "(θ1, θ4)"))
 def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: tuple[int, int]) -> Feedback:
-    """Exercise 05, task 2: crank angles (θ1, θ4) in rad putting the end effector at (x3, y3), ``modes``.
+    """Exercise 05, task 2: crank angles (θ1, θ4) in rad, to 4 decimals, putting the end effector at (x3, y3)
+    in working mode ``modes``.
 
     >>> check_fivebar_inverse((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 0.01, 0.2, (1, -1)).ok
     False
@@ -46,14 +51,15 @@ def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: t
         return (f"that is working mode ({m[0]:+d}, {m[1]:+d}): the sign {signs} of the square root is the "
                 "other one.")
 
-    return diagnose(answer, angles_close, [
+    return diagnose(answer, DECIMALS, [
         (reference, "Correct: working mode (σ1, σ2) = " + f"({modes[0]:+d}, {modes[1]:+d})."),
-        (lambda v: in_degrees(v, reference), "those are the right angles in degrees; give radians."),
+        (lambda v: in_degrees(v, reference, DECIMALS),
+         "those are the right angles in degrees; give radians."),
         (reference[::-1], "the angles are swapped: give (θ1, θ4)."),
         *((angles, other_mode(m)) for m, angles in solutions.items() if m != modes),
         ((theta1, None), "θ1 is right; recheck θ4 with the coefficients a2, b2, c2 of leg 4."),
         ((None, theta4), "θ4 is right; recheck θ1 with the coefficients a1, b1, c1 of leg 1."),
-    ], "use θ = 2·atan((−b + σ√(b² − 4ac))/2a) with the half-angle coefficients of each leg.")
+    ], "use θ = 2·atan((−b + σ√(b² − 4ac))/2a) with the half-angle coefficients of each leg.", angles=True)
 
 
 @reads()
@@ -69,7 +75,7 @@ def check_fivebar_g(answer) -> Feedback:
     l1, l2, l3, l4, l5, t1, t4 = symbols = sp.symbols("l1 l2 l3 l4 l5 theta1 theta4", real=True)
     g = (-2 * l1 * sp.sin(t1) + 2 * l4 * sp.sin(t4)) / (2 * (l5 + l1 * sp.cos(t1) - l4 * sp.cos(t4)))
     return judge_expression(answer, symbols, [
-        (g, "Correct: the seeds' g = (−2 l1 sin θ1 + 2 l4 sin θ4) / (2 (l5 + l1 cos θ1 − l4 cos θ4))."),
+        (g, "Correct: the course's g = (−2 l1 sin θ1 + 2 l4 sin θ4) / (2 (l5 + l1 cos θ1 − l4 cos θ4))."),
         (-g, "a sign error: move the Y3 term to the right-hand side before dividing by the X3 coefficient."),
         ([1 / g, -1 / g], "that is dY3/dX3; solve the linear equation for X3, not Y3."),
         ([2 * g, g / 2], "off by a factor 2: both the X3 and the Y3 coefficients carry the factor 2."),

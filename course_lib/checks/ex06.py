@@ -9,7 +9,7 @@ drives the ram, whose pin C runs on y = h at x.  Unknowns θ4, r4, θ5, x; input
 import math
 from collections.abc import Mapping
 from dataclasses import astuple, dataclass
-from functools import cached_property, partial
+from functools import cached_property
 from itertools import permutations
 
 import numpy as np
@@ -25,7 +25,6 @@ NAMES = ("theta2", "theta4", "r4", "theta5", "x", "r2", "d", "l4", "l5", "h")
 UNKNOWNS = NAMES[1:5]
 _PROBES = np.radians(np.arange(10.0, 360.0, 45.0))  # crank angles where the loops are evaluated
 _NUDGE = np.array([0.05, 0.02, -0.04, 0.03])  # the unknowns off the drawing, to see a row respond
-_within = partial(close, rtol=5e-3, atol=0.0)  # to 0.5 %, for values found on a grid
 
 
 def quick_return_time_ratio(crank: float, pivot_distance: float) -> float:
@@ -122,7 +121,11 @@ def _loop_rows(answer):
     if isinstance(answer, Mapping | set | frozenset):
         return wrong(f"give the loops as a list [loop1, loop2] of 2×1 sympy matrices; got a "
                      f"{type(answer).__name__}.")
-    rows = [row for item in (answer if isinstance(answer, list | tuple) else [answer])
+    def difference(item):  # an equation lhs = rhs (of components or of matrices) is read as lhs − rhs
+        return item.lhs - item.rhs if isinstance(item, sp.Equality) else item
+
+    items = [difference(item) for item in (answer if isinstance(answer, list | tuple) else [answer])]
+    rows = [difference(row) for item in items
             for row in (item if isinstance(item, sp.MatrixBase | list | tuple) else [item])]
     expressions = []
     for k, row in enumerate(rows, start=1):
@@ -147,13 +150,15 @@ def _vanishes(values: np.ndarray, scale: np.ndarray) -> np.ndarray:
     return finite & (np.abs(values).max(axis=1) <= 1e-9 * np.maximum(scale, 1e-300)) & (scale > 0)
 
 
-#: The vectors whose direction a sign slip turns, by the angle that turns them.
-_SIGN_SLIPS = {"theta2": "the crank vector (O2 → A)", "theta4": "the lever vector (O4 → A, or O4 → B)",
-               "theta5": "the link vector (B → C)"}
+#: The vectors of the two loops, by the symbols whose sign turns each one round (a sign slip on it).
+_VECTORS = {"the crank vector (O2 → A)": ("r2",), "the block's vector along the lever (O4 → A)": ("r4",),
+            "the lever vector (O4 → B)": ("l4",), "the link vector (B → C)": ("l5",),
+            "the frame vector (O4 → O2)": ("d",), "the ram's vector (O4 → C)": ("x", "h")}
 
 
-def _loop_hint(row, k: int, turned: str, moves: bool) -> str:
-    """What looks wrong with equation ``k`` (``turned``: the vector a sign slip turned, or "")."""
+def _loop_hint(row, ks: list[int], turned: str, moves: bool) -> str:
+    """What looks wrong with equations ``ks`` (1-based; ``row``: the first of them; ``turned``: the vector a
+    sign slip turned, or "")."""
     import sympy as sp
     names = {s.name for s in row.free_symbols}
     theta2, theta4, theta5 = sp.symbols(("theta2", "theta4", "theta5"), real=True)
@@ -161,8 +166,9 @@ def _loop_hint(row, k: int, turned: str, moves: bool) -> str:
     block = not names & {"theta5", "x", "l5", "h"}  # the loop through the block
     return next(hint for holds, hint in [
         (not moves, "{where} does not change when the shaper moves: it holds none of θ2, θ4, r4, θ5, x."),
-        (turned, "a sign slip: {where} would hold only if {turned} pointed the other way. Walk both routes "
-                 "from the same start to the same end point; each vector's sign is its direction."),
+        (turned, "a sign slip: {where} would hold if {turned} pointed the other way (in every component). "
+                 "Walk both routes from the same start to the same end point; each vector's sign is its "
+                 "direction."),
         (block and "l4" in names, "{where} uses l4 in the loop through the block: from O4 the lever reaches "
                                   "the block A after r4 (the unknown length), not after its full length l4."),
         (block and "r4" not in names, "{where} has no r4: the block's distance along the lever is an unknown "
@@ -176,7 +182,8 @@ def _loop_hint(row, k: int, turned: str, moves: bool) -> str:
          "{where} has no h: the ram's pin C runs on the line y = h, so O4 → C is (x, h)."),
         (True, "{where} is not satisfied by the drawn shaper. Check each vector's sign (both routes from the "
                "same start to the same end point), its length and its angle."),
-    ] if holds).format(where=f"equation {k} (counting the components in your order)", turned=turned)
+    ] if holds).format(where=("equation {}" if len(ks) == 1 else "equations {}").format(
+        " and ".join(map(str, ks))) + " (counting the components in your order)", turned=turned)
 
 
 @reads(_loop_rows)
@@ -198,9 +205,11 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
                      f"you gave {len(rows)}{only}")
     q = np.array(shaper.configuration(_PROBES))
 
-    def evaluate(theta2, q):  # residuals (rows, probes), the drawing's lengths substituted
-        values = function(theta2, *q, *astuple(shaper))
-        return np.array([np.broadcast_to(np.asarray(v, dtype=complex), np.shape(theta2)) for v in values])
+    def evaluate(theta2, q, turned=()):  # residuals (rows, probes), the drawing's lengths substituted
+        values = [theta2, *q, *astuple(shaper)]
+        values = [-v if name in turned else v for name, v in zip(NAMES, values, strict=True)]
+        return np.array([np.broadcast_to(np.asarray(v, dtype=complex), np.shape(theta2))
+                         for v in function(*values)])
 
     try:
         function = sp.lambdify(sp.symbols(NAMES, real=True), rows, modules="numpy")
@@ -211,12 +220,21 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
     scale = np.abs(evaluate(_PROBES, q + _NUDGE[:, None])).max(axis=1)
     holds = _vanishes(at_drawing, scale)
     if not holds.all():
+        # a sign slip: turning one vector round (in every component it appears in) closes failing rows and
+        # opens none; the vector that closes the most is the one that flipped
+        fixes = {vector: _vanishes(evaluate(_PROBES, q, symbols), scale)
+                 for vector, symbols in _VECTORS.items()}
+        slips = sorted(((int((fixed & ~holds).sum()), vector) for vector, fixed in fixes.items()
+                        if (fixed >= holds).all() and (fixed & ~holds).any()), reverse=True)
+        if slips:
+            ks = np.flatnonzero(fixes[slips[0][1]] & ~holds)
+            return wrong(_loop_hint(rows[ks[0]], [k + 1 for k in ks], slips[0][1], True))
         k = int(np.argmin(holds))
-        turned = next((text for name, text in _SIGN_SLIPS.items()
-                       if _vanishes(evaluate(_PROBES + np.pi * (name == "theta2"),
-                                             q + np.pi * np.array([n == name for n in UNKNOWNS])[:, None]
-                                             )[k:k + 1], scale[k:k + 1])[0]), "")
-        return wrong(_loop_hint(rows[k], k + 1, turned, bool(scale[k] > 0)))
+        if turned := " or ".join(vector for vector, fixed in fixes.items() if fixed[k]):  # in one component
+            return wrong(f"a sign slip in equation {k + 1} alone (counting the components in your order): it "
+                         f"would hold if {turned} had the other sign there. A vector keeps its sign in both of "
+                         "its components: walk both routes from the same start to the same end point.")
+        return wrong(_loop_hint(rows[k], [k + 1], "", bool(scale[k] > 0)))
     # J (probe, row, unknown) by central differences, rows in units of their size off the drawing: scaling
     # a row changes nothing, a squared row (zero gradient) counts as zero
     J = np.stack([(evaluate(_PROBES, q + step) - evaluate(_PROBES, q - step)).real / 2e-6
@@ -247,45 +265,51 @@ def _by_name(names: tuple[str, ...], what: str):
     return parse
 
 
-def _position_matches(values, candidate) -> bool:
-    """(θ4, r4, θ5, x): angles modulo 2π, lengths to a relative tolerance; None in ``candidate`` = any."""
-    return all(reference is None or (angles_close(value, reference) if angle else near(value, reference))
-               for value, reference, angle in zip(values, candidate, (True, False, True, False), strict=True))
+#: Which entries of (θ4, r4, θ5, x) are angles (compared modulo 2π).
+_ANGLES = (True, False, True, False)
 
 
 @reads(_by_name(UNKNOWNS, "the position"))
 def check_shaper_position(answer, theta2: float, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 2: the position (θ4, r4, θ5, x) at crank angle ``theta2`` (rad), or a dict of it.
+    """Exercise 06, task 2: the position (θ4, r4, θ5, x) in rad and m, to 4 decimals, at crank angle
+    ``theta2`` (rad), or a dict of it.
 
     >>> print(check_shaper_position({"theta4": 1.0}, 1.0))
     ✘ Not yet: the dict needs the keys theta4, r4, theta5, x.
     """
     reference = theta4, r4, theta5, x = tuple(map(float, shaper.configuration(theta2)))
-    return diagnose(answer, _position_matches, [
+
+    def agrees(values, candidate) -> bool:
+        return DECIMALS.agrees(values, candidate, _ANGLES)
+
+    return diagnose(answer, DECIMALS, [
         (reference, "Correct: the shaper as drawn, C to the right of B."),
-        ((theta4 + np.pi, -r4, theta5, x),
-         Feedback(True, "Correct: the same position written with r4 < 0 and θ4 turned by π.")),
         (tuple(map(float, shaper.configuration(theta2, assembly=-1))),
          "θ4 and r4 are right, but θ5 and x belong to the other assembly, with C to the left of B. "
          "The drawing has C to the right: seed Newton with θ5 near 0."),
-        (lambda v: _position_matches(np.radians(v) * [1, 0, 1, 0] + v * [0, 1, 0, 1], reference),
+        ((theta4 + np.pi, -r4, None, None),
+         "θ4 + π with r4 < 0 closes the loop through the block, but the lever's top B = l4(cos θ4, sin θ4) "
+         "then points the other way and the ram's loop opens: keep r4 > 0 (the block between O4 and B)."),
+        (lambda v: agrees(np.radians(v) * [1, 0, 1, 0] + v * [0, 1, 0, 1], reference),
          "your angles look like degrees; the library works in radians."),
-        (lambda v: _position_matches(v / [1, 1000, 1, 1000], reference),
+        (lambda v: agrees(v / [1, 1000, 1, 1000], reference),
          "r4 and x look like millimetres; give lengths in metres."),
         (tuple(map(float, shaper.configuration(np.degrees(theta2)))),
          "that is the shaper at θ2 given in degrees but read as radians: convert the crank angle with "
          "np.radians before solving."),
-        (lambda v: any(_position_matches(v[[*order]], reference) for order in permutations(range(4))),
+        (lambda v: any(agrees(v[[*order]], reference) for order in permutations(range(4))),
          "the right numbers in the wrong order: give (θ4, r4, θ5, x), or pass motion.position."),
         ((theta4, r4, None, None), "θ4 and r4 are right; θ5 and x are not: check the loop O4 → B → C and its "
                                    "seed."),
-    ], "θ4 and r4 are not right: check the loop O4 → O2 → A (signs, d, r4) and that θ2 is in radians.")
+    ], "θ4 and r4 are not right: check the loop O4 → O2 → A (signs, d, r4) and that θ2 is in radians.",
+        angles=_ANGLES)
 
 
 @reads(_by_name(("v_x", "a_x"), "the ram's velocity and acceleration"))
 def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
                      shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 3: the ram's (ẋ, ẍ) in m/s, m/s² (or a dict ``v_x``, ``a_x``) at the crank's state.
+    """Exercise 06, task 3: the ram's (ẋ, ẍ) in m/s, m/s², to 4 significant figures (or a dict ``v_x``,
+    ``a_x``) at the crank's state.
 
     >>> velocity, acceleration = SHAPER.rates(1.0, 8.0)
     >>> print(check_ram_motion((velocity[1], acceleration[1]), 1.0, 8.0))
@@ -293,13 +317,14 @@ def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
     """
     velocity, acceleration = shaper.rates(theta2, omega2, alpha2)
     ram = (velocity[3], acceleration[3])
-    return diagnose(answer, near, [
+    return diagnose(answer, FIGURES, [
         (ram, "Correct: the ram's velocity and acceleration, both from the same Jacobian J."),
         ((velocity[1], acceleration[1]), "those are the block's rates along the lever (v_r4, a_r4); the task "
                                          "asks for the ram, x."),
         ((velocity[0], acceleration[0]), "those are the lever's rates (ω4, α4); the task asks for the ram's, "
                                          "v_x and a_x."),
-        (lambda v: near(np.asarray(v) / 1000, ram), "those look like mm/s and mm/s²; give m/s and m/s²."),
+        (lambda v: FIGURES.agrees(np.asarray(v) / 1000, ram), "those look like mm/s and mm/s²; give m/s and "
+                                                              "m/s²."),
         (np.array(shaper.rates(theta2, -omega2, -alpha2))[:, 3],
          "the ram moves the other way: the crank turns counter-clockwise, so ω2 is positive."),
         (np.array(shaper.rates(np.degrees(theta2), omega2, alpha2))[:, 3],
@@ -311,25 +336,29 @@ def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
        "(radians) and the assembly (C right of B).")
 
 
+#: Stroke and time ratio: to 3 significant figures (they are read off a sweep).
+_THREE = Precision(3)
+
+
 @reads(number("the time ratio"))
 def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
-    """A time ratio against ``reference``: ✔ ``correct``, or the usual slips."""
+    """A time ratio against ``reference``, to 3 significant figures: ✔ ``correct``, or the usual slips."""
     slow = 2 * np.pi * reference / (1 + reference)  # the slow stroke's crank angle
-    return diagnose(ratio, _within, [
+    return diagnose(ratio, _THREE, [
         (reference, correct),
-        (lambda v: _within(v * reference, 1.0),
-         "that is the fast stroke over the slow one; the time ratio is slow over fast (> 1)."),
+        (1 / reference, "that is the fast stroke over the slow one; the time ratio is slow over fast (> 1)."),
         ([slow, 2 * np.pi - slow, np.degrees(slow), 360 - np.degrees(slow)], "that is a crank angle; the "
          "time ratio divides the crank angle of the slow stroke by that of the fast one."),
-        (lambda v: _within(v, reference, rtol=0.05),
-         "close, but not to 0.5 %: find the crank angles where ω4 changes sign more precisely (interpolate "
-         "between samples, or use the condition that O4A ⟂ O2A there)."),
+        (lambda v: abs(v / reference - 1) < 0.05,
+         "close, but not to 3 significant figures: find the crank angles where ω4 changes sign more "
+         "precisely (interpolate between samples, or use the condition that O4A ⟂ O2A there)."),
     ], "not the time ratio: the lever stops where ω4 = 0 (O4A ⟂ O2A); divide the crank angle turned between "
        "the two stops one way by the angle turned back.")
 
 
 def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -> Feedback:
-    """Lesson 12, Try it: the time ratio (slow / fast stroke, to 0.5 %) of a slotted-lever quick return;
+    """Lesson 12, Try it: the time ratio (slow / fast stroke, to 3 significant figures) of a slotted-lever
+    quick return;
     a crank or pivot distance that cannot make one raises ``InvalidGeometryError``.
 
     >>> check_quick_return_time_ratio(2.0, 0.05, 0.10).ok, check_quick_return_time_ratio(0.5, 0.05, 0.10).ok
@@ -341,14 +370,14 @@ def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -
 
 @reads(vector(2, "(stroke, time_ratio)"))
 def check_ram_stroke(answer, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 4: (stroke in m, time ratio), each to 0.5 %.
+    """Exercise 06, task 4: (stroke in m, time ratio), each to 3 significant figures.
 
     >>> check_ram_stroke((SHAPER.stroke(), SHAPER.time_ratio())).ok
     True
     """
     stroke, ratio = answer
     reference = shaper.stroke()
-    return diagnose(stroke, _within, [
+    return diagnose(stroke, _THREE, [
         (reference, _time_ratio(ratio, shaper.time_ratio(), "Correct: the ram stops when the lever does, so "
                                 "its stroke and its time ratio are the lever's.")),
         (1000 * reference, "the stroke looks like millimetres; give metres."),

@@ -1,11 +1,13 @@
 """Checkers of the lessons' "Try it" cells (lessons 00, 03 and 08 use exercise checkers)."""
 # ruff: noqa: F403, F405
 
+import itertools
+
 import numpy as np
 
 from ..fivebar import FiveBar
 from ..fourbar import FourBar
-from ..planar import polar
+from ..planar import polar, wrap_angle
 from ..profile import first_turn_time, motor_profile
 from ..saw import Saw, analytic
 from .engine import *  # the feedback engine's helpers (engine.__all__)
@@ -16,44 +18,49 @@ __all__ = ["check_crank_angle_for_rocker", "check_rocker_pin_speed", "check_moto
 
 @reads(number("θ2"))
 def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Feedback:
-    """Lesson 02: the crank angle θ2 in (0, π) (rad) that puts the rocker at ``theta4``.
+    """Lesson 02: the crank angle θ2 in (0, π) (rad, to 4 decimals) that puts the rocker at ``theta4``.
 
     >>> bar = FourBar(crank=0.10, coupler=0.25, rocker=0.20, ground=0.30)
     >>> check_crank_angle_for_rocker(1.0, bar, bar.solve(1.0).theta4).ok
     True
     """
     B = polar(linkage.l4, theta4) + [linkage.l1, 0.0]
-
-    def closes(theta2: float) -> bool:
-        return abs(np.linalg.norm(B - polar(linkage.l2, theta2)) - linkage.l3) < 1e-9
-
-    loop_closes = closes(answer)
-    return first([
-        (not loop_closes and closes(np.radians(answer)), "that is the right angle in degrees; newton and "
-                                                         "course_lib work in radians."),
-        (not loop_closes, "at that θ2 the distance |B − A| differs from l3. A lies on the crank circle "
-                          "(radius l2 about O2) and on the circle of radius l3 about B: solve "
-                          "|B − A(θ2)| − l3 = 0 for θ2 with B at the given θ4, e.g. by Newton from a seed in "
-                          "(0, π)."),
-        (not 0.0 < answer < np.pi, "that angle closes the loop, but it is outside (0, π): start Newton from "
-                                   "a seed in that range (the other root is the other assembly)."),
-    ], "Correct: the crank pin A is exactly l3 from the rocker pin B.")
+    # A = l2(cos θ2, sin θ2) lies l3 from B: |B|² + l2² − 2 l2 |B| cos(θ2 − φ) = l3², φ the direction of B
+    cosine = (B @ B + linkage.l2**2 - linkage.l3**2) / (2 * linkage.l2 * np.linalg.norm(B))
+    roots = np.arctan2(B[1], B[0]) + np.array([1, -1]) * np.arccos(np.clip(cosine, -1, 1))
+    inside = [float(root) for root in wrap_angle(roots) if 0 < root < np.pi]
+    outside = [float(root) for root in wrap_angle(roots) if not 0 < root < np.pi]
+    return diagnose(answer, DECIMALS, [
+        (inside, "Correct: the crank pin A is exactly l3 from the rocker pin B."),
+        (lambda v: any(in_degrees(v, root, DECIMALS) for root in inside),
+         "that is the right angle in degrees; newton and course_lib work in radians."),
+        (outside, "that angle closes the loop, but it is outside (0, π): start Newton from a seed in that "
+                  "range (the other root is the other assembly)."),
+    ], "at that θ2 the distance |B − A| differs from l3. A lies on the crank circle (radius l2 about O2) and "
+       "on the circle of radius l3 about B: solve |B − A(θ2)| − l3 = 0 for θ2 with B at the given θ4, e.g. "
+       "by Newton from a seed in (0, π).", angles=True)
 
 
 @reads(number("the speed of B"))
 def check_rocker_pin_speed(answer, linkage: FourBar, theta2: float, omega2: float, branch: str = "open"
                            ) -> Feedback:
-    """Lesson 04: the speed |V_B| (m/s) of the rocker pin B at ``theta2`` (rad) and ``omega2`` (rad/s).
+    """Lesson 04: the speed |V_B| (m/s, to 4 significant figures) of the rocker pin B at ``theta2`` (rad)
+    and ``omega2`` (rad/s).
 
     >>> check_rocker_pin_speed(-1.0, FourBar(0.10, 0.25, 0.20, 0.30), 1.0, 10.0).message
     'Not yet: a speed is a magnitude: it cannot be negative.'
     """
-    omega4 = abs(linkage.solve(theta2, omega2, branch=branch).omega4)
+    other = "crossed" if branch == "open" else "open"
+    speed, crossed = (abs(linkage.solve(theta2, omega2, branch=b).omega4) * linkage.l4
+                      for b in (branch, other))
     in_degrees = linkage.solve(np.degrees(theta2), omega2, branch=branch, on_unreachable="nan").omega4
-    return diagnose(answer, close, [
-        (omega4 * linkage.l4, "Correct: B moves perpendicular to the rocker at |ω4|·l4."),
+    return diagnose(answer, FIGURES, [
+        (speed, "Correct: B moves perpendicular to the rocker at |ω4|·l4."),
         (lambda value: value < 0, "a speed is a magnitude: it cannot be negative."),
-        (omega4, "that is |ω4| in rad/s: multiply by the rocker length l4."),
+        (speed * 1000, "that looks like mm/s; give the speed in m/s (lengths in metres)."),
+        (crossed, f"that is the speed of B on the {other} branch; the lesson's linkage is on the {branch} "
+                  "branch."),
+        (speed / linkage.l4, "that is |ω4| in rad/s: multiply by the rocker length l4."),
         (abs(omega2) * linkage.l2, "that is the speed of the crank pin A (ω2·l2); the task asks for the "
                                    "rocker pin B."),
         (abs(in_degrees) * linkage.l4, "θ2 went into solve in degrees; convert with np.radians."),
@@ -62,60 +69,71 @@ def check_rocker_pin_speed(answer, linkage: FourBar, theta2: float, omega2: floa
 
 @reads(vector(2, "(T, rpm)"))
 def check_motor_start(answer, alpha_max: float) -> Feedback:
-    """Lesson 05: (T in s, final rpm) of the start-up over the first turn, peak ``alpha_max`` (rad/s²).
+    """Lesson 05: (T in s, final speed in rpm), each to 4 significant figures, of the start-up over the first
+    turn, peak ``alpha_max`` (rad/s²).
 
-    >>> check_motor_start((1.9416, 61.8), 5.0).ok
-    True
+    >>> print(check_motor_start((1.9416, 61.80), 5.0))
+    ✔ Correct on both.
+    >>> print(check_motor_start((1.94, 61.8), 5.0))
+    ✘ Not yet: right to 3 significant figures; the task asks for 4 significant figures: give more digits.
     """
-    T_answer, speed = answer
     T = first_turn_time(alpha_max)
     omega = float(motor_profile(2 * T, alpha_max).omega2)
-    return first([
-        (not close(T_answer, T, rtol=1e-3), f"T is not right yet: solve θ2(T) = A·T²/3 = 2π with A = "
-                                            f"{alpha_max:g} rad/s²."),
-        (close(speed, omega, rtol=1e-3), "T is right. Your speed looks like rad/s: convert with 60/(2π)."),
-        (not close(speed, omega * 60 / (2 * np.pi), rtol=1e-3),
-         "T is right; the final speed is 2·A·T/3 in rad/s — then convert to rpm."),
-    ], "Correct on both.")
+    rpm = omega * 60 / (2 * np.pi)
+    return diagnose(answer, FIGURES, [
+        ((T, rpm), "Correct on both."),
+        ((T, omega), "T is right. Your speed looks like rad/s: convert with 60/(2π)."),
+        ((T, None), "T is right; the final speed is 2·A·T/3 in rad/s — then convert to rpm."),
+    ], f"T is not right yet: solve θ2(T) = A·T²/3 = 2π with A = {alpha_max:g} rad/s².")
 
 
-@reads(vector(3, "(V_r, ω1, ω3)"))
+@reads(vector(3, "(v_r, ω1, ω3)"))
 def check_saw_rates(answer, saw: Saw, theta2: float, omega2: float) -> Feedback:
-    """Lesson 06: the rates (V_r in m/s, ω1, ω3 in rad/s) at ``theta2`` (rad), ``omega2`` (rad/s), α2 = 0.
+    """Lesson 06: the rates (v_r in m/s, ω1, ω3 in rad/s), to 4 significant figures, at ``theta2`` (rad),
+    ``omega2`` (rad/s), α2 = 0.
 
     >>> check_saw_rates([0.0, 0.0, 0.0], Saw(), 0.0, 1.0).ok
     False
     """
     truth = analytic(theta2, omega2, 0.0, saw=saw)[3:6]
-    return diagnose(answer, near, [
+    orders = [truth[list(order)] for order in itertools.permutations(range(3)) if order != (0, 1, 2)]
+    return diagnose(answer, FIGURES, [
         (truth, "Correct: a single linear solve gives the rates."),
         (-truth, "every sign is flipped: the right-hand side is minus the ω2 terms."),
-        ([truth[[0, 2, 1]], truth[::-1]], "the right numbers in the wrong order: give (V_r, ω1, ω3)."),
+        (orders, "the right numbers in the wrong order: give (v_r, ω1, ω3), the order of the unknowns "
+                 "(r1, θ1, θ3)."),
+        ([-order for order in orders], "the right sizes, but in the wrong order and with every sign flipped: "
+                                       "give (v_r, ω1, ω3), and the right-hand side is minus the ω2 terms."),
+        ((None, truth[1], truth[2]), "ω1 and ω3 are right; v_r is not: it is the rate of the signed length "
+                                     "r1 (negative here), dr1/dt."),
     ], "check the matrix J at the position and the ω2 terms of the velocity equations.")
 
 
 @reads(number("the blade speed"))
 def check_blade_peak_speed(answer, saw: Saw, omega2: float) -> Feedback:
-    """Lesson 07: the largest blade speed |ẋ| (m/s, to 0.2 %) over a turn at constant ``omega2`` (rad/s).
+    """Lesson 07: the largest blade speed |ẋ| (m/s, to 3 significant figures) over a turn at constant
+    ``omega2`` (rad/s).
 
     >>> check_blade_peak_speed(0.075 * 6.472, Saw(), 6.472).ok
     False
     """
     r1, theta1, _, v_r, omega1 = analytic(np.linspace(0.0, 2 * np.pi, 20001), omega2, 0.0, saw=saw)[:, :5].T
     peak = np.abs(v_r * np.cos(theta1) - r1 * omega1 * np.sin(theta1)).max()
-    return diagnose(answer, lambda value, candidate: close(value, candidate, rtol=2e-3), [
+    return diagnose(answer, Precision(3), [
         (peak, "Correct."),
         (-peak, Feedback(True, "Correct in size; a speed is usually given positive.")),
+        (1000 * peak, "that looks like mm/s; give the speed in m/s."),
         (saw.r2 * abs(omega2), "that is the crank pin's speed r2·ω2; the blade moves a little faster at its "
                                "peak."),
-        (np.abs(v_r).max(), "that is the largest |V_r|, the rate of the length r1; the blade's speed is "
-                            "ẋ = V_r cos θ1 − r1 ω1 sin θ1."),
-    ], f"use ω2 = {omega2:.4g} rad/s and the slider speed V_r cos θ1 − r1 ω1 sin θ1 over a fine grid.")
+        (np.abs(v_r).max(), "that is the largest |v_r|, the rate of the length r1; the blade's speed is "
+                            "ẋ = v_r cos θ1 − r1 ω1 sin θ1."),
+    ], f"use ω2 = {omega2:.4g} rad/s and the slider speed ẋ = v_r cos θ1 − r1 ω1 sin θ1 over a fine grid.")
 
 
 @reads(number("θ4"))
 def check_fivebar_theta4(answer, robot: FiveBar, x3: float, y3: float, sigma2: int) -> Feedback:
-    """Lesson 09: the crank angle θ4 (rad) of leg 4 that puts the pen at (x3, y3) with σ2 = ``sigma2``.
+    """Lesson 09: the crank angle θ4 (rad, to 4 decimals) of leg 4 that puts the pen at (x3, y3) with
+    σ2 = ``sigma2``.
 
     >>> check_fivebar_theta4(0.0, FiveBar(0.10, 0.15, 0.15, 0.10, 0.08), 0.0, 0.2, -1).ok
     False
@@ -129,7 +147,8 @@ def check_fivebar_theta4(answer, robot: FiveBar, x3: float, y3: float, sigma2: i
 
 @reads(number("the height Y3"))
 def check_reach_height(answer, robot: FiveBar, x3: float) -> Feedback:
-    """Lesson 10: the height Y3 (m) at which the pen, moving up the line X = ``x3``, first stretches a leg.
+    """Lesson 10: the height Y3 (m, to 4 decimals) at which the pen, moving up the line X = ``x3``, first
+    stretches a leg.
 
     >>> check_reach_height(0.24, FiveBar(0.10, 0.15, 0.15, 0.10, 0.08), -0.03).ok
     True
@@ -137,7 +156,7 @@ def check_reach_height(answer, robot: FiveBar, x3: float) -> Feedback:
     reach = {"1": (robot.l1 + robot.l2, robot.l5 / 2), "4": (robot.l3 + robot.l4, -robot.l5 / 2)}
     heights = {leg: np.sqrt(length**2 - (x3 - motor) ** 2) for leg, (length, motor) in reach.items()}
     leg, other = sorted(heights, key=heights.get)
-    return diagnose(answer, near, [
+    return diagnose(answer, DECIMALS, [
         (heights[leg], f"Correct: leg {leg} stretches first."),
         (heights[other], f"that is where leg {other} stretches; the other leg gets there first."),
         (1000 * heights[leg], "that looks like millimetres; give metres."),

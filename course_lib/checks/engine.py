@@ -33,7 +33,7 @@ class Precision:
     decimals with ``decimals=True``; angles always compared modulo 2π); an answer right only to fewer
     digits is told to give more, never sent to recheck its method.
 
-    >>> FIGURES.agrees(0.5975, 0.59746), FIGURES.agrees(0.598, 0.59746), FIGURES.fewer(0.598, 0.59746)
+    >>> FIGURES.agrees(0.5975, 0.59746), FIGURES.agrees(0.597, 0.59746), FIGURES.fewer(0.597, 0.59746)
     (True, False, 3)
     >>> str(DECIMALS), DECIMALS.agrees(3.7635 - 2 * np.pi, 3.76346, angles=True)
     ('4 decimals', True)
@@ -47,15 +47,15 @@ class Precision:
         return f"{self.digits} {'decimals' if self.decimals else 'significant figures'}"
 
     def unit(self, reference, digits: int | None = None) -> np.ndarray:
-        """Half a unit of the last digit asked for, per entry of ``reference`` (with 10 % slack for a
+        """Half a unit of the last digit asked for, per entry of ``reference`` (with 2 % slack for a
         reference that lies on a rounding boundary); a zero reference counts as one of size 1e-9."""
         digits = self.digits if digits is None else digits
         reference = np.abs(np.asarray(reference, float))
         if self.decimals:
-            return np.full(reference.shape, 0.55 * 10.0 ** -digits)
+            return np.full(reference.shape, 0.51 * 10.0 ** -digits)
         size = reference if self.scale is None else np.full(reference.shape, abs(self.scale))
         exponent = np.floor(np.log10(np.maximum(size, 1e-9)))
-        return 0.55 * 10.0 ** (exponent - digits + 1)
+        return 0.51 * 10.0 ** (exponent - digits + 1)
 
     def agrees(self, value, reference, angles=False, digits: int | None = None) -> bool:
         """Whether ``value`` is ``reference`` to this precision; ``angles`` (one bool, or one per entry)
@@ -329,8 +329,8 @@ def diagnose(answer: Any, matches: "Callable[[Any, Any], bool] | Precision", rul
             references = candidate if isinstance(candidate, list) else [candidate]
             hints = (_try(lambda r=r: precision.more_digits(answer, r, angles)) for r in references)
             hint = next((hint for hint in hints if hint is not None), None)
-            known = any(not isinstance(c, types.FunctionType) and not _partial(c) and _holds(matches, answer, c)
-                        for c, _ in rules[1:])
+            known = any(not isinstance(c, types.FunctionType) and not _partial(c)
+                        and _holds(matches, answer, c) for c, _ in rules[1:])
             if hint is not None and not known:  # close to the answer, and not a known mistake's value
                 return hint
     return wrong(otherwise)

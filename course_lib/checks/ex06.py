@@ -231,9 +231,9 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
             return wrong(_loop_hint(rows[ks[0]], [k + 1 for k in ks], slips[0][1], True))
         k = int(np.argmin(holds))
         if turned := " or ".join(vector for vector, fixed in fixes.items() if fixed[k]):  # in one component
-            return wrong(f"a sign slip in equation {k + 1} alone (counting the components in your order): it "
-                         f"would hold if {turned} had the other sign there. A vector keeps its sign in both of "
-                         "its components: walk both routes from the same start to the same end point.")
+            return wrong(f"a sign slip in equation {k + 1} alone (counting the components in your order): "
+                         f"it would hold if {turned} had the other sign there. A vector keeps its sign in "
+                         "both of its components: walk both routes from the same start to the same end point.")
         return wrong(_loop_hint(rows[k], [k + 1], "", bool(scale[k] > 0)))
     # J (probe, row, unknown) by central differences, rows in units of their size off the drawing: scaling
     # a row changes nothing, a squared row (zero gradient) counts as zero
@@ -290,7 +290,8 @@ def check_shaper_position(answer, theta2: float, shaper: ShaperDrawing = SHAPER)
         ((theta4 + np.pi, -r4, None, None),
          "θ4 + π with r4 < 0 closes the loop through the block, but the lever's top B = l4(cos θ4, sin θ4) "
          "then points the other way and the ram's loop opens: keep r4 > 0 (the block between O4 and B)."),
-        (lambda v: agrees(np.radians(v) * [1, 0, 1, 0] + v * [0, 1, 0, 1], reference),
+        (lambda v: Precision(2, decimals=True).agrees(np.radians(v) * [1, 0, 1, 0] + v * [0, 1, 0, 1],
+                                                      reference, _ANGLES) and not agrees(v, reference),
          "your angles look like degrees; the library works in radians."),
         (lambda v: agrees(v / [1, 1000, 1, 1000], reference),
          "r4 and x look like millimetres; give lengths in metres."),

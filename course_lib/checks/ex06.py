@@ -233,7 +233,8 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
         if turned := " or ".join(vector for vector, fixed in fixes.items() if fixed[k]):  # in one component
             return wrong(f"a sign slip in equation {k + 1} alone (counting the components in your order): "
                          f"it would hold if {turned} had the other sign there. A vector keeps its sign in "
-                         "both of its components: walk both routes from the same start to the same end point.")
+                         "both of its components: walk both routes from the same start to the same end "
+                         "point.")
         return wrong(_loop_hint(rows[k], [k + 1], "", bool(scale[k] > 0)))
     # J (probe, row, unknown) by central differences, rows in units of their size off the drawing: scaling
     # a row changes nothing, a squared row (zero gradient) counts as zero

@@ -88,16 +88,18 @@ def require_positive(name: str, value: float, allow_zero: bool = False) -> float
     return number
 
 
-def require_finite(name: str, value: Any, unit: str = "") -> np.ndarray:
-    """Return ``value`` as a float array if every entry is a finite number, else raise.
+def require_finite(name: str, value: Any, unit: str = "", allow_nan: bool = False) -> np.ndarray:
+    """Return ``value`` as a float array if every entry is a finite number (or NaN, with ``allow_nan``:
+    an unassembled entry), else raise.
 
-    >>> require_finite("theta2", [0.0, 1.0]).tolist()
-    [0.0, 1.0]
+    >>> require_finite("theta2", [0.0, 1.0]).tolist(), require_finite("q", [np.nan], allow_nan=True).tolist()
+    ([0.0, 1.0], [nan])
     """
     suffix = f" in {unit}" if unit else ""
     array = _numbers(name, value, "a number or array of numbers" + suffix)
-    if not np.all(np.isfinite(array)):
-        bad = np.flatnonzero(~np.isfinite(array))
+    finite = np.isfinite(array) | (np.isnan(array) if allow_nan else False)
+    if not np.all(finite):
+        bad = np.flatnonzero(~finite)
         where = f" (entry {bad[0]} of {array.size})" if array.ndim else ""
         raise InvalidGeometryError(f"{name} must be finite{suffix}; got {array.ravel()[bad[0]]}{where}")
     return array

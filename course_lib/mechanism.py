@@ -3,8 +3,14 @@
 A mechanism is declared by its loop equations F(q, u) = 0 in sympy: unknowns q (angles or lengths),
 inputs u and a number for every other symbol.  The core derives once, lambdified with cse: F,
 J = ∂F/∂q, F_u = ∂F/∂u, the velocity system J·q̇ = −F_u·u̇, the acceleration system J·q̈ = −(the rest of
-d²F/dt²) and the stacked 3n system.  :meth:`Mechanism.solve` finds the position by Newton–Raphson, then
-the rates by linear solves with the same J.  SI units, radians.
+d²F/dt²) and the stacked 3n system.  It splits the loops into blocks solved in turn and, where a block
+reduces to one quadratic by the course's half-angle route (:func:`~course_lib.symbolic.reduce_loop`),
+solves it in closed form, each block's assembly fixed by its root σ = ±1; elsewhere by Newton–Raphson
+with continuation.  SI units, radians.
+
+The singularity rule: J is singular where the smallest singular value of J̃ — J with each row and column
+divided by its typical size at the declaration's generic point — is below ``SINGULAR`` = 1e-6 (near one
+below ``NEAR_SINGULAR`` = 1e-3); there the rates are undefined and asking for them raises.
 
 >>> import numpy as np, sympy as sp
 >>> th2, th3, th4 = sp.symbols("theta2 theta3 theta4")
@@ -18,13 +24,14 @@ the rates by linear solves with the same J.  SI units, radians.
 >>> round(motion.position["theta4"], 6), round(motion.velocity["theta4"], 6), motion.newton.iterations
 (1.815502, 4.761066, 5)
 >>> sweep = wiper.solve({th2: np.linspace(0, 2 * np.pi, 7)}, guess={th3: 0.4, th4: 1.6})
->>> sweep.position["theta3"].shape, bool(sweep.converged.all()), sweep.velocity
-((7,), True, None)
+>>> sweep.position["theta3"].shape, bool(sweep.converged.all()), sweep.velocity, sweep.message
+((7,), True, None, '')
 """
 
 from __future__ import annotations
 
 import copy
+import itertools
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import wraps
@@ -47,22 +54,33 @@ from .newton import (
     BatchNewtonResult,
     LinearStack,
     NewtonResult,
-    is_singular,
-    linear_solver,
     newton,
     newton_batch,
     singular_jacobian_text,
 )
 from .planar import scalar_or_array
-from .symbolic import TIME, rate_name
+from .symbolic import LoopForm, is_angle, rate_name, reduce_loop
 
-__all__ = ["Mechanism", "Motion"]
+__all__ = ["Mechanism", "Motion", "SINGULAR", "NEAR_SINGULAR"]
 
 ON_FAILURE = ("raise", "nan")
 LINEAR_STAGES = ("newton", "direct")
 
-#: Two Newton solutions of one instant closer than this (plus 100·tol) are the same assembly.
-SAME_ROOT = 1e-6
+#: J is singular where σ_min(J̃) < SINGULAR (J̃: rows and columns scaled by their typical sizes).
+SINGULAR = 1e-6
+#: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
+NEAR_SINGULAR = 1e-3
+#: A continuation step changes no unknown by more than this (radians, or typical lengths).
+MAX_CHANGE = 0.1
+#: A corrector step moves no unknown by more than this (radians, or typical lengths).
+MAX_STEP = 0.5
+#: A closed-form or continued position is accepted where |F_i| / (typical size of row i) stays below this.
+RESIDUAL = 1e-8
+
+#: The core's own time: a Dummy, so no symbol of a declaration (a parameter named t) can be taken for it.
+_TIME = sp.Dummy("t", real=True)
+_NOT_SMOOTH = (sp.Abs, sp.sign, sp.Heaviside, sp.Max, sp.Min, sp.Piecewise, sp.floor, sp.ceiling, sp.re,
+               sp.im, sp.arg, sp.conjugate, sp.DiracDelta, sp.frac, sp.Mod)
 
 
 @dataclass(frozen=True)
@@ -70,9 +88,12 @@ class Motion:
     """What :meth:`Mechanism.solve` found, shaped like the broadcast inputs (Python numbers for scalars).
 
     position, velocity, acceleration : unknown's name → q, q̇, q̈ (SI); the rates None unless asked.
-    converged, singular : masks, True where Newton converged / J is singular (NaN values there).
-    iterations : Newton updates per instant.  inputs : input's name → its broadcast values.
-    newton : one instant's ``NewtonResult`` with its history; None for a sweep.
+    converged, singular : masks, True where the position was found / J is singular (see ``SINGULAR``).
+    iterations : Newton updates per instant (0 where the closed form alone gave it).
+    inputs : input's name → its broadcast values.  newton : one instant's ``NewtonResult``; None for a sweep.
+    near_singular : True where σ_min(J̃) < NEAR_SINGULAR (rates large and sensitive).  message : the toggles,
+    limits and change points met, in words ("" when none).  assembly : each closed-form block's first
+    unknown → its root σ (±1) per instant; None where Newton alone solved.
     """
 
     position: Mapping[str, float | np.ndarray]
@@ -83,10 +104,13 @@ class Motion:
     iterations: int | np.ndarray
     inputs: Mapping[str, float | np.ndarray]
     newton: NewtonResult | None = None
+    near_singular: bool | np.ndarray = False
+    message: str = ""
+    assembly: Mapping[str, int | np.ndarray] | None = None
 
 
 def _symbols(argument: str, values) -> tuple[sp.Symbol, ...]:
-    values = tuple(values) if isinstance(values, Sequence) else (values,)
+    values = tuple(values) if isinstance(values, Sequence) and not isinstance(values, str) else (values,)
     for value in values:
         if not isinstance(value, sp.Symbol):
             raise InvalidGeometryError(f"{argument} must be sympy Symbols; got {value!r} in {argument}")
@@ -96,27 +120,68 @@ def _symbols(argument: str, values) -> tuple[sp.Symbol, ...]:
     return values
 
 
-def _equations(loops) -> sp.Matrix:
-    rows = []
-    for k, loop in enumerate(loops if isinstance(loops, Sequence) else [loops]):
+def _expression(where: str, value) -> sp.Expr:
+    """One loop row (an Eq becomes lhs − rhs), refused by name when not a smooth real expression."""
+    if isinstance(value, sp.Equality):
+        value = value.lhs - value.rhs
+    try:
+        expr = sp.sympify(value, strict=True)
+    except (sp.SympifyError, TypeError, ValueError):
+        raise InvalidGeometryError(f"{where} must be a sympy expression (= 0) or Eq; got {value!r}") from None
+    if not isinstance(expr, sp.Expr) or isinstance(expr, sp.MatrixBase):
+        raise InvalidGeometryError(f"{where} must be a sympy expression (= 0) or Eq; got {value!r}")
+    rough = sorted({type(node).__name__ for node in sp.preorder_traversal(expr)
+                    if isinstance(node, _NOT_SMOOTH)})
+    if rough:
+        raise InvalidGeometryError(f"{where} uses {', '.join(rough)}, which is not smooth: Newton and the "
+                                   f"rates need derivatives everywhere, so write the loop without it; "
+                                   f"got {expr}")
+    if expr.has(sp.I) or expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+        raise InvalidGeometryError(f"{where} must be real (no I, no infinity): write the x and y components "
+                                   f"as two rows; got {expr}")
+    return expr
+
+
+def _equations(loops) -> tuple[sp.Matrix, list[str], list[list[int]]]:
+    """The rows of the loops, the name of each row and the rows of each declared loop."""
+    if isinstance(loops, sp.Equality) and isinstance(loops.lhs, sp.MatrixBase):
+        loops = [loops]
+    if isinstance(loops, str) or not isinstance(loops, Sequence):
+        loops = [loops]
+    rows, names, groups = [], [], []
+    for k, loop in enumerate(loops):
+        if isinstance(loop, sp.Equality) and isinstance(loop.lhs, sp.MatrixBase):
+            loop = loop.lhs - loop.rhs
         if isinstance(loop, sp.MatrixBase):
-            rows.extend(loop)
+            entries = list(loop)
+            group = []
+            for j, entry in enumerate(entries):
+                group.append(len(rows))
+                names.append(f"loops[{k}][{j}]")
+                rows.append(_expression(names[-1], entry))
+            groups.append(group)
             continue
-        try:
-            rows.append(sp.sympify(loop, strict=True))
-        except (sp.SympifyError, TypeError):
-            raise InvalidGeometryError(f"loops[{k}] must be a sympy Matrix or expression; got {loop!r}") \
-                from None
-    return sp.Matrix(rows)
+        groups.append([len(rows)])
+        names.append(f"loops[{k}]")
+        rows.append(_expression(names[-1], loop))
+    if not rows:
+        raise InvalidGeometryError(f"loops must hold at least one equation; got {loops!r}")
+    return sp.Matrix(rows), names, groups
 
 
-def _numbers(parameters) -> dict[sp.Symbol, float]:
-    if not isinstance(parameters, Mapping) or not all(isinstance(k, sp.Symbol) for k in parameters):
-        raise InvalidGeometryError(f"parameters must map sympy Symbols to numbers; got {parameters!r}")
-    values = {k: require_finite(f"parameters[{k}]", v) for k, v in parameters.items()}
-    if any(v.ndim for v in values.values()):
-        raise InvalidGeometryError(f"parameters must map each symbol to one number; got {parameters!r}")
-    return {k: float(v) for k, v in values.items()}
+def _number(name: str, value) -> float:
+    """A parameter's value: a number or a sympy constant (sp.pi / 6), finite and real."""
+    if isinstance(value, sp.Basic):
+        if not (isinstance(value, sp.Expr) and value.is_number):
+            raise InvalidGeometryError(f"{name} must be a number; got {value!r} (it holds symbols)")
+        complex_value = complex(value.evalf(30))
+        if complex_value.imag:
+            raise InvalidGeometryError(f"{name} must be a real number; got {value!r}")
+        value = complex_value.real
+    array = require_finite(name, value)
+    if array.ndim:
+        raise InvalidGeometryError(f"{name} must be one number; got {value!r}")
+    return float(array)
 
 
 def _keyed(argument: str, mapping, symbols, required: bool = True) -> dict[str, object]:
@@ -127,14 +192,57 @@ def _keyed(argument: str, mapping, symbols, required: bool = True) -> dict[str, 
     out = {}
     for key, value in mapping.items():
         name = key.name if isinstance(key, sp.Symbol) else key
-        if name not in names:
+        if not isinstance(name, str) or name not in names:
             raise InvalidGeometryError(f"{argument} has the key {key!r}, which is not one of {names}")
+        if name in out:
+            raise InvalidGeometryError(f"{argument} gives {name} twice; got keys {list(mapping)}")
         out[name] = value
     missing = [name for name in names if name not in out]
     if required and missing:
         raise InvalidGeometryError(f"{argument} must give a value for {', '.join(missing)}; "
                                    f"got keys {list(mapping)}")
     return out
+
+
+def _unwrap_to(values: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """``values`` shifted by whole turns to within π of ``target`` (NaN stays NaN)."""
+    return values - 2 * np.pi * np.round((values - target) / (2 * np.pi))
+
+
+def _points(points) -> dict[str, sp.Matrix]:
+    """Declared points: name (text) → 2×1 Matrix of smooth real expressions, else the named error."""
+    if points is None:
+        return {}
+    if not isinstance(points, Mapping):
+        raise InvalidGeometryError(f"points must be a dict name → Matrix([x, y]); got {points!r}")
+    out = {}
+    for name, xy in points.items():
+        if not isinstance(name, str) or not name:
+            raise InvalidGeometryError(f"points must be keyed by names (text); got the key {name!r}")
+        try:
+            matrix = sp.Matrix(xy)
+        except (TypeError, ValueError, sp.SympifyError):
+            matrix = None
+        if matrix is None or matrix.shape != (2, 1):
+            raise InvalidGeometryError(f"points[{name!r}] must be a 2x1 Matrix (x, y); got {xy!r}")
+        out[name] = sp.Matrix([_expression(f"points[{name!r}][{k}]", e) for k, e in enumerate(matrix)])
+    return out
+
+
+def _links(links, points) -> tuple[tuple[str, str], ...]:
+    """Declared links: pairs of two different declared point names, else the named error."""
+    if isinstance(links, str | bytes) or not isinstance(links, Sequence):
+        raise InvalidGeometryError(f"links must be a list of pairs of point names; got {links!r}")
+    out = []
+    for k, link in enumerate(links):
+        if isinstance(link, str) or not isinstance(link, Sequence) or len(link) != 2:
+            raise InvalidGeometryError(f"links[{k}] must be a pair of point names; got {link!r}")
+        if not all(isinstance(end, str) and end in points for end in link):
+            raise InvalidGeometryError(f"links: {tuple(link)} names a point not in points {list(points)}")
+        if link[0] == link[1]:
+            raise InvalidGeometryError(f"links[{k}] joins {link[0]!r} to itself; got {link!r}")
+        out.append((link[0], link[1]))
+    return tuple(out)
 
 
 def _derived(build):
@@ -215,16 +323,19 @@ def _broadcast(array, shape) -> np.ndarray:
 
 
 class Mechanism:
-    """A planar mechanism declared by its loop equations (each expression = 0).
+    """A planar mechanism declared by its loop equations (each expression = 0, or an ``Eq``).
 
-    ``loops``: 2×1 sympy matrices (x and y components of a vector loop) or scalar expressions,
-    as many equations in all as ``unknowns``; loops may share unknowns.  ``inputs``: the driven
-    variables.  ``parameters``: a number for every other symbol (:meth:`with_parameters` gives
-    the same declaration with other numbers, sharing everything derived).  Optional ``points``
-    (name → 2×1 matrix of x, y) and ``links`` (pairs of point names) describe the drawing.
+    ``loops``: 2×1 sympy matrices (x and y components of a vector loop), scalar expressions or ``Eq`` s, as
+    many equations in all as ``unknowns``; loops may share unknowns.  ``inputs``: the driven variables.
+    ``parameters``: a number (or a sympy constant such as ``sp.pi / 6``) for every other symbol, keyed by
+    the symbol or its name (:meth:`with_parameters` gives the same declaration with other numbers, sharing
+    everything derived).  Optional ``points`` (name → 2×1 matrix of x, y) and ``links`` (pairs of point
+    names) describe the drawing.  A declaration is checked when made: rows that are not smooth and real,
+    involve no unknown, repeat or depend on each other (J of rank < n at a generic point) are refused by
+    name.
 
     >>> x, th = sp.symbols("x theta")
-    >>> follower = Mechanism([x - sp.cos(th)], unknowns=[x], inputs=[th])
+    >>> follower = Mechanism([sp.Eq(x, sp.cos(th))], unknowns=[x], inputs=[th])
     >>> follower.solve({th: np.pi / 2}, rates={th: 2.0}, guess={x: 0.5}).velocity["x"]
     -2.0
     """
@@ -233,42 +344,90 @@ class Mechanism:
                  points: Mapping | None = None, links: Sequence = ()):
         self.unknowns = _symbols("unknowns", unknowns)
         self.inputs = _symbols("inputs", inputs)
-        self.equations = _equations(loops)
         moving = self.unknowns + self.inputs
         if len({s.name for s in moving}) != len(moving):
             raise InvalidGeometryError(f"unknowns and inputs must not share a symbol; got {moving}")
+        equations, self._row_names, self._loops = _equations(loops)
         n = len(self.unknowns)
-        if self.equations.rows != n:
-            raise InvalidGeometryError(f"loops give {self.equations.rows} equations for the {n} unknowns "
+        if equations.rows != n:
+            raise InvalidGeometryError(f"loops give {equations.rows} equations for the {n} unknowns "
                                        f"{list(self.unknowns)}: there must be one equation per unknown")
-        self.parameters = MappingProxyType(_numbers({} if parameters is None else parameters))
-        self.points = {str(name): sp.Matrix(xy) for name, xy in (points or {}).items()}
-        self.links = tuple((str(a), str(b)) for a, b in links)
+        points = _points(points)
+        # one symbol per name: the unknowns' and inputs' own, else the first met (whatever its assumptions)
+        canonical = {s.name: s for s in moving}
+        found = equations.free_symbols.union(*(xy.free_symbols for xy in points.values()))
+        for symbol in sorted(found, key=lambda s: (s.name, str(sorted(s.assumptions0.items())))):
+            canonical.setdefault(symbol.name, symbol)
+        swap = {s: canonical[s.name] for s in found if canonical[s.name] is not s}
+        self.equations = equations.xreplace(swap)
+        self.points = {name: xy.xreplace(swap) for name, xy in points.items()}
+        self.links = _links(links, self.points)
         used = self.equations.free_symbols
         for argument, symbols in (("unknowns", self.unknowns), ("inputs", self.inputs)):
             for symbol in symbols:
                 if symbol not in used:
                     raise InvalidGeometryError(f"{argument}: {symbol} appears in no loop "
                                                f"(the loops contain {sorted(map(str, used))})")
-        for name, xy in self.points.items():
-            if xy.shape != (2, 1):
-                raise InvalidGeometryError(f"points[{name!r}] must be a 2x1 Matrix (x, y); got {xy!r}")
-            used = used | xy.free_symbols
-        for link in self.links:
-            if not set(link) <= set(self.points):
-                raise InvalidGeometryError(f"links: {link} names a point not in points {list(self.points)}")
-        clash = set(self.parameters) & set(moving)
-        left_over = used - set(moving) - set(self.parameters)
-        unused = set(self.parameters) - used
+        self._check_rows()
+        everything = used.union(*(xy.free_symbols for xy in self.points.values()))
+        given = {} if parameters is None else parameters
+        if not isinstance(given, Mapping):
+            raise InvalidGeometryError(f"parameters must map sympy Symbols (or their names) to numbers; "
+                                       f"got {given!r}")
+        by_name, moving_names = {s.name: s for s in everything}, {s.name for s in moving}
+        values, clash, unused = {}, set(), set()
+        for key, value in given.items():
+            name = key.name if isinstance(key, sp.Symbol) else key
+            if not isinstance(name, str):
+                raise InvalidGeometryError(f"parameters must be keyed by sympy Symbols or their names; "
+                                           f"got the key {key!r}")
+            if name in moving_names:
+                clash.add(name)
+            elif name not in by_name:
+                unused.add(name)
+            else:
+                values[by_name[name]] = _number(f"parameters[{name}]", value)
+        left_over = {s.name for s in everything - set(moving) - set(values)}
+        shown = {str(k): v for k, v in given.items()}
         for bad, what in ((clash, "is an unknown or input and cannot be a parameter"),
                           (left_over, "has no value: give it one in parameters"),
                           (unused, "appears in no loop or point")):
             if bad:
-                names = ", ".join(sorted(map(str, bad)))
-                raise InvalidGeometryError(f"parameters: {names} {what}; got parameters="
-                                           f"{ {str(k): v for k, v in self.parameters.items()} }")
+                raise InvalidGeometryError(f"parameters: {', '.join(sorted(bad))} {what}; "
+                                           f"got parameters={shown}")
+        self.parameters = MappingProxyType(values)
         self._values = tuple(self.parameters.values())
-        self._derived = {}
+        self._derived, self._numeric = {}, {}
+        self._check_rank()
+
+    def _check_rows(self) -> None:
+        """Rows that involve no unknown, or repeat another (up to sign), refused by name."""
+        unknowns = set(self.unknowns)
+        for name, row in zip(self._row_names, self.equations, strict=True):
+            if not row.free_symbols & unknowns:
+                raise InvalidGeometryError(f"{name} does not involve any unknown: a row that is zero or "
+                                           f"constant in {list(self.unknowns)} fixes nothing; got {row}")
+        for (i, a), (j, b) in itertools.combinations(enumerate(self.equations), 2):
+            if sp.expand(a - b) == 0 or sp.expand(a + b) == 0:
+                raise InvalidGeometryError(f"{self._row_names[j]} repeats {self._row_names[i]}: the rows "
+                                           f"must be independent; got {b}")
+
+    def _check_rank(self) -> None:
+        """J of full rank at a generic point, else the dependent rows named."""
+        J = self._generic_jacobians()
+        if J is None:
+            return
+        r, c = self._scales
+        scaled = J / r[:, None] / c[None, :]
+        u_all, s_all, _ = np.linalg.svd(scaled)
+        ratio = s_all[:, -1] / s_all[:, 0]
+        if ratio.max() >= 1e-9:
+            return
+        best = int(np.argmax(ratio))
+        rows = [self._row_names[i] for i in np.flatnonzero(np.abs(u_all[best][:, -1]) > 0.1)]
+        raise InvalidGeometryError(f"the rows {', '.join(rows)} depend on each other: J = ∂F/∂q has rank "
+                                   f"< {len(self.unknowns)} at every configuration, so no input fixes the "
+                                   "unknowns; declare independent loops")
 
     def with_parameters(self, parameters: Mapping) -> Mechanism:
         """The same loops with other numbers for all the parameters (keyed by symbol or name): nothing
@@ -276,19 +435,28 @@ class Mechanism:
 
         >>> x, th, a = sp.symbols("x theta a")
         >>> crank = Mechanism([x - a * sp.cos(th)], [x], [th], {a: 1.0})
-        >>> crank.with_parameters({a: 3.0}).residual([0.0], [0.0]).tolist()
+        >>> crank.with_parameters({"a": 3.0}).residual([0.0], [0.0]).tolist()
         [-3.0]
         """
-        if isinstance(parameters, Mapping):
-            by_name = {s.name: s for s in self.parameters}
-            parameters = {by_name.get(k, k): v for k, v in parameters.items()}
-        values = _numbers(parameters)
+        if not isinstance(parameters, Mapping):
+            raise InvalidGeometryError(f"parameters must map each of {list(self.parameters)} to a number; "
+                                       f"got {parameters!r}")
+        by_name = {s.name: s for s in self.parameters}
+        values = {}
+        for key, value in parameters.items():
+            name = key.name if isinstance(key, sp.Symbol) else key
+            if name not in by_name:
+                raise InvalidGeometryError(f"parameters must give a number for each of "
+                                           f"{list(self.parameters)} and nothing else; "
+                                           f"got {list(parameters)}")
+            values[by_name[name]] = _number(f"parameters[{name}]", value)
         if set(values) != set(self.parameters):
             raise InvalidGeometryError(f"parameters must give a number for each of {list(self.parameters)} "
-                                       f"and nothing else; got {list(values)}")
+                                       f"and nothing else; got {list(parameters)}")
         other = copy.copy(self)
         other.parameters = MappingProxyType({k: values[k] for k in self.parameters})
         other._values = tuple(other.parameters.values())
+        other._numeric = {}
         return other
 
     # ------------------------------------------------------------ derived once, symbolically
@@ -313,15 +481,15 @@ class Mechanism:
 
     @_derived
     def _time_derivatives(self) -> tuple[sp.Matrix, sp.Matrix]:
-        """dF/dt and d²F/dt²: unknowns and inputs made functions of time, the loops differentiated,
-        the derivatives named by :attr:`rate_symbols`."""
-        functions = {s: sp.Function(s.name, real=True)(TIME) for s in self.rate_symbols}
+        """dF/dt and d²F/dt²: unknowns and inputs made functions of the core's own time (a Dummy), the
+        loops differentiated, the derivatives named by :attr:`rate_symbols`."""
+        functions = {s: sp.Function(s.name, real=True)(_TIME) for s in self.rate_symbols}
         back = {}
         for symbol, function in functions.items():
             first, second = self.rate_symbols[symbol]
-            back.update({function.diff(TIME, 2): second, function.diff(TIME): first, function: symbol})
-        first = self.equations.xreplace(functions).diff(TIME)
-        return first.xreplace(back), first.diff(TIME).xreplace(back)
+            back.update({function.diff(_TIME, 2): second, function.diff(_TIME): first, function: symbol})
+        first = self.equations.xreplace(functions).diff(_TIME)
+        return first.xreplace(back), first.diff(_TIME).xreplace(back)
 
     @property
     def velocity_equations(self) -> sp.Matrix:
@@ -473,6 +641,194 @@ class Mechanism:
         terms = self._acceleration_fn(self._values, q, q_rate, u, u_rate, u_acceleration, known=known)
         return _vector(terms, 0, len(self.unknowns))
 
+    # ------------------------------------------------------------ structure: blocks, angles, closed forms
+
+    @_derived
+    def _structure(self) -> dict:
+        """The blocks solved in turn (rows, columns), the angle unknowns, and each block's closed form
+        (a :class:`~course_lib.symbolic.LoopForm`, or None where Newton solves it)."""
+        n = len(self.unknowns)
+        column = {s: j for j, s in enumerate(self.unknowns)}
+        involves = [{column[s] for s in row.free_symbols if s in column} for row in self.equations]
+        angles = {s for s in self.unknowns if all(is_angle(row, s) for row in self.equations if row.has(s))}
+        remaining, solved, blocks = list(range(n)), set(), []
+
+        def open_columns(rows):
+            return set().union(*(involves[i] for i in rows)) - solved
+
+        while remaining:
+            whole = [g for g in self._loops if set(g) <= set(remaining)]
+            choices = ([g for g in whole if len(open_columns(g)) == len(g) <= 2]
+                       + [[i] for i in remaining if len(open_columns([i])) == 1]
+                       + [list(p) for p in itertools.combinations(remaining, 2) if len(open_columns(p)) == 2]
+                       + [g for g in whole if len(open_columns(g)) == len(g)])
+            rows = choices[0] if choices else list(remaining)
+            columns = sorted(open_columns(rows))
+            if len(columns) != len(rows):
+                rows, columns = list(remaining), sorted(set(range(n)) - solved)
+            blocks.append((rows, columns))
+            solved |= set(columns)
+            remaining = [i for i in remaining if i not in rows]
+        forms = []
+        for rows, columns in blocks:
+            form = None
+            if len(columns) <= 2:
+                try:
+                    form = reduce_loop([self.equations[i] for i in rows], [self.unknowns[j] for j in columns],
+                                       angles)
+                except (ValueError, TypeError, NotImplementedError, ZeroDivisionError, sp.PolynomialError):
+                    form = None
+            forms.append(form)
+        return {"blocks": blocks, "angles": angles, "forms": forms}
+
+    @property
+    def closed_forms(self) -> list[LoopForm | None]:
+        """Each block's closed form, derived from the declaration by the half-angle route (None where a
+        block does not reduce and Newton solves it); ``quadratic`` holds its (a, b, c).
+
+        >>> th2, th3, th4 = sp.symbols("theta2 theta3 theta4")
+        >>> l1, l2, l3, l4 = sp.symbols("l1:5", positive=True)
+        >>> loop = sp.Matrix([l2*sp.cos(th2) + l3*sp.cos(th3) - l4*sp.cos(th4) - l1,
+        ...                   l2*sp.sin(th2) + l3*sp.sin(th3) - l4*sp.sin(th4)])
+        >>> form, = Mechanism([loop], [th3, th4], [th2], {l1: 0.2, l2: 0.06, l3: 0.18, l4: 0.12}).closed_forms
+        >>> form.unknowns, form.quadratic[1]
+        ((theta4, theta3), -4*l2*l4*sin(theta2))
+        """
+        return list(self._structure["forms"])
+
+    @_derived
+    def _closed_fns(self) -> list | None:
+        """Per block, the compiled (a, b, c) and second-unknown functions; None unless every block reduces."""
+        forms = self._structure["forms"]
+        if any(form is None for form in forms):
+            return None
+        compiled = []
+        for form in forms:
+            second = None
+            if form.second is not None:
+                second = self._compile(list(form.second[1:]), self.unknowns, self.inputs)
+            linear = form.kind == "length" and form.quadratic[0] == 0
+            compiled.append((self._compile(list(form.quadratic), self.unknowns, self.inputs), second, linear))
+        return compiled
+
+    # ------------------------------------------------------------ typical sizes and the singularity rule
+
+    def _generic_jacobians(self) -> np.ndarray | None:
+        """J at 24 generic configurations (angles in (−π, π], lengths of the parameters' typical size)."""
+        if "generic" not in self._numeric:
+            sizes = [abs(v) for v in self._values if v != 0.0]
+            length = float(np.median(sizes)) if sizes else 1.0
+            rng = np.random.default_rng(0)
+            angles = self._structure["angles"] | {s for s in self.inputs if all(
+                is_angle(row, s) for row in self.equations if row.has(s))}
+
+            def sample(symbols):
+                return np.column_stack([rng.uniform(-np.pi, np.pi, 24) if s in angles else
+                                        length * rng.uniform(0.5, 2.0, 24) * rng.choice([-1, 1], 24)
+                                        for s in symbols])
+
+            q, u = sample(self.unknowns), sample(self.inputs)
+            with np.errstate(all="ignore"):
+                J = self.jacobian(q, u)
+            J = J[np.isfinite(J).all(axis=(1, 2))]
+            self._numeric["generic"] = J if len(J) else None
+        return self._numeric["generic"]
+
+    @property
+    def _scales(self) -> tuple[np.ndarray, np.ndarray]:
+        """Typical size of each row and column of J at the generic configurations (rows first)."""
+        if "scales" not in self._numeric:
+            J, n = self._generic_jacobians(), len(self.unknowns)
+            if J is None:
+                rows = columns = np.ones(n)
+            else:
+                rows = np.sqrt((J * J).mean(axis=(0, 2)))
+                rows = np.where(rows > 0, rows, 1.0)
+                scaled = J / rows[:, None]
+                columns = np.sqrt((scaled * scaled).mean(axis=(0, 1)))
+                columns = np.where(columns > 0, columns, 1.0)
+            self._numeric["scales"] = (rows, columns)
+        return self._numeric["scales"]
+
+    def smallest_singular_value(self, q, u) -> np.ndarray:
+        """σ_min(J̃) at positions ``q`` (..., n) and inputs ``u`` (..., m): J̃ is J with each row and column
+        divided by its typical size at the declaration's generic point, so the test ignores units and a
+        row vanishing as a whole counts.  J is singular where it is below ``SINGULAR``.
+
+        >>> x, y, s = sp.symbols("x y s")
+        >>> trammel = Mechanism([x**2 + y**2 - 1, x - s], [x, y], [s])
+        >>> values = trammel.smallest_singular_value([[0.6, 0.8], [1.0, 0.0]], [[0.6], [1.0]])
+        >>> [round(float(v), 3) for v in values]
+        [0.798, 0.0]
+        """
+        q, u = self._checked(q=q, u=u)
+        return self._smallest(self.jacobian(q, u))
+
+    def _smallest(self, J: np.ndarray) -> np.ndarray:
+        """σ_min(J̃) of a stack J (..., n, n): exact for n ≤ 2, else exact where a bound cannot settle it."""
+        rows, columns = self._scales
+        A = J / rows[:, None] / columns[None, :]
+        n = A.shape[-1]
+        with np.errstate(all="ignore"):
+            if n == 1:
+                return np.abs(A[..., 0, 0])
+            frobenius = (A * A).sum(axis=(-2, -1))
+            if n == 2:
+                det = A[..., 0, 0] * A[..., 1, 1] - A[..., 0, 1] * A[..., 1, 0]
+                largest = np.sqrt((frobenius + np.sqrt(np.maximum(frobenius**2 - 4 * det**2, 0.0))) / 2)
+                return np.where(largest > 0, np.abs(det) / largest, 0.0)
+            det = np.ones(A.shape[:-2])
+            for block_rows, block_columns in self._structure["blocks"]:
+                det = det * np.linalg.det(A[..., block_rows, :][..., block_columns])
+            smallest = np.abs(det) / np.sqrt(frobenius) ** (n - 1)  # a lower bound
+            unsure = ~(smallest >= NEAR_SINGULAR) & np.isfinite(frobenius)
+            if unsure.any():
+                smallest[unsure] = np.linalg.svd(A[unsure], compute_uv=False)[..., -1]
+            return smallest
+
+    # ------------------------------------------------------------ numbers (arrays ordered as declared)
+
+    def _checked(self, **arrays) -> list[np.ndarray]:
+        """Each named array as floats (finite, or NaN: not assembled) whose last axis holds the declared
+        count (q…: the unknowns, u…: the inputs, x: 3n), broadcast together on the leading axes; else the
+        named error."""
+        n, m = len(self.unknowns), len(self.inputs)
+        out, leading = [], {}
+        for name, value in arrays.items():
+            size, order = ((3 * n, "q, q̇, q̈") if name in ("x", "seed") else
+                           (n, [s.name for s in self.unknowns]) if name.startswith("q") else
+                           (m, [s.name for s in self.inputs]))
+            array = require_finite(name, value, allow_nan=True)
+            if array.ndim == 0 or array.shape[-1] != size:
+                raise InvalidGeometryError(f"{name} must have {size} entries on its last axis (ordered as "
+                                           f"{order}); got {value!r} of shape {array.shape}")
+            out.append(array)
+            leading[name] = array.shape[:-1]
+        try:
+            np.broadcast_shapes(*leading.values())
+        except ValueError:
+            shapes = ", ".join(f"{name} of shape {np.shape(v)}" for name, v in arrays.items())
+            raise InvalidGeometryError(f"the arrays must broadcast on their leading axes; "
+                                       f"got {shapes}") from None
+        return out
+
+    def _newton_terms(self, q, u, known=None, seen=None) -> tuple[np.ndarray, np.ndarray]:
+        """F (..., n) and J (..., n, n) from one evaluation (``known``, ``seen``: see _compile)."""
+        n = len(self.unknowns)
+        terms = self._newton_fn(self._values, q, u, known=known, seen=seen)
+        return _vector(terms, 0, n), _matrix(terms, n, n, n)
+
+    def _rate_terms(self, q, u, known=None, same_point=False) -> tuple[np.ndarray, np.ndarray]:
+        """J (..., n, n) and F_u (..., n, m) from one evaluation (``known``, ``same_point``: see _compile)."""
+        n, m = len(self.unknowns), len(self.inputs)
+        terms = self._rate_fn(self._values, q, u, known=known, same_point=same_point)
+        return _matrix(terms, 0, n, n), _matrix(terms, n * n, n, m)
+
+    def _rhs(self, q, q_rate, u, u_rate, u_acceleration, known=None) -> np.ndarray:
+        """−(d²F/dt² with q̈ = 0), shape (..., n): the right-hand side of J·q̈ = …"""
+        terms = self._acceleration_fn(self._values, q, q_rate, u, u_rate, u_acceleration, known=known)
+        return _vector(terms, 0, len(self.unknowns))
+
     def newton_function(self, u) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
         """q ↦ (F(q, u), J(q, u)) at the fixed inputs ``u`` (N, m), for ``newton_batch(..., jac=True)``:
         F and J from one evaluation, sharing the cos and sin of q, those of ``u`` computed once for
@@ -483,7 +839,11 @@ class Mechanism:
         >>> newton_batch(F, np.ones((2, 1)), jac=True).x[:, 0].tolist()
         [2.0, 3.0]
         """
-        u, known = np.asarray(u, dtype=float), {}
+        (u,) = self._checked(u=u)
+        if u.ndim != 2:
+            raise InvalidGeometryError(f"u must be an (N, {len(self.inputs)}) array of inputs; "
+                                       f"got shape {u.shape}")
+        known = {}
         return lambda q: self._newton_terms(q, u, known)
 
     def residual(self, q, u) -> np.ndarray:
@@ -494,15 +854,18 @@ class Mechanism:
         >>> [f(q, u).tolist() for f in (follower.residual, follower.jacobian, follower.input_jacobian)]
         [[1.5], [[1.0]], [[1.0]]]
         """
+        q, u = self._checked(q=q, u=u)
         return _vector(self._residual_fn(self._values, q, u), 0, len(self.unknowns))
 
     def jacobian(self, q, u) -> np.ndarray:
         """J = ∂F/∂q, shape (..., n, n) (see :meth:`residual`)."""
+        q, u = self._checked(q=q, u=u)
         n = len(self.unknowns)
         return _matrix(self._jacobian_fn(self._values, q, u), 0, n, n)
 
     def input_jacobian(self, q, u) -> np.ndarray:
         """F_u = ∂F/∂u, shape (..., n, m) (see :meth:`residual`)."""
+        q, u = self._checked(q=q, u=u)
         return self._rate_terms(q, u)[1]
 
     def velocity_residual(self, q_rate, q, u, u_rate) -> np.ndarray:
@@ -513,6 +876,7 @@ class Mechanism:
         >>> follower.velocity_residual([0.0], [0.0], [np.pi / 2], [2.0]).tolist()
         [2.0]
         """
+        q_rate, q, u, u_rate = self._checked(q_rate=q_rate, q=q, u=u, u_rate=u_rate)
         J, F_u = self._rate_terms(q, u)
         return np.einsum("...ij,...j->...i", J, q_rate) + np.einsum("...ij,...j->...i", F_u, u_rate)
 
@@ -524,9 +888,12 @@ class Mechanism:
         >>> follower.acceleration_residual([0.0], [0.0], [0.0], [0.0], [2.0], [0.0]).tolist()
         [4.0]
         """
+        q_acc, q_rate, q, u, u_rate, u_acc = self._checked(
+            q_acceleration=q_acceleration, q_rate=q_rate, q=q, u=u, u_rate=u_rate,
+            u_acceleration=u_acceleration)
         J = self.jacobian(q, u)
-        rest = self._rhs(q, q_rate, u, u_rate, u_acceleration)
-        return np.einsum("...ij,...j->...i", J, q_acceleration) - rest
+        rest = self._rhs(q, q_rate, u, u_rate, u_acc)
+        return np.einsum("...ij,...j->...i", J, q_acc) - rest
 
     def system(self, x, u, u_rate, u_acceleration, position: Mechanism | None = None):
         """The 3n simultaneous system: residuals of position, velocity and acceleration equations
@@ -538,38 +905,74 @@ class Mechanism:
         >>> G.tolist(), JG.tolist()
         ([0.0, 0.0, 4.0], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
         """
+        x, u, u_rate, u_acceleration = self._checked(x=x, u=u, u_rate=u_rate, u_acceleration=u_acceleration)
+        self._check_position(position)
         n = len(self.unknowns)
         terms = self._system_fn(self._values, x, u, u_rate, u_acceleration)
         G, JG = _vector(terms, 0, 3 * n), _matrix(terms, 3 * n, 3 * n, 3 * n)
         if position is not None:
-            G[..., :n], JG[..., :n, :n] = position._newton_terms(np.asarray(x, float)[..., :n], u)
+            G[..., :n], JG[..., :n, :n] = position._newton_terms(x[..., :n], u)
         return G, JG
+
+    def _check_position(self, position) -> None:
+        def names(symbols):
+            return [s.name for s in symbols]
+
+        if position is not None and not (isinstance(position, Mechanism)
+                                         and names(position.unknowns) == names(self.unknowns)
+                                         and names(position.inputs) == names(self.inputs)):
+            raise InvalidGeometryError(f"position must be a Mechanism with the unknowns "
+                                       f"{list(self.unknowns)} and inputs {list(self.inputs)}; "
+                                       f"got {position!r}")
+
+    def _solve_blocks(self, J: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """x (N, n) with J·x = b for a stack J (N, n, n), block by block (forward substitution)."""
+        blocks = self._structure["blocks"]
+        if len(blocks) == 1:
+            return LinearStack(J).solve(b)
+        x = np.empty(b.shape)
+        done: list[int] = []
+        for rows, columns in blocks:
+            rhs = b[:, rows]
+            if done:
+                rhs = rhs - np.einsum("nij,nj->ni", J[:, rows][:, :, done], x[:, done])
+            x[:, columns] = LinearStack(np.ascontiguousarray(J[:, rows][:, :, columns])).solve(rhs)
+            done = done + list(columns)
+        return x
 
     def rates(self, q, u, u_rate, u_acceleration=None, *, trig: Mapping | None = None, singular=None):
         """q̇, q̈ (None without ``u_acceleration``) and the singular mask at known positions, by J·q̇ =
-        −F_u·u̇, J·q̈ = −(the rest of d²F/dt²); NaN where singular.  ``q`` (..., n), the others (..., m);
-        ``trig``: {name: (cos, sin)} already computed; ``singular``: the caller's own mask.
+        −F_u·u̇, J·q̈ = −(the rest of d²F/dt²); NaN where singular (σ_min(J̃) < SINGULAR, see
+        :meth:`smallest_singular_value`).  ``q`` (..., n), the others (..., m); ``trig``: {name: (cos, sin)}
+        already computed; ``singular``: the caller's own mask.
 
         >>> th, x = sp.symbols("theta x")
         >>> [a.tolist() for a in Mechanism([x**2 - th], [x], [th]).rates([2.0], [4.0], [1.0], [0.0])]
         [[0.25], [-0.03125], False]
         """
-        arrays = [q, u, u_rate] + ([] if u_acceleration is None else [u_acceleration])
+        names = dict(q=q, u=u, u_rate=u_rate)
+        if u_acceleration is not None:
+            names["u_acceleration"] = u_acceleration
+        arrays = self._checked(**names)
         shape, arrays = _rows(*arrays)
         q, u, u_rate = arrays[:3]
+        if trig is not None and not isinstance(trig, Mapping):
+            raise InvalidGeometryError(f"trig must map names to (cos, sin) pairs; got {trig!r}")
         known = {(name, func): _broadcast(value, shape).ravel() for name, pair in (trig or {}).items()
                  for func, value in zip(("cos", "sin"), pair, strict=True)}
         J, F_u = self._rate_terms(q, u, known, same_point=True)
-        stack = LinearStack(J)
-        singular = stack.singular if singular is None else _broadcast(singular, shape).ravel()
+        if singular is None:
+            singular = ~(self._smallest(J) >= SINGULAR)
+        else:
+            singular = _broadcast(np.asarray(singular, dtype=bool), shape).ravel()
         any_singular = singular.any()
         if any_singular:
-            stack = LinearStack(np.where(singular[:, None, None], np.eye(len(self.unknowns)), J))
-        solve = stack.solve
-        q_rate = solve(sum(F_u[:, :, j] * -u_rate[:, j, None] for j in range(u_rate.shape[1])))
+            J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
+        q_rate = self._solve_blocks(J, sum(F_u[:, :, j] * -u_rate[:, j, None]
+                                           for j in range(u_rate.shape[1])))
         q_acc = None
         if u_acceleration is not None:
-            q_acc = solve(self._rhs(q, q_rate, u, u_rate, arrays[3], known))
+            q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, arrays[3], known))
             if any_singular:
                 q_acc[singular] = np.nan
             q_acc = q_acc.reshape(shape + q_acc.shape[-1:])
@@ -641,7 +1044,7 @@ class Mechanism:
         [('position', 2.0, 5), ('velocity', 0.25, 2), ('acceleration', -0.03125, 2)]
         """
         require_choice("linear_stages", linear_stages, LINEAR_STAGES)
-        u, u_rate, u_acc, seed = (np.asarray(a, dtype=float) for a in (u, u_rate, u_acceleration, seed))
+        u, u_rate, u_acc, seed = self._route_arguments(u, u_rate, u_acceleration, seed, position)
         n, batch = len(self.unknowns), u.ndim == 2
         start = np.broadcast_to(seed, (len(u), seed.size)) if batch else seed
         form, known, seen = position or self, {}, {}
@@ -673,62 +1076,29 @@ class Mechanism:
         >>> np.round(result.x, 6).tolist(), result.iterations
         ([2.0, 0.25, -0.03125], 5)
         """
-        u, u_rate, u_acc, seed = (np.asarray(a, dtype=float) for a in (u, u_rate, u_acceleration, seed))
+        u, u_rate, u_acc, seed = self._route_arguments(u, u_rate, u_acceleration, seed, position)
         start = np.broadcast_to(seed, (len(u), seed.size)) if u.ndim == 2 else seed
         return self._run("simultaneous", u, lambda x: self.system(x, u, u_rate, u_acc, position), start, tol,
                          max_iter)
 
+    def _route_arguments(self, u, u_rate, u_acceleration, seed, position):
+        """The checked arguments of the course's two routes: u, u̇, ü (m,) or (N, m) alike, seed (3n,)."""
+        u, u_rate, u_acc, seed = self._checked(u=u, u_rate=u_rate, u_acceleration=u_acceleration, seed=seed)
+        self._check_position(position)
+        if u.ndim > 2 or seed.ndim != 1 or not (u.shape == u_rate.shape == u_acc.shape):
+            raise InvalidGeometryError(f"u, u_rate and u_acceleration must share one shape, (m,) or (N, m), "
+                                       f"and seed must be one vector of 3n values; got shapes {u.shape}, "
+                                       f"{u_rate.shape}, {u_acc.shape} and {seed.shape}")
+        return u, u_rate, u_acc, seed
+
     # ------------------------------------------------------------ solving a motion
 
-    def _continuation(self, u: np.ndarray, seed: np.ndarray, tol: float, max_iter: int):
-        """Positions at the rows of ``u``, each where Newton from the previous row's solution goes (the
-        first from ``seed``), in few batched runs: all rows from one seed, a row accepted when one step
-        from its predecessor lands 10× closer, or a run from it agrees; from the first that fails, again."""
-        N, n = u.shape[0], len(self.unknowns)
-        q = np.full((N, n), np.nan)
-        converged, stuck, iterations = np.zeros(N, bool), np.zeros(N, bool), np.zeros(N, int)
+    def _F(self, q, u) -> np.ndarray:
+        return _vector(self._residual_fn(self._values, q, u), 0, len(self.unknowns))
 
-        def batch(rows, seeds):
-            u_rows, known = u[rows], {}
-            return newton_batch(lambda x: self._newton_terms(x, u_rows, known), seeds, jac=True, tol=tol,
-                                max_iter=max_iter)
-
-        def keep(rows, result, take):
-            q[rows], converged[rows] = result.x[take], result.converged[take]
-            stuck[rows], iterations[rows] = result.singular[take], result.iterations[take]
-
-        def distance(a, b):
-            return np.abs(a - b).max(axis=-1)
-
-        start, anchor, agree = 0, seed, SAME_ROOT + 100 * tol
-        while start < N:
-            rows = np.arange(start, N)
-            first = batch(rows, np.tile(anchor, (rows.size, 1)))
-            # rows that fail from the anchor before its first success, and that success
-            k = int(np.argmax(first.converged)) if first.converged.any() else rows.size - 1
-            keep(rows, first, slice(None))
-            if k + 1 >= rows.size or not first.converged[k]:
-                break
-            rows, previous, x = rows[k + 1:], first.x[k:-1], first.x[k + 1:]
-            F, J = self._newton_terms(previous, u[rows])
-            stepped = previous + linear_solver(J)(-F)
-            start_gap = distance(previous, x)
-            closer = (start_gap <= agree) | (distance(stepped, x) <= 0.1 * start_gap)
-            same = first.converged[k + 1:] & closer
-            doubt = np.flatnonzero(~same)
-            if doubt.size:
-                check = batch(rows[doubt], previous[doubt])
-                same[doubt] = check.converged & first.converged[k + 1:][doubt] & (
-                    distance(check.x, x[doubt]) <= agree)
-            if same.all():
-                break
-            f = int(np.argmin(same))
-            where = int(np.searchsorted(doubt, f))
-            keep(rows[f:f + 1], check, slice(where, where + 1))  # continuation's value there
-            q[rows[f + 1:]], converged[rows[f + 1:]] = np.nan, False
-            start = rows[f] + 1
-            anchor = q[rows[f]] if converged[rows[f]] else q[rows[f] - 1]
-        return q, converged, stuck, iterations
+    def _J(self, q, u) -> np.ndarray:
+        n = len(self.unknowns)
+        return _matrix(self._jacobian_fn(self._values, q, u), 0, n, n)
 
     def solve(self, inputs: Mapping, rates: Mapping | None = None, accelerations: Mapping | None = None,
               guess: Mapping | None = None, *, tol: float = 1e-10, max_iter: int = 50,
@@ -736,25 +1106,36 @@ class Mechanism:
         """Position, and velocity and acceleration if asked, at each value of the inputs.
 
         ``inputs``, ``rates``, ``accelerations`` map inputs (symbol or name) to numbers or arrays,
-        broadcast together (missing rates are 0).  ``guess`` seeds Newton at the first instant; each
-        later one (C order) continues from the previous solution.  One instant keeps its history in
-        ``Motion.newton``.  Raises, unless ``on_failure="nan"``: ``SingularJacobianError`` (J singular),
-        ``ConvergenceError`` (no root from the guess), ``UnreachableError`` (lost while continuing).
+        broadcast together (missing rates are 0).  ``guess`` picks the assembly: Newton runs from it at the
+        first instant (its history in ``Motion.newton`` for one instant).  Where every block reduces to a
+        closed form (:attr:`closed_forms`) each block keeps the root σ nearest that solution (σ = +1 without
+        a guess), and Newton only cross-checks; elsewhere each instant continues from its neighbour's
+        solution (tangent predictor, steps subdivided and Newton's steps limited, so no instant lands on
+        another assembly).  A sweep of one input is followed from its first instant outward, in increasing
+        and in decreasing order of the input (the order the values come in does not matter); several inputs
+        in the order given.  Angles stay within a turn of their neighbours.  Raises, unless
+        ``on_failure="nan"``: ``SingularJacobianError`` (rates asked where J is singular, or a singular
+        seed), ``ConvergenceError`` (no root from the guess), ``UnreachableError`` (no assembly).
 
         >>> th, x = sp.symbols("theta x")
-        >>> motion = Mechanism([x**2 - th], [x], [th]).solve({th: [1.0, 4.0]}, {th: 1.0}, guess={x: 2.0})
+        >>> motion = Mechanism([x**2 - th], [x], [th]).solve({th: [4.0, 1.0]}, {th: 1.0}, guess={x: 2.0})
         >>> motion.position["x"].tolist(), motion.velocity["x"].tolist(), motion.acceleration["x"].tolist()
-        ([1.0, 2.0], [0.5, 0.25], [-0.25, -0.03125])
+        ([2.0, 1.0], [0.25, 0.5], [-0.03125, -0.25])
         """
         require_choice("on_failure", on_failure, ON_FAILURE)
         u_given = _keyed("inputs", inputs, self.inputs)
-        rate_given = _keyed("rates", rates or {}, self.inputs, required=False)
-        acc_given = _keyed("accelerations", accelerations or {}, self.inputs, required=False)
-        q_given = _keyed("guess", guess or {}, self.unknowns)
-        seed = np.array([float(require_finite(f"guess[{k}]", v)) if np.ndim(v) == 0 else np.nan
-                         for k, v in q_given.items()])
-        if np.isnan(seed).any():
-            raise InvalidGeometryError(f"guess must give one number per unknown; got {q_given!r}")
+        rate_given = _keyed("rates", {} if rates is None else rates, self.inputs, required=False)
+        acc_given = _keyed("accelerations", {} if accelerations is None else accelerations, self.inputs,
+                           required=False)
+        closed = self._closed_fns is not None
+        seed = None
+        if guess is not None or not closed:
+            q_given = _keyed("guess", {} if guess is None else guess, self.unknowns)
+            for name, value in q_given.items():
+                if np.ndim(value) != 0 and np.size(value) != 1 or isinstance(value, str | bytes):
+                    raise InvalidGeometryError(f"guess must give one number per unknown; got guess[{name}]="
+                                               f"{value!r}")
+            seed = np.array([float(require_finite(f"guess[{k}]", v).ravel()[0]) for k, v in q_given.items()])
         named = {}
         for argument, given in (("inputs", u_given), ("rates", rate_given), ("accelerations", acc_given)):
             for name in (s.name for s in self.inputs):
@@ -767,25 +1148,56 @@ class Mechanism:
                                        f"got shapes {shapes}") from None
         shape, m = arrays[0].shape, len(self.inputs)
         u, u_rate, u_acc = (np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in range(3))
+        paths, notes, result, assembly = self._paths(u), [], None, None
+        stuck = np.zeros(len(u), bool)
         with np.errstate(all="ignore"):
-            if shape == ():
-                q, converged, stuck, iterations, result = self._one_instant(u[0], seed, tol, max_iter,
-                                                                            on_failure)
+            if seed is not None:
+                result = newton(lambda q: self._F(q, u[0]), seed, jac=lambda q: self._J(q, u[0]),
+                                tol=tol, max_iter=max_iter, on_failure="report")
+            if closed:
+                target = None if result is None else result.x if result.converged else seed
+                if result is not None and not result.converged:
+                    notes.append(f"Newton from the guess did not converge at {self._where(u, 0)} "
+                                 f"({result.message}); the closed form gave the assembly nearest the guess")
+                q, iterations, sigma = self._closed(u, paths, target, tol, max_iter, notes)
+                if shape == () and result is not None:
+                    iterations[0] = result.iterations
+                assembly = {name: scalar_or_array(values.reshape(shape)) for name, values in sigma.items()}
+            elif shape == ():
+                where = self._where(u, 0)
+                if on_failure == "raise" and result.singular:
+                    raise SingularJacobianError(f"at {where}: {result.message}", result.x.tolist())
+                if on_failure == "raise" and not result.converged:
+                    raise ConvergenceError(f"at {where}, from the guess: {result.message}", result=result)
+                q = result.x[None, :].copy() if result.converged else np.full((1, len(seed)), np.nan)
+                iterations, stuck[0] = np.array([result.iterations]), result.singular
             else:
-                result = None
-                q, converged, stuck, iterations = self._continuation(u, seed, tol, max_iter)
+                start = result.x if result.converged else None
+                if start is None:
+                    start, fixed, _ = self._correct(seed, u[0], tol, max_iter)
+                    if not fixed:
+                        start = None
+                    if start is None and on_failure == "raise":
+                        where = self._where(u, 0)
+                        if result.singular:
+                            raise SingularJacobianError(f"at {where}, the first instant: {result.message}",
+                                                        result.x.tolist())
+                        raise ConvergenceError(f"at {where}, the first instant, from the guess: "
+                                               f"{result.message}", result=result)
+                q, iterations = self._march(u, paths, start, tol, max_iter, notes)
+            converged = np.isfinite(q).all(axis=1)
+            smallest = self._smallest(self._J(np.where(converged[:, None], q, 0.0), u))
+            singular = converged & ~(smallest >= SINGULAR) | stuck
+            near = converged & ~(smallest >= NEAR_SINGULAR)
             want_rates = rates is not None or accelerations is not None
             if want_rates:
-                q_rate, q_acc, singular = self.rates(q, u, u_rate, u_acc)
-            else:
-                singular = is_singular(self.jacobian(q, u))
-            singular = stuck | (converged & singular)
+                safe = np.where(converged[:, None], q, 0.0)
+                q_rate, q_acc, _ = self._rates(safe, u, u_rate, u_acc, singular | ~converged)
+        self._notes(notes, converged, singular, near, u)
         if on_failure == "raise":
-            self._report(~converged | (singular & want_rates), singular, u)
-        q[~converged] = np.nan
+            self._report(~converged, singular & want_rates, u, closed)
         velocity = acceleration = None
         if want_rates:
-            q_rate[singular | ~converged], q_acc[singular | ~converged] = np.nan, np.nan
             velocity, acceleration = self._by_name(q_rate, shape), self._by_name(q_acc, shape)
 
         def shaped(values):
@@ -794,36 +1206,280 @@ class Mechanism:
         inputs_used = {s.name: scalar_or_array(a) for s, a in zip(self.inputs, arrays[:m], strict=True)}
         return Motion(position=self._by_name(q, shape), velocity=velocity, acceleration=acceleration,
                       converged=shaped(converged), singular=shaped(singular), iterations=shaped(iterations),
-                      inputs=MappingProxyType(inputs_used), newton=result)
+                      inputs=MappingProxyType(inputs_used), newton=result if shape == () else None,
+                      near_singular=shaped(near), message="; ".join(notes),
+                      assembly=None if assembly is None else MappingProxyType(assembly))
 
-    def _one_instant(self, u, seed, tol, max_iter, on_failure):
-        """Newton with its history at one instant; failures re-raised naming the inputs."""
-        where = self._where(u, 0)
-        result = newton(lambda q: self.residual(q, u), seed, jac=lambda q: self.jacobian(q, u),
-                        tol=tol, max_iter=max_iter, on_failure="report")
-        if on_failure == "raise" and result.singular:
-            raise SingularJacobianError(f"at {where}: {result.message}", result.x.tolist())
-        if on_failure == "raise" and not result.converged:
-            raise ConvergenceError(f"at {where}, from the guess: {result.message}", result=result)
-        if result.singular:
-            return np.full((1, seed.size), np.nan), np.array([False]), np.array([True]), np.array([0]), None
-        return (result.x[None, :].copy(), np.array([result.converged]), np.array([False]),
-                np.array([result.iterations]), result)
+    def _rates(self, q, u, u_rate, u_acc, singular) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """q̇ and q̈ (N, n) at solved positions, NaN where ``singular``."""
+        J, F_u = self._rate_terms(q, u, {}, same_point=True)
+        J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
+        q_rate = self._solve_blocks(J, np.einsum("nij,nj->ni", F_u, -u_rate))
+        q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, u_acc))
+        q_rate[singular], q_acc[singular] = np.nan, np.nan
+        return q_rate, q_acc, singular
+
+    @staticmethod
+    def _paths(u: np.ndarray) -> list[np.ndarray]:
+        """The orders a sweep follows, each from instant 0: one input outward from it in increasing and in
+        decreasing order of the input; several inputs in the order given."""
+        N, m = u.shape
+        if N == 1:
+            return [np.array([0])]
+        if m > 1:
+            return [np.arange(N)]
+        order = np.argsort(u[:, 0], kind="stable")
+        at = int(np.flatnonzero(order == 0)[0])
+        return [p for p in (order[at:], order[:at + 1][::-1]) if len(p) > 1]
+
+    def _distance(self, a: np.ndarray, b: np.ndarray, columns=None) -> np.ndarray:
+        """max over unknowns of |a − b| in typical units (angles compared modulo a turn)."""
+        columns = range(len(self.unknowns)) if columns is None else columns
+        angles = self._structure["angles"]
+        scale = self._scales[1]
+        gaps = []
+        for j in columns:
+            gap = a[..., j] - b[..., j]
+            if self.unknowns[j] in angles:
+                gap = _unwrap_to(gap, 0.0)
+            gaps.append(np.abs(gap) * scale[j])
+        return np.max(gaps, axis=0)
+
+    # ------------------------------------------------------------ the closed-form route
+
+    @staticmethod
+    def _root(a, b, c, sigma, kind):
+        """The root σ of a·v² + b·v + c = 0 (v = tan(θ/2) → θ for an angle), from the better-conditioned
+        of (−b + σ√Δ)/(2a) and 2c/(−b − σ√Δ); NaN where Δ < 0 beyond rounding; and Δ over its scale."""
+        discriminant = b * b - 4 * a * c
+        # for an angle, (a, b, c) = (C − A, 2B, C + A) of A cos θ + B sin θ + C:
+        # Δ ≤ b² + (a − c)² = 4(A² + B²)
+        scale = b * b + ((a - c) ** 2 if kind == "angle" else np.abs(4 * a * c))
+        bad = ~(discriminant >= -1e-12 * scale)
+        root = np.sqrt(np.maximum(discriminant, 0.0))
+        y1, x1 = -b + sigma * root, 2 * a
+        y2, x2 = 2 * c, -b - sigma * root
+        first = np.abs(y1) + np.abs(x1) >= np.abs(y2) + np.abs(x2)
+        y, x = np.where(first, y1, y2), np.where(first, x1, x2)
+        bad |= (np.abs(y) + np.abs(x)) == 0
+        value = 2 * np.arctan2(y, x) if kind == "angle" else y / x
+        return np.where(bad, np.nan, value), np.where(scale > 0, discriminant / scale, 0.0)
+
+    def _closed(self, u, paths, target, tol, max_iter, notes) -> tuple[np.ndarray, np.ndarray, dict]:
+        """Positions (N, n) from the closed forms, each block's σ picked at the first instant from
+        ``target`` (the Newton solution, or the guess) and kept along the paths except where the two
+        assemblies meet (a change point, reported in ``notes``); then cross-checked by the residual."""
+        N, n = len(u), len(self.unknowns)
+        q, sigmas = np.full((N, n), np.nan), {}
+        structure = self._structure
+        for form, (coefficients, second, linear) in zip(structure["forms"], self._closed_fns, strict=True):
+            first = self.unknowns.index(form.unknowns[0])
+            a, b, c = coefficients(self._values, q, u)
+            if linear:
+                q[:, first] = -c / b
+            else:
+                (plus, level), (minus, _) = (self._root(a, b, c, s, form.kind) for s in (1, -1))
+                sigma = np.full(N, self._pick(plus, minus, paths, target, first))
+                self._follow(sigma, plus, minus, level, paths, u, first, notes)
+                q[:, first] = np.where(sigma > 0, plus, minus)
+                sigmas[form.unknowns[0].name] = sigma
+            if form.second is not None:
+                other = self.unknowns.index(form.unknowns[1])
+                values = second(self._values, q, u)
+                q[:, other] = np.arctan2(values[1], values[0]) if form.second[0] == "angle" else values[0]
+        self._continuous(q, paths, target)
+        iterations = np.zeros(N, int)
+        rows = self._scales[0]
+        residual = np.abs(self._F(np.where(np.isfinite(q), q, 0.0), u)) / rows
+        doubt = np.flatnonzero(np.isfinite(q).all(axis=1) & ~(residual.max(axis=1) <= RESIDUAL))
+        for k in doubt:  # the cross-check: Newton from the closed form, kept only on the same assembly
+            polished, fixed, count = self._correct(q[k], u[k], tol, max_iter)
+            iterations[k] = count
+            q[k] = polished if fixed and self._distance(polished, q[k]) <= MAX_CHANGE else np.nan
+        return q, iterations, sigmas
+
+    def _pick(self, plus, minus, paths, target, first) -> int:
+        """σ at the first instant (along the paths) where the two roots differ: the one nearer ``target``."""
+        if target is None:
+            return 1
+        for k in itertools.chain(*paths):
+            both = np.array([plus[k], minus[k]])
+            if np.isfinite(both).all() and self._distance(both[:1, None], both[1:, None], [0]) > 1e-7:
+                size = self._scales[1][first]
+                gaps = np.abs(both - target[first])
+                if self.unknowns[first] in self._structure["angles"]:
+                    gaps = np.abs(_unwrap_to(both - target[first], 0.0))
+                return 1 if gaps[0] * size <= gaps[1] * size else -1
+        return 1
+
+    def _follow(self, sigma, plus, minus, level, paths, u, first, notes) -> None:
+        """Swap σ where the two assemblies meet between instants (a change point): there the other root
+        continues the motion smoothly (a secant from the two instants before predicts it)."""
+        name, is_angle_ = self.unknowns[first].name, self.unknowns[first] in self._structure["angles"]
+        for path in paths:
+            for _ in range(64):
+                if len(path) < 3:
+                    break
+                chosen = np.where(sigma[path] > 0, plus[path], minus[path])
+                other = np.where(sigma[path] > 0, minus[path], plus[path])
+                steps = np.linalg.norm(np.diff(u[path], axis=0), axis=1)
+                ratio = np.where(steps[:-1] > 0, steps[1:] / np.where(steps[:-1] > 0, steps[:-1], 1.0), 0.0)
+                back = chosen[1:-1] - chosen[:-2]
+                if is_angle_:
+                    back = _unwrap_to(back, 0.0)
+                predicted = chosen[1:-1] + back * ratio
+
+                def gap(values, predicted=predicted):
+                    d = values - predicted
+                    return np.abs(_unwrap_to(d, 0.0) if is_angle_ else d)
+
+                same, swapped = gap(chosen[2:]), gap(other[2:])
+                low = np.minimum(level[path][1:-1], level[path][2:])
+                suspect = (swapped < 0.25 * same) & (same * self._scales[1][first] > 1e-6) & (low < 0.1)
+                if not suspect.any():
+                    break
+                k = int(np.argmax(suspect)) + 2
+                sigma[path[k:]] *= -1
+                notes.append(f"the two assemblies of {name} meet (a change point) between "
+                             f"{self._where(u, path[k - 1])} and {self._where(u, path[k])}: the motion "
+                             "continues on the smooth one (σ swapped there)")
+
+    def _continuous(self, q, paths, target) -> None:
+        """Angles unwrapped along each path, the first instant's within π of ``target`` (if any)."""
+        for j, unknown in enumerate(self.unknowns):
+            if unknown not in self._structure["angles"] or not np.isfinite(q[0, j]):
+                continue
+            if target is not None:
+                q[0, j] = _unwrap_to(q[0, j], target[j])
+            for path in paths:
+                values = q[path, j]
+                finite = np.isfinite(values)
+                if finite.sum() < 2 or not finite[0]:
+                    continue
+                kept = np.unwrap(values[finite])
+                q[path[finite], j] = kept - kept[0] + q[0, j]
+
+    # ------------------------------------------------------------ Newton with continuation
+
+    def _correct(self, q, u, tol, max_iter) -> tuple[np.ndarray, bool, int]:
+        """Newton from ``q`` at one instant, steps by the least-squares solve of the scaled J (the smallest
+        singular values dropped: no huge step near a singularity) and no larger than MAX_STEP."""
+        rows, columns = self._scales
+        q, step = np.array(q, dtype=float), np.inf
+        for k in range(max_iter + 1):
+            F, J = self._newton_terms(q, u)
+            if not (np.isfinite(F).all() and np.isfinite(J).all()):
+                return q, False, k
+            if step < tol and np.sqrt(F @ F) <= tol:
+                return q, True, k
+            if k == max_iter:
+                break
+            U, S, Vt = np.linalg.svd(J / rows[:, None] / columns[None, :])
+            if not S[0] > 0:
+                return q, False, k
+            keep = S > 1e-10 * S[0]
+            change = Vt[keep].T @ ((U[:, keep].T @ (-F / rows)) / S[keep])
+            largest = np.abs(change).max()
+            if largest > MAX_STEP:
+                change *= MAX_STEP / largest
+            delta = change / columns
+            q, step = q + delta, float(np.sqrt(delta @ delta))
+        return q, False, max_iter
+
+    def _advance(self, q, u_from, u_to, tol, max_iter) -> tuple[np.ndarray | None, int]:
+        """The solution at ``u_to`` continued from ``q`` at ``u_from``: tangent predictor, Newton corrector,
+        the step halved until the corrector lands near the prediction (no other assembly)."""
+        step_u = u_to - u_from
+        if not step_u.any():
+            return q.copy(), 0
+        columns = self._scales[1]
+        angles = [j for j, s in enumerate(self.unknowns) if s in self._structure["angles"]]
+        done, h, count = 0.0, 1.0, 0
+        while done < 1.0:
+            h = min(h, 1.0 - done)
+            if h < 1e-13:
+                return None, count
+            here = u_from + done * step_u
+            J, F_u = self._rate_terms(q, here)
+            singular = not self._smallest(J) >= SINGULAR
+            prediction = q
+            if not singular:
+                tangent = np.linalg.solve(J, -(F_u @ step_u))
+                prediction = q + h * tangent
+                change = float(np.max(np.abs(h * tangent) * columns))
+                if change > MAX_CHANGE:
+                    h *= 0.9 * MAX_CHANGE / change
+                    continue
+            else:
+                change = MAX_CHANGE
+            found, fixed, used = self._correct(prediction, u_from + (done + h) * step_u, tol, max_iter)
+            count += used
+            if fixed:
+                found[angles] = _unwrap_to(found[angles], prediction[angles])
+                if float(np.max(np.abs(found - prediction) * columns)) <= max(0.5 * change, 1e-6):
+                    q, done, h = found, done + h, min(2 * h, 1.0)
+                    continue
+            h *= 0.5
+        return q, count
+
+    def _march(self, u, paths, start, tol, max_iter, notes) -> tuple[np.ndarray, np.ndarray]:
+        """Positions along the paths from ``start`` at instant 0 (None: nothing found there)."""
+        N, n = len(u), len(self.unknowns)
+        q, iterations = np.full((N, n), np.nan), np.zeros(N, int)
+        if start is None:
+            return q, iterations
+        q[0] = start
+        rows, columns = self._scales
+
+        def orientation(k):
+            det = np.linalg.det(self._J(q[k], u[k]) / rows[:, None] / columns[None, :])
+            return 0.0 if not abs(det) > SINGULAR else np.sign(det)
+
+        for path in paths:
+            last, sign = path[0], orientation(path[0])
+            for k in path[1:]:
+                found, iterations[k] = self._advance(q[last], u[last], u[k], tol, max_iter)
+                if found is None:
+                    continue
+                q[k] = found
+                now = orientation(k)
+                if sign and now and now != sign:
+                    notes.append(f"the assemblies meet (a change point) between {self._where(u, last)} and "
+                                 f"{self._where(u, k)}: the motion continues on the smooth one")
+                last, sign = k, now or sign
+        return q, iterations
+
+    # ------------------------------------------------------------ reporting
 
     def _where(self, u, index) -> str:
         row = np.atleast_2d(u)[index]
-        return ", ".join(f"{s.name}={value:.6g}" for s, value in zip(self.inputs, row, strict=True))
+        return ", ".join(f"{s.name}={float(value)!r}" for s, value in zip(self.inputs, row, strict=True))
 
-    def _report(self, bad, singular, u) -> None:
+    def _notes(self, notes, converged, singular, near, u) -> None:
+        """The singular and near-singular instants and the limits met, added to ``notes`` in words."""
+        for mask, what in ((singular, f"J is singular (σ_min(J̃) < {SINGULAR:.0e}: a toggle, limit or change "
+                                      "point; the rates are undefined)"),
+                           (near & ~singular, f"near a singular configuration (σ_min(J̃) < "
+                                               f"{NEAR_SINGULAR:.0e}: the rates are large and sensitive)"),
+                           (~converged, "no assembly (beyond a limit position, or not reached)")):
+            if mask.any():
+                first = int(np.flatnonzero(mask)[0])
+                notes.append(f"{what} at {self._where(u, first)} ({int(mask.sum())} of {mask.size} instants)")
+
+    def _report(self, bad, singular, u, closed) -> None:
         """Raise the named error of the first bad instant (see :meth:`solve`)."""
-        if not bad.any():
+        if not (bad.any() or singular.any()):
             return
-        first = int(np.flatnonzero(bad)[0])
+        first = int(np.flatnonzero(bad | singular)[0])
         where = self._where(u, first)
-        count = f"({int(bad.sum())} of {bad.size} instants, first at index {first})"
+        count = f"({int((bad | singular).sum())} of {bad.size} instants, first at index {first})"
         if singular[first]:
-            raise SingularJacobianError(f"the Jacobian is singular at {where} {count}: the mechanism is at a "
-                                        "toggle or limit position, where the rates are undefined")
+            raise SingularJacobianError(f"J is singular at {where} {count}: the mechanism is at a toggle, "
+                                        f"limit or change point (σ_min(J̃) < {SINGULAR:.0e}), where the rates "
+                                        "are undefined; ask for positions only, or move the input off it")
+        if closed:
+            raise UnreachableError(f"the loops cannot be closed at {where} {count}: the closed form has no "
+                                   "real root there (B² − 4AC < 0), so no assembly exists", mask=bad)
         if first == 0:
             raise ConvergenceError(f"Newton did not converge at {where} from the guess {count}: "
                                    "no assembly near the guess, or none at all")
@@ -845,13 +1501,19 @@ class Mechanism:
 
         >>> th, x = sp.symbols("theta x")
         >>> A = sp.Matrix([sp.cos(th), sp.sin(th)])
-        >>> crank = Mechanism([x - sp.cos(th)], [x], [th], points={"A": A}, links=[("A", "A")])
+        >>> crank = Mechanism([x - sp.cos(th)], [x], [th], points={"O": sp.zeros(2, 1), "A": A},
+        ...                   links=[("O", "A")])
         >>> crank.joints(crank.solve({th: [0.0, np.pi / 2]}, guess={x: 1.0}))["A"].round(12).tolist()
         [[1.0, 0.0], [0.0, 1.0]]
         """
         if not self.points:
             raise InvalidGeometryError("joints needs points: declare points={name: Matrix([x, y])}; "
                                        "got points={}")
+        names = [s.name for s in self.unknowns], [s.name for s in self.inputs]
+        if not (isinstance(motion, Motion) and sorted(motion.position) == sorted(names[0])
+                and sorted(motion.inputs) == sorted(names[1])):
+            raise InvalidGeometryError(f"motion must be a Motion of this mechanism (unknowns {names[0]}, "
+                                       f"inputs {names[1]}); got {motion!r}"[:400])
         q = np.stack(np.broadcast_arrays(*(motion.position[s.name] for s in self.unknowns)), axis=-1)
         u = np.stack(np.broadcast_arrays(*(motion.inputs[s.name] for s in self.inputs)), axis=-1)
         xy = self._point_fn(self._values, q, u)

@@ -390,27 +390,39 @@ def test_input_beyond_reach_raises_unreachable_or_gives_nan():
     assert angle_gap(motion.position["theta4"][~reference.mask], reference.theta4[~reference.mask]) < 1e-12
 
 
-def test_unreachable_from_the_guess_is_a_convergence_error_with_history():
-    with pytest.raises(ConvergenceError, match=r"theta2=2.*from the guess") as info:
+def test_unreachable_one_instant_names_the_missing_root_and_keeps_newton_history():
+    # the four-bar reduces to its half-angle quadratic: at θ2 = 2 it has no real root (the true cause)
+    with pytest.raises(UnreachableError, match=r"theta2=2\.0 .*no real root"):
         TRIPLE_ROCKER.solve({th2: 2.0}, guess={th3: 1.0, th4: 2.0})
-    assert isinstance(info.value.result, NewtonResult) and not info.value.result.converged
-    with pytest.raises(ConvergenceError, match="theta2=2"):
+    with pytest.raises(UnreachableError, match="theta2=2"):
         TRIPLE_ROCKER.solve({th2: [2.0, 0.0]}, guess={th3: 1.0, th4: 2.0})
     motion = TRIPLE_ROCKER.solve({th2: 2.0}, guess={th3: 1.0, th4: 2.0}, on_failure="nan")
     assert motion.converged is False and np.isnan(motion.position["theta3"])
     assert motion.newton.iterations == 50 and np.isfinite(motion.newton.x).all()  # its record is untouched
 
 
-def test_singular_jacobian_raises_or_is_masked():
-    # x + y = u and 2x + 2y = 2u: J = [[1, 1], [2, 2]] is singular everywhere
+def test_newton_route_without_a_root_from_the_guess_is_a_convergence_error_with_history():
+    # x⁴ + s = 0 does not reduce to a quadratic, and has no real root for s > 0
+    x_, s_ = sp.symbols("x s")
+    quartic = Mechanism([x_**4 + x_**2 + s_], [x_], [s_])
+    assert quartic.closed_forms == [None]
+    with pytest.raises(ConvergenceError, match=r"s=1\.0, from the guess") as info:
+        quartic.solve({s_: 1.0}, guess={x_: 1.0})
+    assert isinstance(info.value.result, NewtonResult) and not info.value.result.converged
+
+
+def test_dependent_rows_are_refused_when_declared_and_a_singular_seed_is_named_as_the_seed():
+    # x + y = u and 2x + 2y = 2u: J = [[1, 1], [2, 2]] is singular everywhere: refused at once
     p, r, s = sp.symbols("p r s")
-    flat = Mechanism([p + r - s, 2 * p + 2 * r - 2 * s], unknowns=[p, r], inputs=[s])
-    with pytest.raises(SingularJacobianError, match="s=1"):
-        flat.solve({s: 1.0}, guess={p: 0.0, r: 0.0})
-    with pytest.raises(SingularJacobianError, match="s=1"):
-        flat.solve({s: [1.0, 2.0]}, guess={p: 0.0, r: 0.0})
-    motion = flat.solve({s: [1.0, 2.0]}, {s: 1.0}, guess={p: 0.0, r: 0.0}, on_failure="nan")
-    assert motion.singular.all() and not motion.converged.any() and np.isnan(motion.velocity["p"]).all()
+    with pytest.raises(InvalidGeometryError, match=r"loops\[0\], loops\[1\] depend on each other"):
+        Mechanism([p + r - s, 2 * p + 2 * r - 2 * s], unknowns=[p, r], inputs=[s])
+    # x³ = s from the seed x = 0, where J = 3x² = 0: the seed is blamed, not the mechanism
+    cubic = Mechanism([p**3 - s], [p], [s])
+    with pytest.raises(SingularJacobianError, match=r"s=1\.0.*try another seed"):
+        cubic.solve({s: 1.0}, guess={p: 0.0})
+    with pytest.raises(SingularJacobianError, match=r"s=1\.0, the first instant.*try another seed"):
+        cubic.solve({s: [1.0, 2.0]}, guess={p: 0.0})
+    assert cubic.solve({s: [1.0, 8.0]}, guess={p: 0.5}).position["p"].tolist() == pytest.approx([1.0, 2.0])
 
 
 # ------------------------------------------------------------------ bad declarations and inputs
@@ -428,7 +440,7 @@ def test_singular_jacobian_raises_or_is_masked():
         (dict(parameters={**WIPER_LENGTHS, l5: 1.0}), r"parameters: l5 appears in no loop"),
         (dict(parameters={**WIPER_LENGTHS, l4: float("nan")}), r"parameters\[l4\] must be finite; got nan"),
         (dict(parameters={**WIPER_LENGTHS, th3: 1.0}), r"parameters: theta3 is an unknown or input"),
-        (dict(loops=[LOOP, "not an equation ("]), r"loops\[1\] must be a sympy Matrix or expression"),
+        (dict(loops=[LOOP, "not an equation ("]), r"loops\[1\] must be a sympy expression \(= 0\) or Eq"),
         (dict(points={"A": sp.Matrix([l2, l2, l2])}), r"points\['A'\] must be a 2x1 Matrix"),
         (dict(points={"A": sp.Matrix([l2, 0])}, links=[("A", "Z")]), r"links: \('A', 'Z'\) names a point"),
     ],
@@ -456,7 +468,6 @@ def test_a_symbol_left_over_in_the_loops_is_named():
         (dict(rates={"omega2": 1.0}), r"rates has the key 'omega2'"),
         (dict(guess={th3: np.nan, th4: 1.6}), r"guess\[theta3\] must be finite.*got nan"),
         (dict(guess={th3: 0.4}), r"guess must give a value for theta4"),
-        (dict(guess=None), r"guess must give a value for theta3, theta4"),
         (dict(guess={th3: [0.4, 0.5], th4: 1.6}), r"guess must give one number per unknown"),
         (dict(inputs={th2: [0.1, 0.2, 0.3]}, rates={th2: [1.0, 2.0]}),
          r"must broadcast to one shape; got shapes .*'inputs\[theta2\]': \(3,\).*'rates\[theta2\]': \(2,\)"),

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import require_finite
+from .errors import InvalidGeometryError, require_finite
 
 __all__ = ["polar", "cross_k", "loop_residual", "wrap_angle", "to_complex", "from_complex", "scalar_or_array",
            "Unpacks"]
@@ -30,7 +30,10 @@ def cross_k(vector) -> np.ndarray:
     >>> cross_k([0.0, 2.0]).tolist()
     [-2.0, 0.0]
     """
-    vector = np.asarray(vector, dtype=float)
+    vector = require_finite("vector", vector, "m", allow_nan=True)
+    if vector.ndim == 0 or vector.shape[-1] != 2:
+        raise InvalidGeometryError(f"vector must hold (x, y) on its last axis; got {vector.tolist()!r} "
+                                   f"of shape {vector.shape}")
     return np.stack([-vector[..., 1], vector[..., 0]], axis=-1)
 
 

@@ -29,7 +29,8 @@ class MotorProfile(NamedTuple):
 
 
 def _check_alpha_max(alpha_max: float) -> float:
-    value = float(alpha_max)
+    array = require_finite("alpha_max", alpha_max, "rad/s²")
+    value = float(array) if array.ndim == 0 else np.nan
     if not (np.isfinite(value) and value > 0):
         raise InvalidGeometryError(f"alpha_max must be a positive, finite rad/s²; got {alpha_max!r}")
     return value

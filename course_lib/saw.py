@@ -95,7 +95,15 @@ def _declaration(variant: str):
 
 
 @lru_cache(maxsize=64)
+def _checked_saw(saw) -> Saw:
+    """``saw`` itself when it is a :class:`Saw`, else ``InvalidGeometryError`` naming it."""
+    if not isinstance(saw, Saw):
+        raise InvalidGeometryError(f"saw must be a Saw(r1y, r2, r3) (e.g. COURSE_SAW); got {saw!r}")
+    return saw
+
+
 def _core(saw: Saw, variant: str = "loop"):
+    saw = _checked_saw(saw)
     declaration = _declaration(require_choice("variant", variant, VARIANTS))
     lengths = (saw.r1y, saw.r2, saw.r3)
     return declaration.with_parameters(dict(zip(declaration.parameters, lengths, strict=True)))
@@ -213,6 +221,7 @@ def system_jacobian(x, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.nd
 def _check_assembly(theta2, saw: Saw, on_unreachable: str = "raise") -> np.ndarray:
     """sin θ3 (from Fy − Fc = 0); UnreachableError where the rod cannot reach the slider line,
     SingularJacobianError where it just reaches it (rod perpendicular to the line: cos θ3 = 0)."""
+    saw = _checked_saw(saw)
     sine = (saw.r1y - saw.r2 * np.sin(theta2)) / saw.r3
     report_unreachable(np.abs(sine) > 1.0, {"theta2": theta2},
                        f"the rod r3 = {saw.r3:g} m cannot reach the slider line y = r1y = {saw.r1y:g} m "
@@ -367,7 +376,7 @@ def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
     [[0.0, 0.0], [0.075, 0.0], [-0.0889, 0.045]]
     """
     theta2 = require_finite("theta2", theta2, unit="rad")
-    pin = polar(saw.r2, theta2)
+    pin = polar(_checked_saw(saw).r2, theta2)
     slider = pin + polar(saw.r3, analytic(theta2, saw=saw)[..., 2])
     return np.stack([np.zeros(theta2.shape + (2,)), pin, slider], axis=-2)
 
@@ -417,7 +426,8 @@ def sweep(n: int = 1000, method: str = "simultaneous", *, tol: float = 1e-6, x0=
     require_choice("method", method, METHODS)
     require_choice("variant", variant, VARIANTS)
     require_choice("linear_stages", linear_stages, LINEAR_STAGES)
-    if isinstance(n, bool) or int(n) != n or n < 2:
+    integer = isinstance(n, int | np.integer | float | np.floating) and not isinstance(n, bool)
+    if not (integer and np.isfinite(n) and int(n) == n and n >= 2):
         raise InvalidGeometryError(f"n must be an integer number of points >= 2; got {n!r}")
     n = int(n)
     end = 2 * first_turn_time() if t_end is None else require_positive("t_end", t_end)

@@ -79,7 +79,10 @@ def test_tilted_loop():
     assert checks.check_tilted_loop(sp.Matrix([-x, 2 * y])).ok  # same equations "= 0"
     assert checks.check_tilted_loop([y, x]).ok  # either order
     rejects(checks.check_tilted_loop([x.subs(t1, 0), y.subs(t1, 0)]), "horizontal ground")
-    rejects(checks.check_tilted_loop([x.subs(l3, -l3), y.subs(l3, -l3)]), "sign error")
+    for length, vector in ((l1, "R1"), (l2, "R2"), (l3, "R3"), (l4, "R4")):  # each flipped, in either order
+        slip = [x.subs(length, -length), y.subs(length, -length)]
+        rejects(checks.check_tilted_loop(slip), "sign slip on " + vector)
+        rejects(checks.check_tilted_loop(slip[::-1]), "sign slip on " + vector)
     # sin and cos swapped in both components is the right pair in the other order: accepted
     rejects(checks.check_tilted_loop([x, x]), "Not yet")
     rejects(checks.check_tilted_loop(["l2*cos(theta2)", "0"]), "sympy expression")

@@ -10,6 +10,8 @@ the lever's stops.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -267,7 +269,8 @@ def test_the_lesson_time_ratio():
     crank, distance = 0.05, 0.08
     reference = sweep_ratio(crank, distance, 400_000)
     accepts(checks.check_quick_return_time_ratio(reference, crank, distance))
-    accepts(checks.check_quick_return_time_ratio(np.float64(sweep_ratio(crank, distance, 36_000)), crank, distance))
+    fine_grid = np.float64(sweep_ratio(crank, distance, 36_000))
+    accepts(checks.check_quick_return_time_ratio(fine_grid, crank, distance))
     rejects(checks.check_quick_return_time_ratio(sweep_ratio(crank, distance, 360), crank, distance),
             "close, but not to 3 significant figures", hidden=(reference,))  # a 1° grid, not interpolated
     accepts(checks.check_quick_return_time_ratio(2.51, crank, distance))  # 3 significant figures
@@ -308,3 +311,25 @@ def test_no_answer_yet_is_said_as_such():
                      checks.check_ram_motion((None, None), 1.0, 8.0), checks.check_ram_stroke(None),
                      checks.check_quick_return_time_ratio(None, 0.05, 0.08)):
         assert str(feedback).startswith("✘ No answer yet")
+
+
+# ---------------------------------------------------------------- task 1: which vector a sign slip turned
+
+VECTORS = {"crank vector (O2 → A)": {r2: -r2}, "block's vector along the lever (O4 → A)": {r4: -r4},
+           "frame vector (O4 → O2)": {d: -d}, "lever vector (O4 → B)": {l4: -l4},
+           "link vector (B → C)": {l5: -l5}, "ram's vector (O4 → C)": {x: -x, h: -h}}
+
+
+@pytest.mark.parametrize("vector", VECTORS)
+def test_a_flipped_vector_is_named_whatever_the_order_of_the_components(vector):
+    rows = [row.xreplace(VECTORS[vector]) for row in (*LEVER_LOOP, *RAM_LOOP)]  # that vector walked backwards
+    for order in itertools.permutations(range(4)):
+        rejects(checks.check_shaper_loops([rows[k] for k in order]), "sign slip", vector)
+
+
+def test_a_sign_slip_in_one_component_names_the_component():
+    rows = [r2 * sp.cos(th2) + r4 * sp.cos(th4), LEVER_LOOP[1], *RAM_LOOP]  # −r4 cos θ4 written with +
+    for order in itertools.permutations(range(4)):
+        where = f"equation {order.index(0) + 1} alone"
+        feedback = checks.check_shaper_loops([rows[k] for k in order])
+        rejects(feedback, "sign slip", where, "both of its components")

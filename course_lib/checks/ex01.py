@@ -44,14 +44,20 @@ def check_tilted_loop(answer) -> Feedback:
     import sympy as sp
     l1, l2, l3, l4, t1, t2, t3, t4 = symbols = sp.symbols("l1:5 theta1:5", real=True)
 
-    def loop(sign3=1, t1=t1):
-        return tuple(l2 * f(t2) + sign3 * l3 * f(t3) - l4 * f(t4) - l1 * f(t1) for f in (sp.cos, sp.sin))
+    def loop(signs=(1, 1, -1, -1), t1=t1):  # R2 + R3 − R4 − R1, each vector with its sign
+        terms = list(zip(signs, (l2, l3, l4, l1), (t2, t3, t4, t1), strict=True))
+        return tuple(sum(sign * length * f(angle) for sign, length, angle in terms) for f in (sp.cos, sp.sin))
 
+    names = ("R2 (the crank, O2 → A)", "R3 (the coupler, A → B)", "R4 (the rocker, O4 → B)",
+             "R1 (the ground, O2 → O4)")
+    flipped = [(loop(tuple(-s if j == k else s for j, s in enumerate((1, 1, -1, -1)))),
+                f"a sign slip on {name}: the loop holds with that vector pointing the other way. Walking "
+                "O2 → A → B adds R2 and R3; walking O2 → O4 → B adds R1 and R4, so R1 and R4 carry the minus "
+                "sign, in both components.") for k, name in enumerate(names)]
     return judge_expression(answer, symbols, [
         (loop(), "Correct: two scalar equations, one per component."),
         (loop(t1=0), "that is the loop with a horizontal ground; here R1 = l1(cos θ1, sin θ1) is tilted."),
-        (loop(sign3=-1), "a sign error: walking O2 → A → B adds R2 and R3; walking O2 → O4 → B adds "
-                         "R1 and R4, so R1 and R4 carry the minus sign."),
+        *flipped,
     ], "compare each term with the walk O2 → A → B versus O2 → O4 → B (signs, lengths, angles).",
         system="the two components as a list [x_component, y_component] (or a 2×1 Matrix)")
 

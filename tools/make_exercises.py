@@ -2,7 +2,8 @@
 
 Usage: python tools/make_exercises.py [notebooks/solutions/exNN_name.ipynb ...]   (default: all)
 
-Every code cell of ``notebooks/solutions/*.ipynb`` may hold one solution block::
+Every code cell of ``notebooks/solutions/*.ipynb`` may hold one solution block, under a heading
+``## Task N · … (kind)`` that may stand anywhere in a markdown cell above it::
 
     ### BEGIN SOLUTION
     # HINT: what to try, written once by the author
@@ -11,10 +12,18 @@ Every code cell of ``notebooks/solutions/*.ipynb`` may hold one solution block::
 
 In the student copy (``notebooks/exercises/``, same file name) the block becomes the hint, as a
 comment, and ``name = None`` for each name the block defines that a later cell uses: the check
-cell right after it then prints "No answer yet" instead of failing, so Run All runs every cell of
-an untouched copy without a traceback.  Any other later code cell that uses such a name (directly,
-or through another such cell) is tagged ``raises-exception``: it cannot run until the student has
-answered.
+cell right after it then prints "No answer yet" instead of failing.  Any other later code cell
+that uses such a name (directly, or through another such cell) is wrapped in a guard::
+
+    if answer is None:
+        print("Answer Task N first (this cell uses answer).")
+    else:
+        <the cell's own code, indented>
+
+so it prints which task to answer first, and runs unchanged once that task is answered (a last
+expression the solution displays is displayed with ``display(...)``).  An untouched copy thus runs
+top to bottom without a traceback; only a cell its solution tags ``raises-exception`` (an error
+shown on purpose) shows one.
 
 Each solution notebook is then re-executed in place, and the student copy written and
 executed in a fresh kernel (``tools/execute_notebooks.execute``), so both are committed
@@ -25,8 +34,11 @@ from __future__ import annotations
 
 import ast
 import copy
+import io
 import pathlib
+import re
 import sys
+import tokenize
 
 import nbformat
 
@@ -38,16 +50,32 @@ BEGIN = "### BEGIN SOLUTION"
 END = "### END SOLUTION"
 HINT = "# HINT:"
 RAISES = "raises-exception"
+#: ``## Task N · what it asks (kind)``: a task's heading, on any line of a markdown cell
+TASK_HEADING = re.compile(r"^##\s+Task\s+(\d+)\b(?:.*\(([^()]*)\)\s*$)?")
 
 NOTE = (
-    "*Student copy* — generated from `notebooks/solutions/{name}` by `make exercises`; edit the solution, "
-    "not this file. Replace each `raise NotImplementedError(...)` with your answer, run the cell, then run "
-    "the check cell below it."
+    "*Your copy of this exercise set.* Each task's answer cell gives a hint and sets the answer to `None`: "
+    "replace `None` with your answer, run the cell, then run the check cell below it. The check says ✔, or "
+    "what looks wrong (never the expected value). A cell further down that uses an answer prints "
+    "\"Answer Task N first\" until that task is answered, so **Run All** runs through the notebook with "
+    "tasks still unanswered."
 )
+GUARD = "Answer Task {task} first (this cell uses {names})."
 
 
 class ExerciseFormatError(ValueError):
     """A solution notebook breaks the block conventions (message names the cell)."""
+
+
+def headings(markdown: str) -> list[tuple[int | None, str | None]]:
+    """The level-2 headings of a markdown cell, in order: ``(N, kinds)`` for ``## Task N · … (kinds)``
+    (``kinds`` ``None`` without the parentheses), ``(None, None)`` for any other ``## `` heading."""
+    found = []
+    for line in markdown.split("\n"):
+        if line.startswith("## "):
+            task = TASK_HEADING.match(line.rstrip())
+            found.append((int(task.group(1)), task.group(2)) if task else (None, None))
+    return found
 
 
 def split_solution(
@@ -98,14 +126,14 @@ def _used_names(tree: ast.AST) -> set[str]:
     }
 
 
-def _tags(cell) -> list[str]:
-    return list(cell.get("metadata", {}).get("tags", []))
-
-
-def _set_tag(cell, tag: str) -> None:
-    tags = _tags(cell)
-    if tag not in tags:
-        cell.setdefault("metadata", {})["tags"] = tags + [tag]
+def _free_names(tree: ast.Module) -> set[str]:
+    """Names a cell reads before it binds them itself (statement by statement)."""
+    free: set[str] = set()
+    bound: set[str] = set()
+    for statement in tree.body:
+        free |= _used_names(statement) - bound
+        bound |= _bound_names(statement)
+    return free
 
 
 def _answer_names(body: list[str], later: list[str]) -> tuple[str, ...]:
@@ -120,32 +148,96 @@ def _is_check(cell) -> bool:
     return cell.cell_type == "code" and cell.source.startswith("checks.check_")
 
 
+def _displays_result(cell) -> bool:
+    """Whether the cell's last expression shows a value: the solution's run says so, else any
+    expression but a call (a call such as ``plt.show()`` usually returns None)."""
+    tree = ast.parse(cell.source)
+    if not tree.body or not isinstance(tree.body[-1], ast.Expr):
+        return False
+    if cell.get("outputs"):
+        return any(output.output_type == "execute_result" for output in cell.outputs)
+    return not isinstance(tree.body[-1].value, ast.Call)
+
+
+def _indented(source: str) -> list[str]:
+    """The source's lines indented by four spaces, except lines inside a multi-line string."""
+    inside: set[int] = set()  # 0-based numbers of lines that continue a string token
+    for token in tokenize.generate_tokens(io.StringIO(source).readline):
+        if token.type == tokenize.STRING and token.end[0] > token.start[0]:
+            inside.update(range(token.start[0], token.end[0]))
+    return [line if not line.strip() or number in inside else "    " + line
+            for number, line in enumerate(source.split("\n"))]
+
+
+def guarded(source: str, needs: dict[int, list[str]], display_last: bool = False) -> str:
+    """The cell's code behind a check of the answers it needs, task by task (``needs``: task → names).
+
+    While an answer is still ``None`` the cell prints which task to answer first and does nothing else.
+    """
+    if display_last:  # inside ``else:`` a last expression is no longer shown by itself
+        last = ast.parse(source).body[-1]
+        lines = source.split("\n")
+        expression = ast.get_source_segment(source, last)
+        shown = (lines[last.lineno - 1][: last.col_offset] + f"display({expression})"
+                 + lines[last.end_lineno - 1][last.end_col_offset :])
+        source = "\n".join(lines[: last.lineno - 1] + shown.split("\n") + lines[last.end_lineno :])
+    guard = []
+    for task in sorted(needs):
+        names = needs[task]
+        condition = " or ".join(f"{name} is None" for name in names)
+        listed = " and ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
+        message = GUARD.format(task=task, names=listed)
+        guard += [f"{'elif' if guard else 'if'} {condition}:", f'    print("{message}")']
+    return "\n".join(guard + ["else:"] + _indented(source))
+
+
 def student_copy(solution: nbformat.NotebookNode, name: str = "") -> nbformat.NotebookNode:
     """The student copy of a solution notebook (not executed: no outputs)."""
     notebook = copy.deepcopy(solution)
-    undefined: set[str] = set()  # names that are unbound or None once the solutions are removed
+    task = None
+    answer_task: dict[str, int] = {}  # each name set to None in a stub → its task
+    roots: dict[str, set[str]] = {}  # a name that exists only once answers are given → those answers
     for index, cell in enumerate(notebook.cells):
-        if cell.cell_type == "code":
-            cell.outputs, cell.execution_count = [], None
-        else:
-            continue
         where = f"{name} cell {index}"
+        if cell.cell_type == "markdown":
+            for heading, _ in headings(cell.source):
+                task = heading
+            continue
+        if cell.cell_type != "code":
+            continue
         split = split_solution(cell.source, where)
         if split is not None:
+            if task is None:
+                raise ExerciseFormatError(f"{where}: a solution block outside a '## Task N · … (kind)' part")
             body = split[1]
             later = [
                 other.source
                 for other in notebook.cells[index + 1 :]
                 if other.cell_type == "code" and BEGIN not in other.source  # a later task defines its own
             ]
-            cell.source = split_solution(cell.source, where, _answer_names(body, later))[0]
-            undefined |= _bound_names(ast.parse("\n".join(body)))
-            continue
-        tree = ast.parse(cell.source)
-        if _used_names(tree) & undefined and not _is_check(cell):
-            _set_tag(cell, RAISES)
-            undefined |= _bound_names(tree)
-    note = nbformat.v4.new_markdown_cell(NOTE.format(name=name or "…"))
+            answers = _answer_names(body, later)
+            student = split_solution(cell.source, where, answers)[0]
+            if _free_names(ast.parse(student)) & set(roots):
+                raise ExerciseFormatError(f"{where}: code outside the solution block uses an earlier answer")
+            cell.source = student
+            for answer in answers:
+                answer_task[answer] = task
+                roots[answer] = {answer}
+        elif not _is_check(cell):
+            tree = ast.parse(cell.source)
+            needed = set().union(*(roots[used] for used in _free_names(tree) if used in roots))
+            if needed:
+                needs: dict[int, list[str]] = {}
+                for answer in sorted(needed, key=list(answer_task).index):
+                    needs.setdefault(answer_task[answer], []).append(answer)
+                cell.source = guarded(cell.source, needs, _displays_result(cell))
+            for bound in _bound_names(tree):
+                if needed:
+                    roots[bound] = set(needed)
+                else:
+                    roots.pop(bound, None)
+        cell.outputs, cell.execution_count = [], None
+    note = nbformat.v4.new_markdown_cell(NOTE)
     note.metadata["tags"] = ["student-copy-note"]
     notebook.cells.insert(0, note)
     notebook.nbformat_minor = max(notebook.get("nbformat_minor", 4), 5)

@@ -18,11 +18,13 @@ nbgrader's cell metadata:
   (what looks wrong, never the expected value), which nbgrader's feedback shows;
 * **read-only** (``locked: true``) for every other cell: statements, given data, set-up code.
 
-Points go by task, from the ``(…)`` at the end of its ``## Task N · …`` heading: ``POINTS`` below
+Points go by task, from the ``(…)`` at the end of its ``## Task N · …`` heading, which may stand on any
+line of a markdown cell (below the end of the previous task's text, say): ``POINTS`` below
 (``compute + interpret`` = 2 + 1; any other kind ``DEFAULT_POINTS``); a task with several check
 cells shares its points between them.
 Edit ``nbgrader/source/`` afterwards to weigh tasks differently, or change ``POINTS``.
-The course's ``nbgrader/nbgrader_config.py`` sets the stub and the execution time limit.
+The course's ``nbgrader/nbgrader_config.py`` sets the course id, the stub, the execution time limit and
+the feedback page (``nbgrader/templates/feedback_offline/``: MathJax from a local copy, long lines wrapped).
 """
 
 from __future__ import annotations
@@ -30,7 +32,6 @@ from __future__ import annotations
 import ast
 import copy
 import pathlib
-import re
 import sys
 
 import nbformat
@@ -44,6 +45,7 @@ from make_exercises import (  # noqa: E402
     SOLUTIONS,
     ExerciseFormatError,
     _answer_names,
+    headings,
     split_solution,
 )
 
@@ -51,7 +53,6 @@ COURSE = ROOT / "nbgrader"
 SOURCE = COURSE / "source"
 POINTS = {"compute": 2, "derive": 2, "declare": 2, "interpret": 1}
 DEFAULT_POINTS = 2
-TASK_HEADING = re.compile(r"^##\s+Task\s+(\d+)\b(?:.*\(([^()]*)\))?\s*$")
 SCHEMA_VERSION = 3
 
 
@@ -125,11 +126,9 @@ def nbgrader_source(solution: nbformat.NotebookNode, name: str = "") -> nbformat
     for index, cell in enumerate(notebook.cells):
         where = f"{name} cell {index}"
         if cell.cell_type == "markdown":
-            heading = TASK_HEADING.match(cell.source.split("\n", 1)[0])
-            if heading:
-                task, kinds = int(heading.group(1)), heading.group(2)
-            elif cell.source.startswith("## "):
-                task, kinds = None, None
+            found = headings(cell.source)  # on any line: a task may start below another part's text
+            if found:
+                task, kinds = found[-1]
             roles.append((cell, "statement", task, kinds))
             continue
         if cell.cell_type != "code":

@@ -298,8 +298,9 @@ def _toggle(description: str, options, name: str, value):
     if chosen is _REFUSED:
         listed = ", ".join(repr(option) for option in values)
         raise InvalidGeometryError(f"{name} must be one of {listed}; got {value!r}")
+    width = max(90, 7 * max(len(label) for label in labels) + 24)  # wide enough for the longest label
     return widgets.ToggleButtons(options=options, value=chosen, description=description,
-                                 style={**_STYLE, "button_width": "90px"})
+                                 style={**_STYLE, "button_width": f"{width}px"})
 
 
 def _grid(ax, **properties):

@@ -779,7 +779,13 @@ class Mechanism:
                 return np.where(largest > 0, np.abs(det) / largest, 0.0)
             det = np.ones(A.shape[:-2])
             for block_rows, block_columns in self._structure["blocks"]:
-                det = det * np.linalg.det(A[..., block_rows, :][..., block_columns])
+                block = A[..., block_rows, :][..., block_columns]
+                if len(block_rows) == 1:
+                    det = det * block[..., 0, 0]
+                elif len(block_rows) == 2:
+                    det = det * (block[..., 0, 0] * block[..., 1, 1] - block[..., 0, 1] * block[..., 1, 0])
+                else:
+                    det = det * np.linalg.det(block)
             smallest = np.abs(det) / np.sqrt(frobenius) ** (n - 1)  # a lower bound
             unsure = ~(smallest >= NEAR_SINGULAR) & np.isfinite(frobenius)
             if unsure.any():
@@ -1186,13 +1192,15 @@ class Mechanism:
                                                f"{result.message}", result=result)
                 q, iterations = self._march(u, paths, start, tol, max_iter, notes)
             converged = np.isfinite(q).all(axis=1)
-            smallest = self._smallest(self._J(np.where(converged[:, None], q, 0.0), u))
+            safe = q if converged.all() else np.where(converged[:, None], q, 0.0)
+            want_rates = rates is not None or accelerations is not None
+            J, F_u = (self._rate_terms(safe, u, {}, same_point=True) if want_rates
+                      else (self._J(safe, u), None))
+            smallest = self._smallest(J)
             singular = converged & ~(smallest >= SINGULAR) | stuck
             near = converged & ~(smallest >= NEAR_SINGULAR)
-            want_rates = rates is not None or accelerations is not None
             if want_rates:
-                safe = np.where(converged[:, None], q, 0.0)
-                q_rate, q_acc, _ = self._rates(safe, u, u_rate, u_acc, singular | ~converged)
+                q_rate, q_acc, _ = self._rates(safe, u, u_rate, u_acc, singular | ~converged, (J, F_u))
         self._notes(notes, converged, singular, near, u)
         if on_failure == "raise":
             self._report(~converged, singular & want_rates, u, closed)
@@ -1210,10 +1218,11 @@ class Mechanism:
                       near_singular=shaped(near), message="; ".join(notes),
                       assembly=None if assembly is None else MappingProxyType(assembly))
 
-    def _rates(self, q, u, u_rate, u_acc, singular) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """q̇ and q̈ (N, n) at solved positions, NaN where ``singular``."""
-        J, F_u = self._rate_terms(q, u, {}, same_point=True)
-        J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
+    def _rates(self, q, u, u_rate, u_acc, singular, terms) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """q̇ and q̈ (N, n) at solved positions from (J, F_u) there, NaN where ``singular``."""
+        J, F_u = terms
+        if singular.any():
+            J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
         q_rate = self._solve_blocks(J, np.einsum("nij,nj->ni", F_u, -u_rate))
         q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, u_acc))
         q_rate[singular], q_acc[singular] = np.nan, np.nan
@@ -1346,18 +1355,21 @@ class Mechanism:
 
     def _continuous(self, q, paths, target) -> None:
         """Angles unwrapped along each path, the first instant's within π of ``target`` (if any)."""
-        for j, unknown in enumerate(self.unknowns):
-            if unknown not in self._structure["angles"] or not np.isfinite(q[0, j]):
+        columns = [j for j, s in enumerate(self.unknowns)
+                   if s in self._structure["angles"] and np.isfinite(q[0, j])]
+        if not columns:
+            return
+        if target is not None:
+            q[0, columns] = _unwrap_to(q[0, columns], target[columns])
+        for path in paths:
+            values = q[np.ix_(path, columns)]
+            finite = np.isfinite(values).all(axis=1)
+            if finite.sum() < 2 or not finite[0]:
                 continue
-            if target is not None:
-                q[0, j] = _unwrap_to(q[0, j], target[j])
-            for path in paths:
-                values = q[path, j]
-                finite = np.isfinite(values)
-                if finite.sum() < 2 or not finite[0]:
-                    continue
-                kept = np.unwrap(values[finite])
-                q[path[finite], j] = kept - kept[0] + q[0, j]
+            steps = np.diff(values[finite], axis=0)
+            first = values[finite][:1]
+            kept = np.concatenate([first, first + np.cumsum(_unwrap_to(steps, 0.0), axis=0)])
+            q[np.ix_(path[finite], columns)] = kept
 
     # ------------------------------------------------------------ Newton with continuation
 

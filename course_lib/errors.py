@@ -11,8 +11,11 @@ from typing import Any
 import numpy as np
 
 __all__ = ["CourseLibError", "UnreachableError", "ConvergenceError", "SingularJacobianError",
-           "InvalidGeometryError", "require_positive", "require_finite", "require_broadcast",
-           "require_choice", "report_unreachable"]
+           "InvalidGeometryError", "InvalidArgumentError", "require_positive", "require_finite",
+           "require_broadcast", "require_choice", "report_unreachable", "failure_policy", "FAILURE_POLICIES"]
+
+#: What a call does where it fails (no assembly, a singular Jacobian): raise the named error, or give NaN.
+FAILURE_POLICIES = ("raise", "nan")
 
 
 class CourseLibError(Exception):
@@ -20,7 +23,18 @@ class CourseLibError(Exception):
 
 
 class InvalidGeometryError(CourseLibError, ValueError):
-    """A length, angle, time, branch or mode label that makes no sense."""
+    """A length, angle, time, branch or mode label that makes no sense (and, as the base of
+    :class:`InvalidArgumentError`, any other argument that does)."""
+
+
+class InvalidArgumentError(InvalidGeometryError):
+    """An argument that is not geometry makes no sense: a tolerance, a figure size, a dpi, a frame count,
+    a callback, a failure policy.  A subclass of ``InvalidGeometryError``, so code written to catch that
+    (before this class existed) still catches every misuse.
+
+    >>> issubclass(InvalidArgumentError, InvalidGeometryError), issubclass(InvalidArgumentError, ValueError)
+    (True, True)
+    """
 
 
 class UnreachableError(CourseLibError, ValueError):
@@ -129,6 +143,24 @@ def require_choice(name: str, value: Any, choices: Iterable[Any]) -> Any:
         listed = ", ".join(repr(choice) for choice in choices)
         raise InvalidGeometryError(f"{name} must be one of {listed}; got {value!r}")
     return value
+
+
+def failure_policy(on_failure: str | None = None, **aliases: str | None) -> str:
+    """The one failure policy of a call, ``on_failure`` = "raise" or "nan", given by that keyword or by
+    the older one that spelled it (``on_unreachable=``, ``on_singular=``); "raise" when none is given.
+    Two that disagree are refused by name.
+
+    >>> failure_policy(), failure_policy("nan"), failure_policy(None, on_unreachable="nan")
+    ('raise', 'nan', 'nan')
+    """
+    spelled = {"on_failure": on_failure, **aliases}
+    given = {name: value for name, value in spelled.items() if value is not None}
+    for name, value in given.items():
+        require_choice(name, value, FAILURE_POLICIES)
+    if len(set(given.values())) > 1:
+        shown = ", ".join(f"{name}={value!r}" for name, value in given.items())
+        raise InvalidArgumentError(f"on_failure and its older spelling disagree: give one; got {shown}")
+    return next(iter(given.values()), "raise")
 
 
 def report_unreachable(bad: np.ndarray, inputs: Mapping[str, Any], what: str, on_unreachable: str = "raise"

@@ -56,8 +56,39 @@ def test_report_unreachable_scalar_and_array():
 
 def test_error_hierarchy():
     for cls in (errors.UnreachableError, errors.ConvergenceError, errors.SingularJacobianError,
-                errors.InvalidGeometryError):
+                errors.InvalidGeometryError, errors.InvalidArgumentError):
         assert issubclass(cls, errors.CourseLibError)
+    # a misuse that is not geometry is its own class, still caught by code written for the older one
+    assert issubclass(errors.InvalidArgumentError, errors.InvalidGeometryError)
+    assert issubclass(errors.InvalidArgumentError, ValueError)
+
+
+def test_failure_policy_one_keyword_and_its_older_spellings():
+    assert errors.failure_policy() == "raise"
+    assert errors.failure_policy("nan") == errors.failure_policy(None, on_singular="nan") == "nan"
+    assert errors.failure_policy("nan", on_unreachable="nan") == "nan"
+    with pytest.raises(errors.InvalidArgumentError, match=r"on_failure='nan', on_unreachable='raise'"):
+        errors.failure_policy("nan", on_unreachable="raise")
+    with pytest.raises(InvalidGeometryError, match=r"on_singular must be one of 'raise', 'nan'; got 'skip'"):
+        errors.failure_policy(None, on_singular="skip")
+
+
+def test_the_newton_module_stays_reachable_and_callable():
+    import importlib
+    import types
+
+    import course_lib
+    import course_lib.newton as module
+    from course_lib import newton as from_package
+    from course_lib.newton import newton as function
+
+    assert isinstance(module, types.ModuleType) and module is importlib.import_module("course_lib.newton")
+    assert module.newton is function and module.newton_batch is course_lib.newton_batch
+    assert from_package is module and course_lib.newton is module and "newton" in course_lib.__all__
+    # calling the module runs the function: code that imported the function from the package still works
+    assert from_package(lambda x: x * x - 9.0, 1.0).x == pytest.approx(3.0, abs=1e-12)
+    square = lambda x: x * x - 9.0  # noqa: E731
+    assert from_package(square, 1.0).iterations == function(square, 1.0).iterations
 
 
 # --- planar -----------------------------------------------------------------

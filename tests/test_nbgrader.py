@@ -38,7 +38,7 @@ HEADING = re.compile(r"^## Task (\d+) · .*\(([^()]+)\)\s*$")
 
 EX03 = ROOT / "notebooks" / "solutions" / "ex03_fourbar.ipynb"
 EX06 = ROOT / "notebooks" / "solutions" / "ex06_your_own_mechanism.ipynb"
-RIGHT_BRANCH, WRONG_BRANCH = "(-B + np.sqrt(", "(-B - np.sqrt("  # ex03 Task 1: crossed vs open root
+RIGHT_BRANCH, WRONG_BRANCH = "(-b + np.sqrt(", "(-b - np.sqrt("  # ex03 Task 1: crossed vs open root
 RAM_IN_M = 'ram = (motion.velocity["x"], motion.acceleration["x"])'  # ex06 Task 3, and the same in mm
 RAM_IN_MM = 'ram = (1000 * motion.velocity["x"], 1000 * motion.acceleration["x"])'
 #: per set: the solution, the task answered wrongly (grade id, text replaced, replacement), the task left

@@ -47,6 +47,7 @@ from .errors import (
     InvalidGeometryError,
     SingularJacobianError,
     UnreachableError,
+    require_broadcast,
     require_choice,
     require_finite,
 )
@@ -61,7 +62,7 @@ from .newton import (
 from .planar import scalar_or_array
 from .symbolic import LoopForm, is_angle, rate_name, reduce_loop
 
-__all__ = ["Mechanism", "Motion", "SINGULAR", "NEAR_SINGULAR"]
+__all__ = ["Mechanism", "Motion", "Links", "SINGULAR", "NEAR_SINGULAR"]
 
 ON_FAILURE = ("raise", "nan")
 LINEAR_STAGES = ("newton", "direct")
@@ -229,8 +230,35 @@ def _points(points) -> dict[str, sp.Matrix]:
     return out
 
 
-def _links(links, points) -> tuple[tuple[str, str], ...]:
-    """Declared links: pairs of two different declared point names, else the named error."""
+class Links(tuple):
+    """The declared links: a tuple of (start, end) point-name pairs, as before, that also knows each
+    link's name (``names``: the declaration's, or "link 1", "link 2", … for a plain list of pairs).
+
+    >>> links = Links([("O2", "A"), ("A", "B")], names=("crank", "coupler"))
+    >>> links == (("O2", "A"), ("A", "B")), links.named()
+    (True, {'crank': ('O2', 'A'), 'coupler': ('A', 'B')})
+    """
+
+    names: tuple[str, ...]
+
+    def __new__(cls, pairs=(), names=None):
+        links = super().__new__(cls, (tuple(pair) for pair in pairs))
+        links.names = tuple(names) if names is not None else tuple(f"link {k + 1}" for k in range(len(links)))
+        return links
+
+    def named(self) -> dict[str, tuple[str, str]]:
+        """Link name → (start, end) point names, in the declared order."""
+        return dict(zip(self.names, self, strict=True))
+
+
+def _links(links, points) -> Links:
+    """Declared links: pairs of two different declared point names (a list, or a dict name → pair), else
+    the named error."""
+    names = None
+    if isinstance(links, Mapping):
+        if not all(isinstance(name, str) and name for name in links):
+            raise InvalidGeometryError(f"links must be named by text; got the names {list(links)}")
+        names, links = list(links), list(links.values())
     if isinstance(links, str | bytes) or not isinstance(links, Sequence):
         raise InvalidGeometryError(f"links must be a list of pairs of point names; got {links!r}")
     out = []
@@ -242,7 +270,7 @@ def _links(links, points) -> tuple[tuple[str, str], ...]:
         if link[0] == link[1]:
             raise InvalidGeometryError(f"links[{k}] joins {link[0]!r} to itself; got {link!r}")
         out.append((link[0], link[1]))
-    return tuple(out)
+    return Links(out, names)
 
 
 def _derived(build):
@@ -330,9 +358,9 @@ class Mechanism:
     ``parameters``: a number (or a sympy constant such as ``sp.pi / 6``) for every other symbol, keyed by
     the symbol or its name (:meth:`with_parameters` gives the same declaration with other numbers, sharing
     everything derived).  Optional ``points`` (name → 2×1 matrix of x, y) and ``links`` (pairs of point
-    names) describe the drawing.  A declaration is checked when made: rows that are not smooth and real,
-    involve no unknown, repeat or depend on each other (J of rank < n at a generic point) are refused by
-    name.
+    names, or a dict link name → pair: :class:`Links`) describe the drawing.  A declaration is checked
+    when made: rows that are not smooth and real, involve no unknown, repeat or depend on each other (J of
+    rank < n at a generic point) are refused by name.
 
     >>> x, th = sp.symbols("x theta")
     >>> follower = Mechanism([sp.Eq(x, sp.cos(th))], unknowns=[x], inputs=[th])
@@ -764,6 +792,73 @@ class Mechanism:
         q, u = self._checked(q=q, u=u)
         return self._smallest(self.jacobian(q, u))
 
+    def is_singular(self, q, u) -> np.ndarray:
+        """The one singularity rule: True where σ_min(J̃) < ``SINGULAR`` (see
+        :meth:`smallest_singular_value`), or where J is not finite; ``q`` (..., n), ``u`` (..., m).
+
+        >>> x, y, s = sp.symbols("x y s")
+        >>> Mechanism([x**2 + y**2 - 1, x - s], [x, y], [s]).is_singular([[0.6, 0.8], [1.0, 0.0]],
+        ...                                                               [[0.6], [1.0]]).tolist()
+        [False, True]
+        """
+        return ~(self.smallest_singular_value(q, u) >= SINGULAR)
+
+    def motion_of(self, position: Mapping, inputs: Mapping, velocity: Mapping | None = None,
+                  acceleration: Mapping | None = None, *, converged=None, singular=None,
+                  message: str = "", assembly: Mapping | None = None) -> Motion:
+        """A :class:`Motion` of this mechanism from values found another way (a machine's own closed form):
+        ``position`` and the rates keyed by the unknowns' names, ``inputs`` by the inputs', broadcast
+        together.  ``converged`` defaults to "every unknown finite"; ``singular`` (and ``near_singular``,
+        always) to the core's rule where converged.
+
+        >>> th, x = sp.symbols("theta x")
+        >>> follower = Mechanism([x - sp.cos(th)], [x], [th])
+        >>> motion = follower.motion_of({"x": [1.0, 0.0]}, {"theta": [0.0, np.pi / 2]})
+        >>> motion.converged.tolist(), motion.singular.tolist(), motion.iterations.tolist()
+        ([True, True], [False, False], [0, 0])
+        """
+        unknowns, inputs_named = [s.name for s in self.unknowns], [s.name for s in self.inputs]
+        for argument, given, names in (("position", position, unknowns), ("inputs", inputs, inputs_named),
+                                       ("velocity", velocity, unknowns),
+                                       ("acceleration", acceleration, unknowns)):
+            if given is not None and (not isinstance(given, Mapping) or sorted(given) != sorted(names)):
+                raise InvalidGeometryError(f"{argument} must map each of {names} to its values; got {given!r}"
+                                           [:400])
+        named = {f"position[{k}]": position[k] for k in unknowns} | {f"inputs[{k}]": inputs[k]
+                                                                      for k in inputs_named}
+        for rates_name, rates in (("velocity", velocity), ("acceleration", acceleration)):
+            if rates is not None:
+                named |= {f"{rates_name}[{k}]": rates[k] for k in unknowns}
+        arrays = dict(zip(named, require_broadcast(**{k: require_finite(k, v, allow_nan=True)
+                                                         for k, v in named.items()}), strict=True))
+        shape = next(iter(arrays.values())).shape
+        q = np.stack([arrays[f"position[{k}]"] for k in unknowns], axis=-1).reshape(-1, len(unknowns))
+        u = np.stack([arrays[f"inputs[{k}]"] for k in inputs_named], axis=-1).reshape(-1, len(inputs_named))
+        finite = np.isfinite(q).all(axis=1)
+        given_converged = (finite if converged is None
+                           else _broadcast(np.asarray(converged, bool), shape).ravel())
+        with np.errstate(all="ignore"):
+            smallest = self._smallest(self._J(np.where(finite[:, None], q, 0.0), u))
+        near = given_converged & ~(smallest >= NEAR_SINGULAR)
+        if singular is None:
+            singular = given_converged & ~(smallest >= SINGULAR)
+        else:
+            singular = _broadcast(np.asarray(singular, bool), shape).ravel()
+
+        def shaped(values):
+            return scalar_or_array(np.asarray(values).reshape(shape))
+
+        def by_name(prefix, names):
+            return MappingProxyType({k: shaped(arrays[f"{prefix}[{k}]"]) for k in names})
+
+        return Motion(position=by_name("position", unknowns),
+                      velocity=None if velocity is None else by_name("velocity", unknowns),
+                      acceleration=None if acceleration is None else by_name("acceleration", unknowns),
+                      converged=shaped(given_converged), singular=shaped(singular),
+                      iterations=shaped(np.zeros(len(q), int)), inputs=by_name("inputs", inputs_named),
+                      near_singular=shaped(near), message=message,
+                      assembly=None if assembly is None else MappingProxyType(dict(assembly)))
+
     def _smallest(self, J: np.ndarray) -> np.ndarray:
         """σ_min(J̃) of a stack J (..., n, n): exact for n ≤ 2, else exact where a bound cannot settle it."""
         rows, columns = self._scales
@@ -1107,15 +1202,16 @@ class Mechanism:
         return _matrix(self._jacobian_fn(self._values, q, u), 0, n, n)
 
     def solve(self, inputs: Mapping, rates: Mapping | None = None, accelerations: Mapping | None = None,
-              guess: Mapping | None = None, *, tol: float = 1e-10, max_iter: int = 50,
-              on_failure: str = "raise") -> Motion:
+              guess: Mapping | None = None, *, assembly: Mapping | None = None, tol: float = 1e-10,
+              max_iter: int = 50, on_failure: str = "raise") -> Motion:
         """Position, and velocity and acceleration if asked, at each value of the inputs.
 
         ``inputs``, ``rates``, ``accelerations`` map inputs (symbol or name) to numbers or arrays,
         broadcast together (missing rates are 0).  ``guess`` picks the assembly: Newton runs from it at the
         first instant (its history in ``Motion.newton`` for one instant).  Where every block reduces to a
         closed form (:attr:`closed_forms`) each block keeps the root σ nearest that solution (σ = +1 without
-        a guess), and Newton only cross-checks; elsewhere each instant continues from its neighbour's
+        a guess, or the σ that ``assembly`` gives by the block's first unknown, as ``Motion.assembly``
+        names them), and Newton only cross-checks; elsewhere each instant continues from its neighbour's
         solution (tangent predictor, steps subdivided and Newton's steps limited, so no instant lands on
         another assembly).  A sweep of one input is followed from its first instant outward, in increasing
         and in decreasing order of the input (the order the values come in does not matter); several inputs
@@ -1134,6 +1230,7 @@ class Mechanism:
         acc_given = _keyed("accelerations", {} if accelerations is None else accelerations, self.inputs,
                            required=False)
         closed = self._closed_fns is not None
+        chosen = self._assembly(assembly, closed)
         seed = None
         if guess is not None or not closed:
             q_given = _keyed("guess", {} if guess is None else guess, self.unknowns)
@@ -1165,7 +1262,7 @@ class Mechanism:
                 if result is not None and not result.converged:
                     notes.append(f"Newton from the guess did not converge at {self._where(u, 0)} "
                                  f"({result.message}); the closed form gave the assembly nearest the guess")
-                q, iterations, sigma = self._closed(u, paths, target, tol, max_iter, notes)
+                q, iterations, sigma = self._closed(u, paths, target, tol, max_iter, notes, chosen)
                 if shape == () and result is not None:
                     iterations[0] = result.iterations
                 assembly = {name: scalar_or_array(values.reshape(shape)) for name, values in sigma.items()}
@@ -1274,7 +1371,26 @@ class Mechanism:
         value = 2 * np.arctan2(y, x) if kind == "angle" else y / x
         return np.where(bad, np.nan, value), np.where(scale > 0, discriminant / scale, 0.0)
 
-    def _closed(self, u, paths, target, tol, max_iter, notes) -> tuple[np.ndarray, np.ndarray, dict]:
+    def _assembly(self, assembly: Mapping | None, closed: bool) -> dict[str, int]:
+        """``solve``'s ``assembly``: σ = ±1 by the name (or symbol) of a block's first unknown."""
+        if assembly is None:
+            return {}
+        firsts = [form.unknowns[0].name for form in self._structure["forms"] if form is not None and closed]
+        if not isinstance(assembly, Mapping) or not closed:
+            raise InvalidGeometryError(f"assembly must map the first unknown of each closed-form block "
+                                       f"({firsts or 'none here: give a guess instead'}) to σ = +1 or −1; "
+                                       f"got assembly={assembly!r}")
+        chosen = {}
+        for key, value in assembly.items():
+            name = getattr(key, "name", key)
+            if name not in firsts or isinstance(value, bool) or value not in (1, -1):
+                raise InvalidGeometryError(f"assembly must map one of {firsts} to σ = +1 or −1; got "
+                                           f"assembly={dict(assembly)!r}")
+            chosen[name] = int(value)
+        return chosen
+
+    def _closed(self, u, paths, target, tol, max_iter, notes, chosen=None
+                ) -> tuple[np.ndarray, np.ndarray, dict]:
         """Positions (N, n) from the closed forms, each block's σ picked at the first instant from
         ``target`` (the Newton solution, or the guess) and kept along the paths except where the two
         assemblies meet (a change point, reported in ``notes``); then cross-checked by the residual."""
@@ -1288,7 +1404,9 @@ class Mechanism:
                 q[:, first] = -c / b
             else:
                 (plus, level), (minus, _) = (self._root(a, b, c, s, form.kind) for s in (1, -1))
-                sigma = np.full(N, self._pick(plus, minus, paths, target, first))
+                name = form.unknowns[0].name
+                picked = (chosen or {}).get(name) or self._pick(plus, minus, paths, target, first)
+                sigma = np.full(N, picked)
                 self._follow(sigma, plus, minus, level, paths, u, first, notes)
                 q[:, first] = np.where(sigma > 0, plus, minus)
                 sigmas[form.unknowns[0].name] = sigma

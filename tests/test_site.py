@@ -8,9 +8,12 @@ reason, when /usr/bin/chromium is missing (CI installs it: see .ci/run).  Screen
 temporary folder whose path is printed.
 """
 
+import ast
 import functools
+import html
 import http.server
 import json
+import os
 import pathlib
 import re
 import subprocess
@@ -22,6 +25,7 @@ import urllib.parse
 
 import nbformat
 import pytest
+import yaml
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
@@ -35,8 +39,9 @@ ANIMATION_PAGE = "notebooks/03_fourbar_position"
 
 
 def _inputs() -> list[pathlib.Path]:
-    return [ROOT / "README.md", build_site.SITE_CONFIG, pathlib.Path(build_site.__file__),
-            *build_site.page_paths()]
+    return [ROOT / "README.md", ROOT / "pyproject.toml", build_site.SITE_CONFIG,
+            pathlib.Path(build_site.__file__), ROOT / "tools" / "repository.py",
+            *build_site.SITE_EXTENSION.rglob("*.*"), *build_site.page_paths()]
 
 
 def _fresh() -> bool:
@@ -46,6 +51,8 @@ def _fresh() -> bool:
 
 @pytest.fixture(scope="module")
 def site() -> pathlib.Path:
+    if build_site.repository.repository_url() is not None:
+        pytest.skip("these tests read the site built without a repository address (COURSE_REPOSITORY_URL)")
     if not _fresh():
         started = time.monotonic()
         result = subprocess.run([sys.executable, str(ROOT / "tools" / "build_site.py")], cwd=ROOT,
@@ -99,6 +106,119 @@ def test_search_and_a_local_mathjax_are_part_of_the_site(site):
 
 def test_nothing_in_the_site_loads_from_outside_it(site):
     assert build_site.outside_loads(site) == []
+
+
+def test_each_page_offers_its_notebook_as_a_percent_script(site):
+    for path in build_site.page_paths():
+        page = (site / f"{_page(path)}.html").read_text(encoding="utf-8")
+        depth = "../" * (len(path.relative_to(ROOT).parts) - 1)
+        link = f'{depth}_sources/{path.relative_to(ROOT).with_suffix(".py").as_posix()}'
+        assert f'href="{link}"' in page, f"{path.name}: no .py download {link}"
+        script = (site / "_sources" / path.relative_to(ROOT).with_suffix(".py")).read_text(encoding="utf-8")
+        notebook = nbformat.read(path, as_version=4)
+        assert script.count("\n# %%") == len(notebook.cells)
+        ast.parse(script)  # magics are commented out: the script is plain Python
+        for cell in notebook.cells:
+            if cell.cell_type == "code" and not cell.source.lstrip().startswith("%"):
+                assert cell.source.splitlines()[-1] in script
+
+
+def test_every_figure_has_an_alt_text_from_its_titles_or_its_section(site):
+    pictures = 0
+    for path in build_site.page_paths():
+        page = (site / f"{_page(path)}.html").read_text(encoding="utf-8")
+        article = page[page.index("<article"): page.index("</article>")]
+        for alt in re.findall(r'<img\b[^>]*\balt="([^"]*)"', article):
+            pictures += 1
+            assert alt.strip() and "_images/" not in alt and not alt.endswith(".png"), f"{path.name}: {alt!r}"
+        assert len(re.findall(r"<img\b", article)) == len(re.findall(r'<img\b[^>]*\balt="', article))
+    assert pictures >= 60
+    page = (site / f"{ANIMATION_PAGE}.html").read_text(encoding="utf-8")
+    assert 'alt="Figure: The wiper four-bar at θ2 = 60°"' in page
+
+
+def test_the_figure_alt_text_prefers_titles_then_the_output_then_the_heading():
+    figure = nbformat.v4.new_output("display_data", {"image/png": "iVBOR",
+                                                     "text/plain": "<Figure size 6x4 with 1 Axes>"})
+    cell = nbformat.v4.new_code_cell('ax.set_title("Coupler curve")\nfig.suptitle(f"{name} at rest")',
+                                     outputs=[figure])
+    assert build_site.figure_alt(cell, "3. Curves", "Lesson") == "Figure: Coupler curve; … at rest"
+    cell.source = "plot()"
+    assert build_site.figure_alt(cell, "3. Curves", "Lesson") == "Figure of the section “3. Curves”"
+    cell.outputs[0]["data"]["text/plain"] = "four-bar explorer (ok)\nθ2 = 60.0°\nmore"
+    assert build_site.figure_alt(cell, None, "Lesson") == "four-bar explorer (ok): θ2 = 60.0° (in “Lesson”)"
+
+
+def test_the_whole_course_is_one_pdf_linked_from_the_landing_page(site):
+    if not build_site.can_print():
+        pytest.skip("the PDF needs /usr/bin/chromium and playwright")
+    pdf = (site / "course.pdf").read_bytes()
+    pages = build_site.pdf_page_count(pdf)
+    print(json.dumps({"course_pdf_pages": pages, "course_pdf_mb": round(len(pdf) / 1e6, 1)}))
+    assert pdf.startswith(b"%PDF-") and pages >= 100
+    assert 'href="course.pdf"' in (site / "index.html").read_text(encoding="utf-8")
+    single = html.unescape((build_site.SINGLE / "index.html").read_text(encoding="utf-8")).replace("’", "'")
+    for path in build_site.page_paths():  # every page is in the printed single page
+        cells = nbformat.read(path, as_version=4).cells
+        title = next(build_site._heading(cell.source) for cell in cells
+                     if cell.cell_type == "markdown" and build_site._heading(cell.source))
+        assert title.split("·")[-1].strip()[:20] in single, path.name
+
+
+PLACEHOLDERS = re.compile(r"OWNER/|example\.(?:org|com)|the repository's address|mybinder|colab\.research|"
+                          r"git-pull|github\.com|gitlab\.com", re.I)
+
+
+def test_without_a_repository_address_no_repository_link_or_placeholder_shows(site):
+    for path in sorted(site.rglob("*.html")):
+        if "_static" in path.parts:
+            continue
+        text = path.read_text(encoding="utf-8")
+        body = text[text.index("<body"):]
+        found = PLACEHOLDERS.search(body)
+        assert not found, f"{path.relative_to(site)}: {found.group(0)}"
+        for label in ("launch-buttons", "repository-button", "source-file-button", "issues-button"):
+            assert label not in body, f"{path.relative_to(site)}: {label}"
+
+
+def test_the_site_config_keeps_no_setting_jupyter_book_ignores():
+    """Jupyter Book passes on only these keys of ``parse`` (myst_dmath_double_inline there did nothing)."""
+    config = yaml.safe_load(build_site.SITE_CONFIG.read_text(encoding="utf-8"))
+    assert set(config["parse"]) <= {"myst_enable_extensions", "myst_substitutions", "myst_url_schemes"}
+    assert "html_show_sourcelink" not in config["sphinx"]["config"]  # no sourcelink in sphinx-book-theme
+
+
+REPOSITORY = "https://github.com/example-org/mechanism-kinematics"
+HUB = "https://hub.example.edu"
+
+
+@pytest.fixture(scope="module")
+def site_with_repository(tmp_path_factory):
+    """The same site built with a repository address and a JupyterHub set (no PDF: it is the same)."""
+    output = tmp_path_factory.mktemp("site-with-repository")
+    env = dict(os.environ, COURSE_SITE_OUTPUT=str(output), COURSE_REPOSITORY_URL=REPOSITORY,
+               COURSE_JUPYTERHUB_URL=HUB, COURSE_SITE_PDF="off")
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "build_site.py")], cwd=ROOT, env=env,
+                            capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    return output / "_build" / "html"
+
+
+def test_with_a_repository_address_the_site_shows_launch_and_repository_links(site_with_repository):
+    built = site_with_repository
+    page = (built / f"{ANIMATION_PAGE}.html").read_text(encoding="utf-8")
+    notebook = f"{ANIMATION_PAGE}.ipynb"
+    binder = "https://mybinder.org/v2/gh/example-org/mechanism-kinematics/main"
+    assert f"{binder}?urlpath=lab/tree/{notebook}" in page
+    colab = "https://colab.research.google.com/github/example-org/mechanism-kinematics/blob/main/"
+    assert f"{colab}{notebook}" in page
+    assert f"{HUB}/hub/user-redirect/git-pull?repo={urllib.parse.quote(REPOSITORY)}" in page
+    assert f'href="{REPOSITORY}"' in page and f"{REPOSITORY}/issues" in page
+    assert f"{REPOSITORY}/blob/main/{notebook}" in page  # the page's source
+    index = (built / "index.html").read_text(encoding="utf-8")
+    assert f"{REPOSITORY}/issues" in index and "mybinder.org" in index
+    assert not (built / "course.pdf").exists() and 'href="course.pdf"' not in index
+    assert build_site.outside_loads(built) == []
 
 
 def test_the_display_copy_drops_widget_views_and_cdn_icon_links():
@@ -290,3 +410,61 @@ def test_the_landing_page_and_search_work(visit):
     assert any("03_fourbar_position" in hit for hit in hits), hits
     search.assert_clean()
     print(json.dumps({"search_hits_for_Grashof": len(hits)}))
+
+
+def test_code_and_outputs_stay_within_the_text_column(visit):
+    for page in (FORMULA_PAGE, "notebooks/07_saw_full_motion", EXERCISE_PAGE):
+        view = visit(f"{page}.html")
+        view.load_all_images()
+        outside = view.page.evaluate("""() => {
+            const column = document.querySelector('article').getBoundingClientRect();
+            const found = [];
+            document.querySelectorAll('article div.cell, article div.cell_output img').forEach(element => {
+                const box = element.getBoundingClientRect();
+                if (box.right > column.right + 1) found.push(element.className + ' ends at ' + box.right);
+            });
+            const pres = document.querySelectorAll('article div.cell_input pre, article div.cell_output pre');
+            pres.forEach(pre => {
+                if (pre.scrollWidth > pre.clientWidth + 1) found.push(pre.textContent.slice(0, 60));
+            });
+            return found; }""")
+        assert outside == [], f"{page}: {outside}"
+        view.assert_clean()
+
+
+def test_the_download_menu_offers_the_notebook_and_its_script(visit):
+    view = visit(f"{ANIMATION_PAGE}.html")
+    view.page.locator(".dropdown-download-buttons button").first.click()
+    script = view.page.locator("a.btn-download-script-button")
+    script.wait_for(state="visible")
+    assert script.inner_text().strip() == ".py"
+    assert view.page.locator("a.btn-download-source-button").inner_text().strip() == ".ipynb"
+    response = view.page.request.get(script.evaluate("link => link.href"))
+    assert response.ok and response.text().startswith("# ---\n# jupyter:")
+    alts = view.page.evaluate("() => [...document.querySelectorAll('article img')].map(img => img.alt)")
+    assert alts and all(alt and "_images/" not in alt for alt in alts), alts
+    view.screenshot("03_download_menu")
+    view.assert_clean()
+
+
+@pytest.fixture(scope="module")
+def served_with_repository(site_with_repository):
+    with build_site.serve(site_with_repository) as base:
+        yield base
+
+
+def test_the_launch_and_repository_buttons_show_and_load_nothing(chromium, served_with_repository):
+    view = Visit(chromium, served_with_repository, f"{ANIMATION_PAGE}.html")
+    try:
+        launch = view.page.locator(".dropdown-launch-buttons button").first
+        launch.click()
+        hrefs = "links => links.map(a => a.href)"
+        targets = view.page.locator(".dropdown-launch-buttons a").evaluate_all(hrefs)
+        assert any("mybinder.org" in url for url in targets) and any("colab" in url for url in targets)
+        assert any("git-pull" in url for url in targets), targets
+        source = view.page.locator(".dropdown-source-buttons a").evaluate_all(hrefs)
+        assert any(url.startswith(REPOSITORY) for url in source), source
+        view.screenshot("03_launch_buttons")
+        view.assert_clean()
+    finally:
+        view.close()

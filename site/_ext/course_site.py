@@ -1,0 +1,42 @@
+"""The course website's own Sphinx extension (site/_config.yml: local_extensions).
+
+* A ``.py`` download next to the ``.ipynb`` one on every notebook page: the notebook as a
+  percent-format script, which tools/build_site.py writes beside the notebook in ``_sources/``.
+* ``course.css``: code and outputs stay within the text column (long lines wrap; a wide output
+  scrolls inside its cell; pictures shrink to fit), on screen and in print.
+"""
+
+import pathlib
+
+STATIC = pathlib.Path(__file__).resolve().parent / "static"
+
+
+def add_script_download(app, pagename, templatename, context, doctree):
+    """After sphinx-book-theme's own buttons (priority 501): the ``.py`` link after the ``.ipynb`` one."""
+    source = context.get("sourcename") or ""
+    if not source.endswith(".ipynb"):
+        return
+    for group in context.get("header_buttons", []):
+        if group.get("label") != "download-buttons":
+            continue
+        buttons = group["buttons"]
+        where = next((k + 1 for k, button in enumerate(buttons) if button.get("text") == ".ipynb"), 1)
+        buttons.insert(where, {
+            "type": "link",
+            "url": f"{context['pathto']('_sources', 1)}/{source[: -len('.ipynb')]}.py",
+            "text": ".py",
+            "tooltip": "Download as a Python script (cells marked # %%)",
+            "icon": "fas fa-file-code",
+            "label": "download-script-button",
+        })
+
+
+def add_static(app):
+    app.config.html_static_path.append(str(STATIC))
+
+
+def setup(app):
+    app.connect("builder-inited", add_static)
+    app.add_css_file("course.css")
+    app.connect("html-page-context", add_script_download, priority=502)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}

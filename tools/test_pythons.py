@@ -72,6 +72,14 @@ def environment(version: str, interpreter: str) -> pathlib.Path:
     stamp = venv / ".installed-dev"
     newest = max(path.stat().st_mtime for path in REQUIREMENTS)
     if stamp.exists() and stamp.stat().st_mtime >= newest:
+        python = str(venv / "bin" / "python")
+        where = subprocess.run([python, "-c", "import course_lib; print(course_lib.__file__)"],
+                               cwd="/", capture_output=True, text=True).stdout.strip()
+        if where and pathlib.Path(where).parent == ROOT / "course_lib":
+            return venv
+        # a venv made for another copy of the collection: course_lib from this folder, the rest as it is
+        subprocess.run([python, "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
+                        "--no-deps", "-e", "."], cwd=ROOT, check=True)
         return venv
     if not (venv / "bin" / "python").exists():
         venv.parent.mkdir(parents=True, exist_ok=True)

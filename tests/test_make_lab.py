@@ -56,3 +56,20 @@ def test_make_lab_serves_the_lessons():
     finally:
         os.killpg(server.pid, signal.SIGTERM)
         server.wait(timeout=30)
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
+def test_make_lab_installs_the_student_set_and_make_test_the_whole_set(tmp_path):
+    """Into a venv that does not exist yet (make -n prints the commands without running them)."""
+    def planned(target: str) -> str:
+        return subprocess.run(["make", "-n", "--no-print-directory", target, f"VENV={tmp_path / 'venv'}"],
+                              cwd=ROOT, capture_output=True, text=True, check=True).stdout
+
+    lab, test = planned("lab"), planned("test")
+    assert "-r environment.txt" in lab and "environment-dev.txt" not in lab
+    assert "-r environment-dev.txt" in test and ".installed-dev" in test
+    dev = (ROOT / "environment-dev.txt").read_text(encoding="utf-8").splitlines()
+    assert "-r environment.txt" in dev  # the whole set is the student set plus the tools
+    student = (ROOT / "environment.txt").read_text(encoding="utf-8")
+    for tool in ("pytest", "nbval", "hypothesis", "ruff", "playwright", "jupyter-book", "nbgrader"):
+        assert f"\n{tool}==" not in student and any(line.startswith(f"{tool}==") for line in dev), tool

@@ -1,9 +1,10 @@
-"""`make lab` starts a JupyterLab server rooted at notebooks/ that answers on /api/status, with the
+"""`make lab` installs the student set and starts a JupyterLab server rooted at notebooks/ that answers on /api/status, with the
 project's settings installed (the Jupyter news pop-up never shows)."""
 
 import json
 import os
 import pathlib
+import re
 import shutil
 import signal
 import socket
@@ -73,3 +74,16 @@ def test_make_lab_installs_the_student_set_and_make_test_the_whole_set(tmp_path)
     student = (ROOT / "environment.txt").read_text(encoding="utf-8")
     for tool in ("pytest", "nbval", "hypothesis", "ruff", "playwright", "jupyter-book", "nbgrader"):
         assert f"\n{tool}==" not in student and any(line.startswith(f"{tool}==") for line in dev), tool
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
+def test_make_clean_removes_what_the_targets_make_and_keeps_the_nbgrader_settings():
+    planned = subprocess.run(["make", "-n", "--no-print-directory", "clean"], cwd=ROOT, capture_output=True,
+                             text=True, check=True).stdout
+    removed = set(re.findall(r"[\w./-]+", " ".join(line for line in planned.splitlines()
+                                                      if line.startswith("rm "))))
+    made = {".venv", "_build", "dist", "nbgrader/source", "nbgrader/release", "nbgrader/submitted",
+            "nbgrader/autograded", "nbgrader/feedback", "nbgrader/gradebook.db"}
+    assert made <= removed, made - removed
+    kept = {"nbgrader", ".", "nbgrader/nbgrader_config.py"}
+    assert not any(path in kept or path.startswith("nbgrader/templates") for path in removed)

@@ -1,5 +1,6 @@
-"""`make lab` installs the student set and starts a JupyterLab server rooted at notebooks/ that answers on /api/status, with the
-project's settings installed (the Jupyter news pop-up never shows)."""
+"""`make lab` installs the student set and starts a JupyterLab server rooted at notebooks/ that answers on
+/api/status, with the project's settings installed (the Jupyter news pop-up never shows); `make test` installs
+the whole set; `make clean` removes what the targets make."""
 
 import json
 import os

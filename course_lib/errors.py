@@ -12,7 +12,8 @@ import numpy as np
 
 __all__ = ["CourseLibError", "UnreachableError", "ConvergenceError", "SingularJacobianError",
            "InvalidGeometryError", "InvalidArgumentError", "require_positive", "require_finite",
-           "require_broadcast", "require_choice", "report_unreachable", "failure_policy", "FAILURE_POLICIES"]
+           "require_broadcast", "require_choice", "report_unreachable", "failure_policy", "FAILURE_POLICIES",
+           "UNSET"]
 
 #: What a call does where it fails (no assembly, a singular Jacobian): raise the named error, or give NaN.
 FAILURE_POLICIES = ("raise", "nan")
@@ -145,16 +146,27 @@ def require_choice(name: str, value: Any, choices: Iterable[Any]) -> Any:
     return value
 
 
-def failure_policy(on_failure: str | None = None, **aliases: str | None) -> str:
+class _Unset(str):
+    """The default of an older failure keyword: it reads "raise" (as that default always did) and counts
+    as not given, so ``on_failure`` alone decides."""
+
+    __slots__ = ()
+
+
+#: The default of ``on_unreachable=`` and ``on_singular=``: "raise", unless ``on_failure`` says otherwise.
+UNSET = _Unset("raise")
+
+
+def failure_policy(on_failure: str | None = None, **aliases: str) -> str:
     """The one failure policy of a call, ``on_failure`` = "raise" or "nan", given by that keyword or by
-    the older one that spelled it (``on_unreachable=``, ``on_singular=``); "raise" when none is given.
-    Two that disagree are refused by name.
+    the older one that spelled it (``on_unreachable=``, ``on_singular=``, whose default is ``UNSET``);
+    "raise" when none is given.  Two that disagree are refused by name.
 
     >>> failure_policy(), failure_policy("nan"), failure_policy(None, on_unreachable="nan")
     ('raise', 'nan', 'nan')
     """
-    spelled = {"on_failure": on_failure, **aliases}
-    given = {name: value for name, value in spelled.items() if value is not None}
+    given = {} if on_failure is None else {"on_failure": on_failure}
+    given |= {name: value for name, value in aliases.items() if value is not UNSET}
     for name, value in given.items():
         require_choice(name, value, FAILURE_POLICIES)
     if len(set(given.values())) > 1:

@@ -1,6 +1,9 @@
 """The five-bar parallel robot of the course: forward and inverse kinematics, velocities,
 singularities and workspace.  The constraints are the course's EcL2, EcL3: |P3 − P2|² − l2² = 0 and
-|P3 − P4|² − l3² = 0 (see :class:`FiveBar`); SI units, angles from +x counter-clockwise.
+|P3 − P4|² − l3² = 0 (see :class:`FiveBar`); SI units, angles from +x counter-clockwise.  The machine is
+one declaration (:attr:`FiveBar.mechanism`: EcL2, EcL3 with the motors' θ1, θ4 as inputs, the points
+P1 … P5 and the links l1 … l5); the inverse kinematics' rates come from the same loops with inputs and
+unknowns swapped, and both singularities are the core's rule (σ_min(J̃) < ``SINGULAR``).
 """
 
 from __future__ import annotations
@@ -12,8 +15,10 @@ from typing import Any
 import numpy as np
 
 from .errors import (
+    UNSET,
     InvalidGeometryError,
     SingularJacobianError,
+    failure_policy,
     report_unreachable,
     require_broadcast,
     require_choice,
@@ -28,7 +33,8 @@ __all__ = ["FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures", "
 
 #: The four working modes (σ1, σ2) of the inverse kinematics, in the course's order.
 WORKING_MODES = ((1, 1), (-1, 1), (1, -1), (-1, -1))
-#: A normalized singularity measure (a sine, see ``singularity_measures``) below this is singular.
+#: No longer the singularity rule (kept for code that reads it): a singularity is where the core's rule
+#: finds the declared loops' Jacobian singular, σ_min(J̃) < ``course_lib.mechanism.SINGULAR``.
 SINGULAR_TOL = 1e-7
 #: The lengths (m) the five-bar accepts: fourth powers of them stay far from under- and overflow.
 LENGTH_RANGE = (1e-60, 1e60)
@@ -86,19 +92,38 @@ class WorkspaceMap:
 
 
 @cache
-def _declarations() -> dict:
-    """EcL2 and EcL3 on the core for forward (unknowns X3, Y3) and inverse kinematics (unknowns θ1, θ4)."""
+def _declaration():
+    """The five-bar on the core: EcL2 and EcL3, unknowns X3, Y3 (the end effector), inputs θ1, θ4 (the
+    motors), the points P1 … P5 and the links l1 … l5."""
     import sympy as sp
 
     from .mechanism import Mechanism
 
     x3, y3, theta1, theta4 = sp.symbols("x3 y3 theta1 theta4")
     l1, l2, l3, l4, l5 = lengths = sp.symbols("l1:6")
+    P1, P5 = sp.Matrix([l5 / 2, 0]), sp.Matrix([-l5 / 2, 0])
+    P2 = sp.Matrix([l1 * sp.cos(theta1) + l5 / 2, l1 * sp.sin(theta1)])
+    P4 = sp.Matrix([l4 * sp.cos(theta4) - l5 / 2, l4 * sp.sin(theta4)])
+    P3 = sp.Matrix([x3, y3])
     loops = [(x3 - l1 * sp.cos(theta1) - l5 / 2) ** 2 + (y3 - l1 * sp.sin(theta1)) ** 2 - l2**2,
              (x3 - l4 * sp.cos(theta4) + l5 / 2) ** 2 + (y3 - l4 * sp.sin(theta4)) ** 2 - l3**2]
     parameters = dict(zip(lengths, (0.10, 0.15, 0.15, 0.10, 0.08), strict=True))
-    return {"forward": Mechanism(loops, [x3, y3], [theta1, theta4], parameters),
-            "inverse": Mechanism(loops, [theta1, theta4], [x3, y3], parameters)}
+    points = {"P1": P1, "P2": P2, "P3": P3, "P4": P4, "P5": P5}
+    links = {"l1": ("P1", "P2"), "l2": ("P2", "P3"), "l3": ("P3", "P4"), "l4": ("P4", "P5"),
+             "l5": ("P5", "P1")}
+    return Mechanism(loops, [x3, y3], [theta1, theta4], parameters, points=points, links=links)
+
+
+@cache
+def _declarations() -> dict:
+    """The declaration (``"forward"``: unknowns X3, Y3) and its loops with inputs and unknowns swapped
+    (``"inverse"``: unknowns θ1, θ4, for the crank rates)."""
+    from .mechanism import Mechanism
+
+    forward = _declaration()
+    inverse = Mechanism(list(forward.equations), list(forward.inputs), list(forward.unknowns),
+                        dict(forward.parameters))
+    return {"forward": forward, "inverse": inverse}
 
 
 def _stacked(*values) -> np.ndarray:
@@ -182,19 +207,60 @@ class FiveBar:
         p4x, p4y = self.l4 * np.cos(theta4) - half, self.l4 * np.sin(theta4)
         return np.broadcast_arrays(p2x, p2y, p4x, p4y)
 
+    @cached_property
+    def mechanism(self):
+        """The machine as one declaration on :class:`~course_lib.mechanism.Mechanism` with these lengths:
+        EcL2, EcL3 (unknowns X3, Y3; inputs θ1, θ4), the points P1 … P5 and the links l1 … l5.
+
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).mechanism
+        >>> list(robot.points), robot.links.names, [s.name for s in robot.inputs]
+        (['P1', 'P2', 'P3', 'P4', 'P5'], ('l1', 'l2', 'l3', 'l4', 'l5'), ['theta1', 'theta4'])
+        """
+        return self._cores["forward"]
+
+    def motion(self, theta1, theta4, mode: int = 1, omega1=0.0, omega4=0.0, alpha1=0.0, alpha4=0.0, *,
+               on_failure: str | None = None):
+        """The forward closed form (:meth:`forward`) as a :class:`~course_lib.mechanism.Motion` of
+        :attr:`mechanism`: position X3, Y3 with the velocity and acceleration of the end effector from the
+        crank rates (by the declared loops); NaN rates at a parallel singularity (the core's rule).
+
+        >>> motion = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).motion(1.0, 2.0, omega1=1.0)
+        >>> round(motion.position["y3"], 6), bool(motion.converged), bool(motion.singular)
+        (0.209003, True, False)
+        """
+        policy = failure_policy(on_failure)
+        rates = [require_finite(name, value, unit) for name, value, unit in (
+            ("omega1", omega1, "rad/s"), ("omega4", omega4, "rad/s"), ("alpha1", alpha1, "rad/s^2"),
+            ("alpha4", alpha4, "rad/s^2"))]
+        end = self.forward(theta1, theta4, mode, on_failure=policy)
+        p = _stacked(*require_broadcast(x3=end.x3, y3=end.y3, theta1=theta1, theta4=theta4, omega1=rates[0],
+                                        omega4=rates[1], alpha1=rates[2], alpha4=rates[3]))
+        with np.errstate(all="ignore"):
+            velocity, acceleration, singular = self.mechanism.rates(p[..., :2], p[..., 2:4], p[..., 4:6],
+                                                                    p[..., 6:])
+        singular = singular & np.asarray(end.reachable)
+        if policy == "raise" and np.any(singular):
+            raise SingularJacobianError("parallel (type-2) singularity: the distal links l2, l3 are aligned; "
+                                        "the end-effector velocity is undefined there",
+                                        condition_number=np.inf)
+        return self.mechanism.motion_of(
+            {"x3": end.x3, "y3": end.y3}, {"theta1": p[..., 2], "theta4": p[..., 3]},
+            {"x3": velocity[..., 0], "y3": velocity[..., 1]},
+            {"x3": acceleration[..., 0], "y3": acceleration[..., 1]},
+            converged=end.reachable, singular=singular)
+
     def joints(self, theta1, theta4, x3, y3) -> np.ndarray:
-        """Joints P1 … P5 (m), shape (..., 5, 2), of a configuration (no solving).
+        """Joints P1 … P5 (m), shape (..., 5, 2), of a configuration (no solving): the declaration's
+        points (:attr:`mechanism`).
 
         >>> np.round(FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
-        p2x, p2y, p4x, p4y, x3, y3 = np.broadcast_arrays(*self._cranks(theta1, theta4), x3, y3)
-        half = self.l5 / 2
-        zeros = np.zeros_like(p2x)
-        xs = np.stack([zeros + half, p2x, x3, p4x, zeros - half], axis=-1)
-        ys = np.stack([zeros, p2y, y3, p4y, zeros], axis=-1)
-        return np.stack([xs, ys], axis=-1)
+        motion = self.mechanism.motion_of({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
+                                          converged=True, singular=False)
+        points = self.mechanism.joints(motion)
+        return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
 
     def constraints(self, theta1, theta4, x3, y3) -> np.ndarray:
         """EcL2, EcL3: |P3 − P2|² − l2² and |P3 − P4|² − l3² (m²), shape (..., 2); zero when assembled.
@@ -230,7 +296,8 @@ class FiveBar:
             c = f**2 - l3**2 + l4**2 + f * l5 + l5**2 / 4 - l4 * (2 * f + l5) * c4
         return {"f": f, "g": g, "a": a, "b": b, "c": c, "D": D}
 
-    def forward(self, theta1, theta4, mode: int = 1, on_unreachable: str = "raise") -> ForwardResult:
+    def forward(self, theta1, theta4, mode: int = 1, on_unreachable: str = UNSET, *,
+                on_failure: str | None = None) -> ForwardResult:
         """End effector P3 = (X3, Y3) (m) for crank angles θ1, θ4 (rad); ``mode`` +1 "arms up" (larger Y3),
         −1 "arms down".  X3 = g·Y3 + f where |P2x − P4x| ≥ |P2y − P4y|, else Y3 = g'·X3 + f'.
 
@@ -239,7 +306,7 @@ class FiveBar:
         True
         """
         sigma = int(require_choice("mode", mode, (1, -1)))
-        require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+        on_unreachable = failure_policy(on_failure, on_unreachable=on_unreachable)
         theta1, theta4 = require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                                            theta4=require_finite("theta4", theta4, "rad"))
         l3, l4, l5 = self.l3, self.l4, self.l5
@@ -296,8 +363,8 @@ class FiveBar:
             "c2": -(l3**2) + l4**2 - l4 * l5 - 2 * l4 * X + l5 * X + common,
         }
 
-    def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1),
-                on_unreachable: str = "raise") -> InverseResult:
+    def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1), on_unreachable: str = UNSET, *,
+                on_failure: str | None = None) -> InverseResult:
         """Crank angles θ1, θ4 (rad, in (−π, π]) that put the end effector at (x3, y3) (m); ``modes`` =
         (σ1, σ2), the signs in θ = 2·atan((−b + σ√(b² − 4ac))/2a): the four working modes.
 
@@ -306,7 +373,7 @@ class FiveBar:
         [0.0, 0.2]
         """
         sigmas = _working_mode(modes)
-        require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+        on_unreachable = failure_policy(on_failure, on_unreachable=on_unreachable)
         X, Y = require_broadcast(x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
         with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
             theta1, theta4, far1, far4, free = _blockwise(partial(self._inverse_points, sigmas=sigmas),
@@ -330,7 +397,8 @@ class FiveBar:
 
     @cached_property
     def _cores(self) -> dict:
-        """EcL2, EcL3 declared on the core with these lengths, "forward" and "inverse"."""
+        """The declaration with these lengths ("forward") and its loops with inputs and unknowns swapped
+        ("inverse")."""
         lengths = {"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4, "l5": self.l5}
         return {kind: core.with_parameters(lengths) for kind, core in _declarations().items()}
 
@@ -380,8 +448,8 @@ class FiveBar:
         return leg1, leg4, (x_2 * y_4 - y_2 * x_4) / (self.l2 * self.l3)
 
     def _singular(self, kind, on_singular, theta1, theta4, x3, y3):
-        """The mask of a "parallel" or "serial" singularity; raises there, or for an unassembled one."""
-        require_choice("on_singular", on_singular, ("raise", "nan"))
+        """The mask of a "parallel" or "serial" singularity, by the core's rule (σ_min(J̃) < SINGULAR of
+        ∂(EcL2, EcL3)/∂(X3, Y3), or of ∂(EcL2, EcL3)/∂(θ1, θ4)); raises there, or for an unassembled one."""
         residual = np.abs(self._constraints(theta1, theta4, x3, y3))
         scale = max(self.l1, self.l2, self.l3, self.l4, self.l5) ** 2
         if not np.all(residual <= 1e-8 * scale):
@@ -390,38 +458,44 @@ class FiveBar:
                                        "theta1, theta4, e.g. from forward)")
         leg1, leg4, parallel = self._measures(theta1, theta4, x3, y3)
         if kind == "parallel":
-            parallel = np.asarray(parallel)
-            singular = np.abs(parallel) < SINGULAR_TOL
+            p = _stacked(x3, y3, theta1, theta4)
+            singular = self._cores["forward"].is_singular(p[..., :2], p[..., 2:])
+            parallel = np.broadcast_to(parallel, singular.shape)
             sine = parallel[singular].ravel()[0] if singular.any() else 0
             message = ("parallel (type-2) singularity: the distal links l2, l3 are aligned (sin of their "
                        f"angle {sine:.2g}); the end-effector velocity is undefined there")
         else:
-            leg1, leg4 = (np.abs(np.asarray(m)) < SINGULAR_TOL for m in (leg1, leg4))
-            singular = leg1 | leg4
-            which = "leg 1 (l1, l2)" if leg1.any() else "leg 4 (l4, l3)"
+            p = _stacked(theta1, theta4, x3, y3)
+            singular = self._cores["inverse"].is_singular(p[..., :2], p[..., 2:])
+            leg1, leg4 = np.broadcast_arrays(np.abs(leg1), np.abs(leg4))
+            which = "leg 1 (l1, l2)" if np.any(singular & (leg1 <= leg4)) else "leg 4 (l4, l3)"
             message = f"serial (type-1) singularity: {which} is stretched or folded; the crank rates are " \
                       "undefined there"
         if on_singular == "raise" and singular.any():
             raise SingularJacobianError(message, condition_number=np.inf)
         return singular
 
-    def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = "raise") -> np.ndarray:
+    def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = UNSET, *,
+                          on_failure: str | None = None) -> np.ndarray:
         """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4).  ``SingularJacobianError`` at a
-        parallel singularity (``on_singular="nan"``: NaN), as the two rate functions at theirs.
+        parallel singularity (``on_failure="nan"``, older spelling ``on_singular="nan"``: NaN), as the two
+        rate functions at theirs.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> np.round(robot.velocity_jacobian(*robot.inverse(0.0, 0.2, modes=(-1, +1)), 0.0, 0.2), 4).tolist()
         [[-0.0754, -0.0754], [0.0614, -0.0614]]
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
-        singular = self._singular("parallel", on_singular, theta1, theta4, x3, y3)
+        policy = failure_policy(on_failure, on_singular=on_singular)
+        singular = self._singular("parallel", policy, theta1, theta4, x3, y3)
         A, B = self._terms(theta1, theta4, x3, y3)
         shape, B = A.shape[:-2], B.reshape(-1, 2, 2)
         solve = linear_solver(np.where(singular.reshape(-1, 1, 1), np.eye(2), A.reshape(-1, 2, 2)))
         J = np.stack([solve(-B[:, :, j]) for j in range(2)], axis=-1).reshape(shape + (2, 2))
         return np.where(singular[..., None, None], np.nan, J)
 
-    def end_effector_velocity(self, theta1, theta4, x3, y3, omega1, omega4, on_singular: str = "raise"):
+    def end_effector_velocity(self, theta1, theta4, x3, y3, omega1, omega4, on_singular: str = UNSET,
+                              *, on_failure: str | None = None):
         """(Ẋ3, Ẏ3) (m/s), shape (..., 2), from the crank rates ω1, ω4 (rad/s): A·ṗ = −B·ω.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
@@ -431,11 +505,13 @@ class FiveBar:
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         omega = [require_finite("omega1", omega1, "rad/s"), require_finite("omega4", omega4, "rad/s")]
-        singular = self._singular("parallel", on_singular, theta1, theta4, x3, y3)
+        policy = failure_policy(on_failure, on_singular=on_singular)
+        singular = self._singular("parallel", policy, theta1, theta4, x3, y3)
         p = _stacked(x3, y3, theta1, theta4, *omega)
         return self._cores["forward"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
-    def crank_rates(self, theta1, theta4, x3, y3, vx, vy, on_singular: str = "raise"):
+    def crank_rates(self, theta1, theta4, x3, y3, vx, vy, on_singular: str = UNSET, *,
+                    on_failure: str | None = None):
         """(ω1, ω4) (rad/s), shape (..., 2), for the end-effector velocity (vx, vy) (m/s): B·ω = −A·ṗ.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
@@ -444,7 +520,8 @@ class FiveBar:
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         velocity = [require_finite(name, value, "m/s") for name, value in (("vx", vx), ("vy", vy))]
-        singular = self._singular("serial", on_singular, theta1, theta4, x3, y3)
+        policy = failure_policy(on_failure, on_singular=on_singular)
+        singular = self._singular("serial", policy, theta1, theta4, x3, y3)
         p = _stacked(theta1, theta4, x3, y3, *velocity)
         return self._cores["inverse"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 

@@ -1,6 +1,9 @@
 """The four-bar linkage: l1 = ground O2O4, l2 = crank O2A (input θ2), l3 = coupler AB (θ3), l4 = rocker
 O4B (θ4), O2 = (0, 0), O4 = (l1, 0).  The loop R2 + R3 − R4 − R1 = 0 is solved by the tangent half-angle
-substitution (Norton, *Design of Machinery*, §4.5), the rates from :attr:`FourBar.mechanism`.  Branches:
+substitution (Norton, *Design of Machinery*, §4.5); the machine is one declaration
+(:attr:`FourBar.mechanism`: the loop, the points O2, A, B, O4 and the links ground, crank, coupler,
+rocker), which gives the rates, the singularity rule (the core's ``SINGULAR``), the joints and a
+:class:`~course_lib.mechanism.Motion` (:meth:`FourBar.motion`) to draw, animate or explore.  Branches:
 ``"open"`` (B left of the line A → O4, Norton's minus sign) and ``"crossed"``.  SI units.
 """
 
@@ -13,7 +16,9 @@ from functools import cache, cached_property
 import numpy as np
 
 from .errors import (
+    UNSET,
     SingularJacobianError,
+    failure_policy,
     report_unreachable,
     require_broadcast,
     require_choice,
@@ -26,13 +31,17 @@ __all__ = ["BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRang
 
 #: The two assembly circuits, named as in Norton's *Design of Machinery*.
 BRANCHES = ("open", "crossed")
-#: |sin(θ3 − θ4)| below this counts as a toggle: J = l3·l4·sin(θ3 − θ4) is singular.
+#: No longer the toggle rule (kept for code that reads it): a toggle is where the core's rule finds the
+#: declared loop's J singular, σ_min(J̃) < ``course_lib.mechanism.SINGULAR`` (|sin(θ3 − θ4)| ≲ 1e-6).
 SINGULAR_TOL = 1e-7
+#: |AO4| below this (in lengths scaled by the longest) puts the crank pin A on O4.
+COINCIDENT = 1e-14
 #: A toggle angle this close (rad) to π or 0 is a full turn's change point (rounding), not a limit.
 TOGGLE_TOL = 1e-7
 #: A discriminant below −(this)·(B² + (A − C)²) cannot close; above, it is rounding and counts as 0.
 DISCRIMINANT_TOL = 1e-12
-#: A block whose smallest discriminant proves |sin(θ3 − θ4)| above this skips the toggle test.
+#: A block whose smallest discriminant proves |sin(θ3 − θ4)| above this (and σ_min(J̃) above twice
+#: ``SINGULAR``) skips the toggle test.
 TOGGLE_FREE = 1e-3
 #: Crank angles per block of an array solve (the memory beyond the results stays flat).
 BLOCK = 1 << 16
@@ -58,15 +67,17 @@ def _declaration():
                                                                                l4 * sp.sin(theta4)])
     loop = A + sp.Matrix([l3 * sp.cos(theta3), l3 * sp.sin(theta3)]) - B
     points = {"O2": sp.Matrix([0, 0]), "A": A, "B": B, "O4": sp.Matrix([l1, 0])}
+    links = {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "ground": ("O4", "O2")}
     return Mechanism([loop], [theta3, theta4], [theta2], {l1: 0.20, l2: 0.06, l3: 0.18, l4: 0.12},
-                     points=points, links=[("O2", "A"), ("A", "B"), ("B", "O4"), ("O4", "O2")])
+                     points=points, links=links)
 
 
 @dataclass(frozen=True)
 class FourBarSolution(Unpacks):
-    """θ3, θ4 (rad, in (−π, π]), ω3, ω4 (rad/s), α3, α4 (rad/s²) of coupler and rocker; ``mask`` True
-    where the loop cannot close, ``singular`` where rates or position are undefined (NaN entries, with
-    ``on_unreachable="nan"``).  Unpacks as the six values; ``np.array`` gives (6, ...).
+    """θ3, θ4 (rad, in (−π, π]), ω3, ω4 (rad/s), α3, α4 (rad/s²) of coupler and rocker; ``unreachable``
+    True where the loop cannot close (``mask`` is its older name, the same array), ``singular`` where
+    rates or position are undefined (NaN entries, with ``on_failure="nan"``).  Unpacks as the six values;
+    ``np.array`` gives (6, ...).
 
     >>> np.array(FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0])).shape
     (6, 2)
@@ -85,12 +96,21 @@ class FourBarSolution(Unpacks):
 
     @property
     def reachable(self) -> bool | np.ndarray:
-        """True where the loop closes (``~mask``).
+        """True where the loop closes (``~unreachable``).
 
-        >>> FourBar(0.15, 0.10, 0.12, 0.20).solve([0.0, 2.0], on_unreachable="nan").reachable.tolist()
+        >>> FourBar(0.15, 0.10, 0.12, 0.20).solve([0.0, 2.0], on_failure="nan").reachable.tolist()
         [True, False]
         """
         return scalar_or_array(~np.asarray(self.mask))
+
+    @property
+    def unreachable(self) -> bool | np.ndarray:
+        """True where the loop cannot close (no real root): the mask named for what it marks.
+
+        >>> FourBar(0.15, 0.10, 0.12, 0.20).solve([0.0, 2.0], on_failure="nan").unreachable.tolist()
+        [False, True]
+        """
+        return self.mask
 
 
 @dataclass(frozen=True)
@@ -166,11 +186,15 @@ class FourBar:
 
     @cached_property
     def mechanism(self):
-        """The loop declared on :class:`~course_lib.mechanism.Mechanism` with these lengths.
+        """The machine as one declaration on :class:`~course_lib.mechanism.Mechanism` with these lengths:
+        the loop (unknowns θ3, θ4, input θ2), the points O2, A, B, O4 and the links crank, coupler,
+        rocker, ground.
 
         >>> loop = FourBar(0.06, 0.18, 0.12, 0.20).mechanism
         >>> round(loop.solve({"theta2": 0.7}, guess={"theta3": 0.4, "theta4": 1.6}).position["theta4"], 6)
         1.516178
+        >>> list(loop.points), loop.links.names
+        (['O2', 'A', 'B', 'O4'], ('crank', 'coupler', 'rocker', 'ground'))
         """
         return _declaration().with_parameters({"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4})
 
@@ -209,7 +233,8 @@ class FourBar:
     def _block_positions(self, theta2: np.ndarray, branch: str, theta3: np.ndarray, theta4: np.ndarray,
                          unreachable: np.ndarray):
         """θ3, θ4 and the unreachable mask of a block into the arrays given; returns the undetermined and NaN
-        masks (or None), (cos, sin) of θ2, θ3, θ4 and whether the block is toggle-free.  Norton's A, B, C
+        masks (or None), (cos, sin) of θ2, θ3, θ4 and the block's smallest discriminant (see
+        :attr:`_toggle_free_level`).  Norton's A, B, C
         times 2·l2·l4 (the same roots, no ratio of lengths that could overflow)."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
@@ -222,17 +247,15 @@ class FourBar:
         discriminant = -4 * A * C + square  # B² − 4AC, never −0
         smallest = discriminant.min()
         clean = smallest >= 0  # the usual case: every loop closes
-        # B² − 4AC = 16 l3² l4² sin²(θ3 − θ4), rounding error below 1e-12 (|A|, |B|, |C| < 10)
-        toggle_free = smallest >= max(16 * l3**2 * l4**2 * TOGGLE_FREE**2, 1e-9)
         if clean:
             unreachable[...] = False
         else:  # the scale: B² + (A − C)² = 16 l4² |AO4|²
             np.less(discriminant, -DISCRIMINANT_TOL * ((A - C) * (A - C) + square), out=unreachable)
             np.maximum(discriminant, 0.0, out=discriminant)
         bad, undetermined = unreachable, None
-        if abs(l3 - l4) < SINGULAR_TOL**2:  # A on O4 with coupler = rocker: B anywhere on a circle
+        if abs(l3 - l4) < COINCIDENT:  # A on O4 with coupler = rocker: B anywhere on a circle
             distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
-            undetermined = distance_AO4 < SINGULAR_TOL**2
+            undetermined = distance_AO4 < COINCIDENT
             unreachable &= ~undetermined
             bad, clean = unreachable | undetermined, False
         bad = None if clean or not bad.any() else bad
@@ -270,12 +293,27 @@ class FourBar:
         np.arctan2(coupler_y, coupler_x, out=theta3)
         coupler_x /= l3
         coupler_y /= l3
-        return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4), toggle_free
+        return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4), smallest
+
+    @cached_property
+    def _toggle_free_level(self) -> float:
+        """The smallest discriminant of a block that proves no toggle in it: |sin(θ3 − θ4)| ≥ TOGGLE_FREE
+        and the core's σ_min(J̃) ≥ 2·SINGULAR (σ_min ≥ |det J̃| / ‖J̃‖_F, with ‖J̃‖_F bounded by the
+        lengths and the core's scales), as B² − 4AC = 16 l3² l4² sin²(θ3 − θ4) (rounding below 1e-12)."""
+        from .mechanism import SINGULAR
+
+        _, _, l3, l4 = self._unit_lengths()
+        rows, columns = self._unit_mechanism._scales
+        frobenius = math.sqrt((l3**2 / columns[0] ** 2 + l4**2 / columns[1] ** 2)
+                              * (1 / rows[0] ** 2 + 1 / rows[1] ** 2))
+        sine = 2 * SINGULAR * rows[0] * rows[1] * columns[0] * columns[1] * frobenius / (l3 * l4)
+        return max(16 * l3**2 * l4**2 * max(TOGGLE_FREE, sine) ** 2, 1e-9)
 
     def _core_rates(self, q, u, u_rate, u_acceleration, trig, toggle):
-        """(ω3, ω4) and (α3, α4), each (n, 2), from the declared loop with the closed form's (cos, sin)."""
+        """(ω3, ω4), (α3, α4), each (n, 2), and the singular mask, from the declared loop with the closed
+        form's (cos, sin); ``toggle`` None: the core's rule decides where J is singular."""
         pairs = {"theta2": trig[:2], "theta3": trig[2:4], "theta4": trig[4:]}
-        return self._unit_mechanism.rates(q, u, u_rate, u_acceleration, trig=pairs, singular=toggle)[:2]
+        return self._unit_mechanism.rates(q, u, u_rate, u_acceleration, trig=pairs, singular=toggle)
 
     def _solve_one(self, theta2: float, omega2: float, alpha2: float, branch: str):
         """:meth:`_solve_blocks` for one instant in Python numbers, operation for operation (same bits)."""
@@ -289,9 +327,9 @@ class FourBar:
         discriminant = square - 4 * A * C
         unreachable = discriminant < -DISCRIMINANT_TOL * ((A - C) * (A - C) + square)
         undetermined = False
-        if abs(l3 - l4) < SINGULAR_TOL**2:
+        if abs(l3 - l4) < COINCIDENT:
             distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
-            undetermined = bool(distance_AO4 < SINGULAR_TOL**2)
+            undetermined = bool(distance_AO4 < COINCIDENT)
             unreachable = unreachable and not undetermined
         root = math.nan if unreachable or undetermined else math.sqrt(max(discriminant, 0.0))
         minus_B = -B
@@ -307,59 +345,59 @@ class FourBar:
         theta3 = float(np.arctan2(coupler_y, coupler_x))
         cos3, sin3 = coupler_x / l3, coupler_y / l3
         trig = (cos2, sin2, cos3, sin3, cos4, sin4)
-        toggle = abs(sin3 * cos4 - cos3 * sin4) < SINGULAR_TOL  # det J = l3·l4·sin(θ3 − θ4)
         moving = omega2 != 0 or alpha2 != 0
-        singular = toggle and moving and not (unreachable or undetermined)
+        singular = False
         if not moving:  # at rest: no rates to solve for
             rates = [math.nan if math.isnan(cos3) else 0.0] * 4
-        elif singular:
-            rates = [math.nan] * 4
-        else:
-            q_rate, q_acc = self._core_rates(np.array([[theta3, theta4]]), np.array([[theta2]]),
-                                             np.array([[omega2]]), np.array([[alpha2]]),
-                                             [np.array([v]) for v in trig], np.array([toggle]))
+        else:  # the core's rule decides the toggle (NaN rates there)
+            q_rate, q_acc, toggle = self._core_rates(np.array([[theta3, theta4]]), np.array([[theta2]]),
+                                                     np.array([[omega2]]), np.array([[alpha2]]),
+                                                     [np.array([v]) for v in trig], None)
+            singular = bool(toggle[0]) and not (unreachable or undetermined or math.isnan(cos3))
             rates = [*q_rate[0].tolist(), *q_acc[0].tolist()]
         return [theta3, theta4, *rates], unreachable, singular or undetermined, 0 if undetermined else None
 
-    def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, toggle_free: bool,
+    def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, smallest: float,
                      moving_any: bool, omegas: np.ndarray, alphas: np.ndarray, singular: np.ndarray) -> None:
-        """(ω3, ω4), (α3, α4) of a block into ``omegas``, ``alphas``; NaN at a toggle while moving, at bad."""
-        cos2, sin2, cos3, sin3, cos4, sin4 = trig
+        """(ω3, ω4), (α3, α4) of a block into ``omegas``, ``alphas``; NaN at a toggle while moving, at bad.
+        The toggles are where the core's rule finds J singular (skipped where ``smallest``, the block's
+        smallest discriminant, proves there is none)."""
+        cos3 = trig[2]
         if not moving_any:  # at rest: no rates to solve for, nothing singular
             singular[...] = False
             omegas[...] = alphas[...] = np.where(np.isnan(cos3), np.nan, 0.0)[:, None]  # NaN: no position
             return
+        toggle_free = smallest >= self._toggle_free_level
+        rates = self._core_rates(
+            np.stack([theta3, theta4], axis=-1), theta2[:, None], np.reshape(omega2, (-1, 1)),
+            np.reshape(alpha2, (-1, 1)), trig, np.zeros(theta2.shape, bool) if toggle_free else None)
+        omegas[...], alphas[...] = rates[:2]
         if toggle_free:
-            toggle = np.zeros(theta2.shape, bool)
             singular[...] = False
         else:
-            toggle = np.multiply(sin3, cos4)
-            toggle -= cos3 * sin4
-            toggle = np.abs(toggle, out=toggle) < SINGULAR_TOL  # det J = l3·l4·sin(θ3 − θ4)
+            toggle = rates[2] & ~np.isnan(cos3)  # the core's rule, where the loop closes
             moving = np.logical_or(np.not_equal(omega2, 0), np.not_equal(alpha2, 0))  # numpy bool or array
             np.logical_and(toggle, moving, out=singular)
             if bad is not None:
                 singular &= ~bad
-        omegas[...], alphas[...] = self._core_rates(
-            np.stack([theta3, theta4], axis=-1), theta2[:, None], np.reshape(omega2, (-1, 1)),
-            np.reshape(alpha2, (-1, 1)), trig, toggle)
         if not toggle_free and toggle.any():  # a toggle at rest: b = 0, so the rates are 0; moving: NaN
             at_rest = toggle & ~moving
             omegas[at_rest], alphas[at_rest] = 0.0, 0.0
             omegas[singular], alphas[singular] = np.nan, np.nan
 
-    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open",
-              on_unreachable: str = "raise") -> FourBarSolution:
+    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", on_unreachable: str = UNSET,
+              *, on_failure: str | None = None) -> FourBarSolution:
         """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²),
         broadcast.  ``UnreachableError`` where the loop cannot close, ``SingularJacobianError`` at a toggle
-        while moving or where A is on O4 with coupler = rocker (``on_unreachable="nan"``: NaN there).
+        while moving (the core's rule: σ_min(J̃) < SINGULAR) or where A is on O4 with coupler = rocker;
+        ``on_failure="nan"`` (older spelling ``on_unreachable="nan"``): NaN there.
 
         >>> crossed = FourBar(0.06, 0.18, 0.12, 0.20).solve(np.pi / 2, branch="crossed")
         >>> round(crossed.theta3, 6), round(crossed.theta4, 6)
         (-0.901761, -2.398416)
         """
         require_choice("branch", branch, BRANCHES)
-        require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+        on_unreachable = failure_policy(on_failure, on_unreachable=on_unreachable)
         theta2 = _finite("theta2", theta2, "rad")
         omega2 = _finite("omega2", omega2, "rad/s")
         alpha2 = _finite("alpha2", alpha2, "rad/s^2")
@@ -411,12 +449,12 @@ class FourBar:
             for start in range(0, size, BLOCK):
                 block = slice(start, start + BLOCK)
                 theta3, theta4 = angles3[block], angles4[block]
-                undetermined, bad, trig, toggle_free = self._block_positions(
+                undetermined, bad, trig, smallest = self._block_positions(
                     angles[block], branch, theta3, theta4, unreachable[block])
                 self._block_rates(
                     angles[block], speed if np.ndim(speed) == 0 else speed[block],
                     acceleration if np.ndim(acceleration) == 0 else acceleration[block], theta3, theta4,
-                    trig, bad, toggle_free, moving_any, omegas[block], alphas[block], singular[block])
+                    trig, bad, smallest, moving_any, omegas[block], alphas[block], singular[block])
                 if undetermined is not None and undetermined.any():
                     singular[block] |= undetermined
                     if first_undetermined is None:
@@ -424,36 +462,55 @@ class FourBar:
         values = [v.reshape(shape) for v in (angles3, angles4, *omegas.T, *alphas.T)]
         return values, unreachable.reshape(shape), singular.reshape(shape), first_undetermined
 
-    def joints(self, theta2, branch: str = "open", on_unreachable: str = "raise") -> np.ndarray:
-        """Coordinates of O2, A, B, O4 (m) for drawing, shape (..., 4, 2).
+    def motion(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *,
+               on_failure: str | None = None):
+        """The closed form's solution as a :class:`~course_lib.mechanism.Motion` of :attr:`mechanism`
+        (position θ3, θ4; velocity ω3, ω4; acceleration α3, α4; input θ2), to draw, animate or explore
+        like any declaration's; ``singular`` and ``near_singular`` by the core's rule.
+
+        >>> motion = FourBar(0.06, 0.18, 0.12, 0.20).motion([0.0, 0.7], omega2=10.0)
+        >>> np.round(motion.position["theta4"], 6).tolist(), motion.converged.tolist()
+        ([1.618433, 1.516178], [True, True])
+        """
+        solution = self.solve(theta2, omega2, alpha2, branch=branch, on_failure=on_failure)
+        return self.mechanism.motion_of(
+            {"theta3": solution.theta3, "theta4": solution.theta4}, {"theta2": theta2},
+            {"theta3": solution.omega3, "theta4": solution.omega4},
+            {"theta3": solution.alpha3, "theta4": solution.alpha4},
+            converged=~np.asarray(solution.unreachable), singular=solution.singular)
+
+    def joints(self, theta2, branch: str = "open", on_unreachable: str = UNSET, *,
+               on_failure: str | None = None) -> np.ndarray:
+        """Coordinates of O2, A, B, O4 (m) for drawing, shape (..., 4, 2): the declaration's points
+        (:attr:`mechanism`) at the closed form's position.
 
         >>> FourBar(1.0, 1.0, 1.0, 1.0).joints(np.pi / 2).round(12).tolist()
         [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]
         """
-        solution = self.solve(theta2, branch=branch, on_unreachable=on_unreachable)
-        theta2, theta4 = np.broadcast_arrays(np.asarray(theta2, float), np.asarray(solution.theta4))
-        O2 = np.zeros(theta2.shape + (2,))
-        O4 = np.broadcast_to(np.array([self.l1, 0.0]), theta2.shape + (2,))
-        A = np.stack([self.l2 * np.cos(theta2), self.l2 * np.sin(theta2)], axis=-1)
-        B = O4 + np.stack([self.l4 * np.cos(theta4), self.l4 * np.sin(theta4)], axis=-1)
-        return np.stack([O2, A, B, O4], axis=-2)
+        policy = failure_policy(on_failure, on_unreachable=on_unreachable)
+        solution = self.solve(theta2, branch=branch, on_failure=policy)
+        points = self.mechanism.joints(self.mechanism.motion_of(
+            {"theta3": solution.theta3, "theta4": solution.theta4}, {"theta2": theta2}, singular=False))
+        return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
 
     def transmission_angle(self, theta2, branch: str = "open", acute: bool = True,
-                           on_unreachable: str = "raise"):
+                           on_unreachable: str = UNSET, *, on_failure: str | None = None):
         """Transmission angle μ (rad): the joint angle at B, |θ4 − θ3| folded into [0, π], with ``acute``
         (Norton's design value) into [0, π/2]; good force transmission wants μ ≥ 40° or so.
 
         >>> round(float(np.degrees(FourBar(0.06, 0.18, 0.12, 0.20).transmission_angle(np.pi / 2))), 4)
         85.752
         """
-        solution = self.solve(theta2, branch=branch, on_unreachable=on_unreachable)
+        policy = failure_policy(on_failure, on_unreachable=on_unreachable)
+        solution = self.solve(theta2, branch=branch, on_failure=policy)
         turn = np.asarray(solution.theta4) - np.asarray(solution.theta3)
         joint_angle = np.abs(wrap_angle(turn, nan_ok=True))
         mu = np.minimum(joint_angle, np.pi - joint_angle) if acute else joint_angle
         return scalar_or_array(mu)
 
     def coupler_point(self, theta2, p: float, delta: float, omega2=0.0, alpha2=0.0, branch: str = "open",
-                      on_unreachable: str = "raise") -> CouplerPointMotion:
+                      on_unreachable: str = UNSET, *, on_failure: str | None = None
+                      ) -> CouplerPointMotion:
         """Motion of the coupler point P = A + r, r = p(cos(θ3 + δ), sin(θ3 + δ)) (p in m, δ in rad):
         V_P = ω2 k̂×R2 + ω3 k̂×r, A_P = α2 k̂×R2 − ω2² R2 + α3 k̂×r − ω3² r.
 
@@ -463,7 +520,8 @@ class FourBar:
         """
         p = require_positive("p", p, allow_zero=True)
         delta = float(require_finite("delta", delta, "rad"))
-        solution = self.solve(theta2, omega2, alpha2, branch=branch, on_unreachable=on_unreachable)
+        policy = failure_policy(on_failure, on_unreachable=on_unreachable)
+        solution = self.solve(theta2, omega2, alpha2, branch=branch, on_failure=policy)
         columns = np.broadcast_arrays(*(np.asarray(v, float) for v in (theta2, omega2, alpha2)),
                                       solution.theta3, solution.omega3, solution.alpha3)
         theta2, omega2, alpha2, theta3, omega3, alpha3 = (np.asarray(a, float)[..., None] for a in columns)

@@ -881,7 +881,7 @@ class Mechanism:
                     det = det * (block[..., 0, 0] * block[..., 1, 1] - block[..., 0, 1] * block[..., 1, 0])
                 else:
                     det = det * np.linalg.det(block)
-            smallest = np.abs(det) / np.sqrt(frobenius) ** (n - 1)  # a lower bound
+            smallest = np.array(np.abs(det) / np.sqrt(frobenius) ** (n - 1))  # a lower bound (an array)
             unsure = ~(smallest >= NEAR_SINGULAR) & np.isfinite(frobenius)
             if unsure.any():
                 smallest[unsure] = np.linalg.svd(A[unsure], compute_uv=False)[..., -1]

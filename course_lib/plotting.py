@@ -19,10 +19,17 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from PIL import Image
 
-from .errors import CourseLibError, InvalidGeometryError, _numbers, require_choice, require_finite
+from .errors import (
+    CourseLibError,
+    InvalidArgumentError,
+    InvalidGeometryError,
+    _numbers,
+    require_choice,
+    require_finite,
+)
 from .newton import NewtonResult
 
-__all__ = ["draw_linkage", "LinkageArtist", "animate_linkage", "plot_convergence", "animation_html",
+__all__ = ["draw", "draw_linkage", "LinkageArtist", "animate_linkage", "plot_convergence", "animation_html",
            "AnimationHTML", "LINK_COLORS"]
 
 #: One colour per link, in the order the links are given.
@@ -60,7 +67,7 @@ def draw_linkage(points: Sequence[Sequence[float]], links: Sequence[tuple[int, i
     require_choice("linestyle", linestyle, ("-", "--", "-.", ":"))
     number = _numbers("alpha", alpha, "a number from 0 to 1")
     if number.ndim or not 0 <= number <= 1:
-        raise InvalidGeometryError(f"alpha must be a number from 0 to 1; got {alpha!r}")
+        raise InvalidArgumentError(f"alpha must be a number from 0 to 1; got {alpha!r}")
     alpha = float(number)
     if ax is None:
         import matplotlib.pyplot as plt
@@ -104,7 +111,7 @@ def _one_each(name: str, value, count: int, what: str) -> None:
 
 def _axes(ax) -> None:
     if not isinstance(ax, Axes):
-        raise InvalidGeometryError(f"ax must be a matplotlib Axes; got {ax!r}")
+        raise InvalidArgumentError(f"ax must be a matplotlib Axes; got {ax!r}")
 
 
 def _index(name: str, value, count: int) -> int:
@@ -127,15 +134,16 @@ def _callback(name: str, function: Callable, frame: int):
     except CourseLibError:
         raise
     except Exception as err:
-        raise InvalidGeometryError(f"{name}({frame}) raised {type(err).__name__}: {err}") from err
+        raise InvalidArgumentError(f"{name}({frame}) raised {type(err).__name__}: {err}") from err
 
 
 class LinkageArtist:
     """A moving linkage on an axes: a line per link in the course's colours, white joint circles, slider
     ``blocks`` and point ``labels``; :meth:`move` puts them at one configuration, hiding a link with an
-    end point missing or not finite.  ``links`` maps link names to their end points' keys (a list of
-    pairs: "link 1", "link 2", …); ``styles`` overrides line properties by link name; ``animated=True``
-    keeps the artists out of a plain ``canvas.draw``.
+    end point missing or not finite.  ``links`` maps link names to their end points' keys (a
+    declaration's ``Mechanism.links`` keeps its names; a plain list of pairs is "link 1", "link 2", …);
+    ``styles`` overrides line properties by link name; ``animated=True`` keeps the artists out of a plain
+    ``canvas.draw``.
 
     >>> artist = LinkageArtist(Figure().add_subplot(), {"crank": ("O2", "A"), "rod": ("A", "B")})
     >>> artist.move({"O2": (0, 0), "A": (0.03, 0.04), "B": (float("nan"), 0.0)})
@@ -146,8 +154,12 @@ class LinkageArtist:
     def __init__(self, ax: Axes, links, *, styles: Mapping[str, Mapping] | None = None, blocks: Sequence = (),
                  labels: Mapping | None = None, animated: bool = False, label_offset: float = 0.0):
         _axes(ax)
-        pairs = dict(links) if isinstance(links, Mapping) else {
-            f"link {k + 1}": link for k, link in enumerate(_sequence("links", links))}
+        if isinstance(links, Mapping):
+            pairs = dict(links)
+        elif callable(getattr(links, "named", None)):  # a declaration's Links: its own names
+            pairs = links.named()
+        else:
+            pairs = {f"link {k + 1}": link for k, link in enumerate(_sequence("links", links))}
         self.links: dict[str, tuple] = {}
         for name, link in pairs.items():
             if isinstance(link, str) or not isinstance(link, Sequence) or len(link) != 2:
@@ -164,7 +176,7 @@ class LinkageArtist:
         self.lines: dict[str, object] = {}
         for k, name in enumerate(self.links):
             (self.lines[name],) = ax.plot([], [], color=LINK_COLORS[k % len(LINK_COLORS)], lw=3,
-                                          solid_capstyle="round", animated=animated)
+                                          solid_capstyle="round", animated=animated, gid=name)
             try:
                 self.lines[name].set(**styles.get(name, {}))
             except (AttributeError, TypeError, ValueError) as err:
@@ -220,19 +232,37 @@ def _known_points(points) -> dict:
 
 
 def _paths(points) -> dict:
-    """Each point's path over the frames, key → (n, 2), from a mapping or an (n, P, 2) array."""
+    """Each point's path over the frames, key → (n, 2), from a mapping or an (n, P, 2) array; one instant
+    (key → (x, y), or a (P, 2) array) is one frame."""
     if isinstance(points, Mapping):
         paths = {key: _numbers(f"points[{key!r}]", path, "an array of (x, y)")
                  for key, path in points.items()}
+        if paths and all(path.shape == (2,) for path in paths.values()):  # one instant
+            paths = {key: path[None, :] for key, path in paths.items()}
     else:
         array = _numbers("points", points, "an array of (x, y) per frame and point")
+        if array.ndim == 2 and array.shape[1] == 2:  # one instant
+            array = array[None]
         if array.ndim != 3 or array.shape[2] != 2:
-            raise InvalidGeometryError(f"points must have shape (frames, P, 2); got shape {array.shape}")
+            raise InvalidGeometryError(f"points must have shape (frames, P, 2) or (P, 2); got shape "
+                                       f"{array.shape}")
         paths = dict(enumerate(np.moveaxis(array, 1, 0)))
     shapes = {path.shape for path in paths.values()}
     if not paths or len(shapes) != 1 or next(iter(shapes))[1:] != (2,) or next(iter(shapes))[0] < 1:
         raise InvalidGeometryError(f"points must give every point one (x, y) per frame; got shapes {shapes}")
     return paths
+
+
+def _declared(links, points):
+    """``links`` and ``points`` as drawn: a declaration (a ``Mechanism``, or a machine with one as its
+    ``.mechanism``) with a ``Motion`` of it gives its named links and ``joints(motion)``; anything else
+    is passed on as it is."""
+    mechanism = getattr(links, "mechanism", links)
+    if all(hasattr(mechanism, name) for name in ("joints", "links", "points", "unknowns")):
+        if hasattr(points, "position") and hasattr(points, "inputs"):  # a Motion
+            points = mechanism.joints(points)
+        return mechanism.links, points
+    return links, points
 
 
 def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (), blocks: Sequence = (),
@@ -242,18 +272,22 @@ def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (
                     size: tuple[float, float] = (4.2, 3.0), dpi: float = 60, interval_ms: float = 80,
                     max_frames: int = 48) -> AnimationHTML:
     """A linkage (as :class:`LinkageArtist`) moving through the frames of ``points`` (key → (frames, 2),
-    as ``Mechanism.joints(motion)``, or (frames, P, 2)), as an :func:`animation_html` player; ``trace``
-    points get their dotted path, ``caption(frame)`` a corner line, ``background(ax)`` draws what stays.
+    as ``Mechanism.joints(motion)``, or (frames, P, 2); one instant is one frame), as an
+    :func:`animation_html` player; ``trace`` points get their dotted path, ``caption(frame)`` a corner
+    line, ``background(ax)`` draws what stays.  ``links`` may be a declaration (a ``Mechanism``, or a
+    machine such as ``FourBar``) and ``points`` a ``Motion`` of it: ``animate_linkage(wiper,
+    wiper.motion(theta2))`` draws its named links at its declared points.
 
     >>> html = animate_linkage({"crank": ("O", "A")},
     ...                        {"O": np.zeros((3, 2)), "A": [[1, 0], [0, 1], [-1, 0]]}, ground=["O"])
     >>> html.frame_count
     3
     """
+    links, points = _declared(links, points)
     paths = _paths(points)
     for argument, function in (("caption", caption), ("background", background)):
         if function is not None and not callable(function):
-            raise InvalidGeometryError(f"{argument} must be a function or None; got {function!r}")
+            raise InvalidArgumentError(f"{argument} must be a function or None; got {function!r}")
     figure = Figure(figsize=_figure_size(size), dpi=_dpi(dpi), layout="constrained")
     ax = figure.add_subplot()
     artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels)
@@ -278,13 +312,52 @@ def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (
                           interval_ms=interval_ms, max_frames=max_frames)
 
 
+def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Sequence = (),
+         trace: Sequence = (), blocks: Sequence = (), labels: Mapping | None = None,
+         styles: Mapping[str, Mapping] | None = None, title: str | None = None,
+         size: tuple[float, float] = (4.2, 3.0)) -> Axes:
+    """A still of one instant in one call, on ``ax`` (default: a new figure's), returned: the linkage (as
+    :class:`LinkageArtist`, in the vocabulary of :func:`animate_linkage`) at ``points`` — key → (x, y),
+    or a sweep (key → (frames, 2), or (frames, P, 2)) at its ``frame``, whose ``trace`` points get their
+    dotted path.  ``links`` may be a declaration (a ``Mechanism``, or a machine such as ``FourBar``) and
+    ``points`` a ``Motion`` of it: ``draw(wiper, wiper.motion(0.7))``.
+
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> ax = draw({"crank": ("O", "A")}, {"O": (0, 0), "A": (0.03, 0.04)}, ground=["O"], title="one")
+    >>> ax.lines[0].get_xydata().tolist(), ax.get_title()
+    ([[0.0, 0.0], [0.03, 0.04]], 'one')
+    """
+    links, points = _declared(links, points)
+    paths = _paths(points)
+    count = len(next(iter(paths.values())))
+    whole = isinstance(frame, int | np.integer) and not isinstance(frame, bool | np.bool_)
+    if not whole or not -count <= frame < count:
+        raise InvalidArgumentError(f"frame must be a whole number from 0 to {count - 1}; got {frame!r}")
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        ax = plt.figure(figsize=_figure_size(size), layout="constrained").add_subplot()
+    _axes(ax)
+    artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels)
+    for name, ends in artist.links.items():
+        if not set(ends) <= set(paths):
+            raise InvalidGeometryError(f"links: {name} joins {ends}, not all points; points: {list(paths)}")
+    (xmin, xmax, ymin, ymax), span = _motion_background(ax, paths, ground, trace)
+    ax.set(xlim=(xmin, xmax), ylim=(ymin, ymax), aspect="equal", xlabel="x (m)", ylabel="y (m)")
+    artist.label_offset = 0.03 * span
+    artist.move({key: path[frame] for key, path in paths.items()})
+    if title is not None:
+        ax.set_title(title)
+    return ax
+
+
 def _figure_size(size) -> tuple[float, float]:
     """``size`` as (width, height) in inches: two positive numbers of at most 20, else a named error."""
     if isinstance(size, str) or not isinstance(size, Sequence | np.ndarray) or len(size) != 2:
-        raise InvalidGeometryError(f"size must be a (width, height) pair in inches; got {size!r}")
+        raise InvalidArgumentError(f"size must be a (width, height) pair in inches; got {size!r}")
     width, height = (_positive_number(f"size[{k}]", value) for k, value in enumerate(size))
     if width > 20 or height > 20:
-        raise InvalidGeometryError(f"size must be at most 20 × 20 inches; got {size!r}")
+        raise InvalidArgumentError(f"size must be at most 20 × 20 inches; got {size!r}")
     return width, height
 
 
@@ -464,9 +537,9 @@ def animation_html(fig: Figure, update: Callable[[int], object], frames: int, in
     """
     _count("frames", frames)
     if not isinstance(fig, Figure):
-        raise InvalidGeometryError(f"fig must be a matplotlib Figure; got {type(fig).__name__}")
+        raise InvalidArgumentError(f"fig must be a matplotlib Figure; got {type(fig).__name__}")
     if not callable(update):
-        raise InvalidGeometryError(f"update must be a function of the frame number; got {update!r}")
+        raise InvalidArgumentError(f"update must be a function of the frame number; got {update!r}")
     interval = _positive_number("interval_ms", interval_ms)
     _count("max_frames", max_frames)
     if dpi is not None:
@@ -480,20 +553,20 @@ def animation_html(fig: Figure, update: Callable[[int], object], frames: int, in
 
 def _count(name: str, value) -> None:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise InvalidGeometryError(f"{name} must be a positive whole number; got {value!r}")
+        raise InvalidArgumentError(f"{name} must be a positive whole number; got {value!r}")
 
 
 def _dpi(value) -> float:
     dpi = _positive_number("dpi", value)
     if dpi > 600:
-        raise InvalidGeometryError(f"dpi must be at most 600 (dots per inch); got {value!r}")
+        raise InvalidArgumentError(f"dpi must be at most 600 (dots per inch); got {value!r}")
     return dpi
 
 
 def _positive_number(name: str, value) -> float:
     ok = not isinstance(value, bool) and isinstance(value, int | float | np.integer | np.floating)
     if not ok or not math.isfinite(value) or value <= 0:
-        raise InvalidGeometryError(f"{name} must be a positive, finite number; got {value!r}")
+        raise InvalidArgumentError(f"{name} must be a positive, finite number; got {value!r}")
     return float(value)
 
 

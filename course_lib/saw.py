@@ -6,28 +6,34 @@ slider pin, the loop is r1 = r2 + r3.  The report keeps θ1 in (−π/2, π/2] (
 the slider left of the crank pivot r1 is *negative*: at rest r1 ≈ −0.0997 m, θ1 ≈ −0.4684 rad, and
 θ3 = π − asin(…) (eq. 20: the rod points to the left).  Velocity (10)–(12) and acceleration (13)–(15)
 equations are linear, with the position Jacobian as matrix; appendix D solves all nine at once.
+
+The saw is one declaration (:attr:`Saw.mechanism`: the loop and the slider line, unknowns r1, θ1, θ3,
+input θ2, the points O2 (crank pivot), A (crank pin) and C (slider pin, lesson 00's notation), the
+links crank and rod); every residual, Jacobian, Newton route, singularity test (the core's rule) and
+drawing below comes from it, while :func:`analytic` keeps the course's own closed form.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from functools import cache, lru_cache
+from functools import cache, cached_property, lru_cache
 from types import MappingProxyType
 
 import numpy as np
 
 from .errors import (
+    UNSET,
     ConvergenceError,
     InvalidGeometryError,
     SingularJacobianError,
+    failure_policy,
     report_unreachable,
     require_choice,
     require_finite,
     require_positive,
 )
 from .newton import NewtonResult
-from .planar import polar
 from .profile import first_turn_time, motor_profile
 
 __all__ = ["Saw", "COURSE_SAW", "UNKNOWNS", "SEED_PRINTED", "SEED_CODE", "position_residual",
@@ -70,6 +76,42 @@ class Saw:
         object.__setattr__(self, "r2", require_positive("r2", self.r2))
         object.__setattr__(self, "r3", require_positive("r3", self.r3))
 
+    @cached_property
+    def mechanism(self):
+        """The saw as one declaration on :class:`~course_lib.mechanism.Mechanism` with these lengths:
+        eqs. (7)–(9) (unknowns r1, θ1, θ3; input θ2), the points O2, A, C and the links crank, rod.
+
+        >>> mechanism = Saw().mechanism
+        >>> list(mechanism.points), mechanism.links.names, [s.name for s in mechanism.unknowns]
+        (['O2', 'A', 'C'], ('crank', 'rod'), ['r1', 'theta1', 'theta3'])
+        """
+        return _core(self)
+
+    def motion(self, theta2, omega2=0.0, alpha2=0.0, *, on_failure: str | None = None):
+        """The course's closed form (:func:`analytic`) as a :class:`~course_lib.mechanism.Motion` of
+        :attr:`mechanism` (position r1, θ1, θ3 and their rates; input θ2), to draw, animate or explore.
+
+        >>> motion = Saw().motion([0.0, 1.0], omega2=6.0)
+        >>> np.round(motion.position["theta3"], 6).tolist(), motion.velocity["r1"].shape
+        ([2.873694, 3.248327], (2,))
+        """
+        values = analytic(theta2, omega2, alpha2, saw=self, on_failure=on_failure)
+        columns = dict(zip(UNKNOWNS, np.moveaxis(values, -1, 0), strict=True))
+
+        def part(names):
+            return dict(zip(("r1", "theta1", "theta3"), (columns[name] for name in names), strict=True))
+
+        return self.mechanism.motion_of(part(UNKNOWNS[:3]), {"theta2": theta2}, part(UNKNOWNS[3:6]),
+                                        part(UNKNOWNS[6:]))
+
+    def joints(self, theta2) -> np.ndarray:
+        """O2, A and C (m), shape (..., 3, 2): :func:`joint_positions` of this saw.
+
+        >>> np.round(Saw().joints(0.0), 4).tolist()
+        [[0.0, 0.0], [0.075, 0.0], [-0.0889, 0.045]]
+        """
+        return joint_positions(theta2, saw=self)
+
 
 #: The saw of the course (r1y = 0.045 m, r2 = 0.075 m, r3 = 0.170 m).
 COURSE_SAW = Saw()
@@ -88,10 +130,14 @@ def _declaration(variant: str):
     fy = r1 * sp.sin(theta1) - r2 * sp.sin(theta2) - r3 * sp.sin(theta3)
     fc = r1 * sp.sin(theta1) - r1y
     loops = [sp.Matrix([fx, fy]), fc]
+    A = sp.Matrix([r2 * sp.cos(theta2), r2 * sp.sin(theta2)])
+    drawing = {"points": {"O2": sp.Matrix([0, 0]), "A": A,
+                          "C": A + sp.Matrix([r3 * sp.cos(theta3), r3 * sp.sin(theta3)])},
+               "links": {"crank": ("O2", "A"), "rod": ("A", "C")}}
     if variant == "substituted":
         on_the_line = {r1: r1y / sp.sin(theta1)}
         loops = [fc, fx.subs(on_the_line), fy.subs(on_the_line)]
-    return Mechanism(loops, [r1, theta1, theta3], [theta2], {r1y: 0.045, r2: 0.075, r3: 0.170})
+    return Mechanism(loops, [r1, theta1, theta3], [theta2], {r1y: 0.045, r2: 0.075, r3: 0.170}, **drawing)
 
 
 @lru_cache(maxsize=64)
@@ -218,15 +264,30 @@ def system_jacobian(x, *, saw: Saw = COURSE_SAW, variant: str = "loop") -> np.nd
     return _system(x, 0.0, 0.0, 0.0, saw, variant)[1]
 
 
+def _closed_position(sine, theta2, saw: Saw):
+    """r1, θ1, θ3 of the course's assembly from sin θ3 (eqs. 20, 21; NaN where |sin θ3| > 1)."""
+    theta3 = np.pi - np.arcsin(sine)  # (20)
+    theta1 = np.arctan2(saw.r1y, saw.r2 * np.cos(theta2) + saw.r3 * np.cos(theta3))  # (21): acot(x / r1y)
+    theta1 = np.where(theta1 > np.pi / 2, theta1 - np.pi, theta1)  # moved into (−π/2, π/2]
+    theta1 = np.where(theta1 <= -np.pi / 2, theta1 + np.pi, theta1)
+    return saw.r1y / np.sin(theta1), theta1, theta3
+
+
 def _check_assembly(theta2, saw: Saw, on_unreachable: str = "raise") -> np.ndarray:
     """sin θ3 (from Fy − Fc = 0); UnreachableError where the rod cannot reach the slider line,
-    SingularJacobianError where it just reaches it (rod perpendicular to the line: cos θ3 = 0)."""
+    SingularJacobianError where the declared loop's J is singular by the core's rule (σ_min(J̃) <
+    SINGULAR: the rod perpendicular to the slider line, cos θ3 = 0)."""
     saw = _checked_saw(saw)
     sine = (saw.r1y - saw.r2 * np.sin(theta2)) / saw.r3
     report_unreachable(np.abs(sine) > 1.0, {"theta2": theta2},
                        f"the rod r3 = {saw.r3:g} m cannot reach the slider line y = r1y = {saw.r1y:g} m "
                        "(|r1y - r2 sin(theta2)| > r3)", on_unreachable)
-    toggle = (np.abs(sine) <= 1.0) & (1.0 - np.abs(sine) < 1e-12)
+    reaches = np.abs(sine) <= 1.0
+    toggle = reaches
+    if np.any(reaches):
+        with np.errstate(invalid="ignore"):
+            q = np.stack(_closed_position(np.where(reaches, sine, 0.0), theta2, saw), axis=-1)
+        toggle = reaches & saw.mechanism.is_singular(q, np.asarray(theta2, dtype=float)[..., None])
     if np.any(toggle):
         first = float(np.broadcast_to(theta2, toggle.shape)[toggle].ravel()[0])
         raise SingularJacobianError(
@@ -333,15 +394,16 @@ def solve_simultaneous(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, 
                        stages=MappingProxyType({"simultaneous": result}), method="simultaneous")
 
 
-def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreachable: str = "raise"):
+def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreachable: str = UNSET,
+             on_failure: str | None = None):
     """The nine unknowns in closed form (the course's eqs. 20–28; its eq. 22, labelled r1, is ω3 and its
-    eq. 23, labelled ω3, repeats θ1), shape broadcast(θ2, ω2, α2) + (9,); ``on_unreachable="nan"`` gives
-    NaN rows instead of raising ``UnreachableError``.
+    eq. 23, labelled ω3, repeats θ1), shape broadcast(θ2, ω2, α2) + (9,); ``on_failure="nan"`` (older
+    spelling ``on_unreachable="nan"``) gives NaN rows instead of raising ``UnreachableError``.
 
     >>> np.round(analytic(0.0)[:3], 6).tolist()
     [-0.099672, -0.468422, 2.873694]
     """
-    require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+    on_unreachable = failure_policy(on_failure, on_unreachable=on_unreachable)
     theta2 = require_finite("theta2", theta2, unit="rad")
     omega2 = require_finite("omega2", omega2, unit="rad/s")
     alpha2 = require_finite("alpha2", alpha2, unit="rad/s²")
@@ -349,15 +411,11 @@ def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreac
     sine = _check_assembly(theta2, saw, on_unreachable)
     bad = np.abs(sine) > 1.0
     sine = np.where(bad, 0.0, sine)
-    r1y, r2, r3 = saw.r1y, saw.r2, saw.r3
+    r2, r3 = saw.r2, saw.r3
     s2, c2 = np.sin(theta2), np.cos(theta2)
-    theta3 = np.pi - np.arcsin(sine)  # (20)
+    r1, theta1, theta3 = _closed_position(sine, theta2, saw)  # (20), (21)
     s3, c3 = np.sin(theta3), np.cos(theta3)
-    theta1 = np.arctan2(r1y, r2 * c2 + r3 * c3)  # (21): acot(x / r1y), then moved into (−π/2, π/2]
-    theta1 = np.where(theta1 > np.pi / 2, theta1 - np.pi, theta1)
-    theta1 = np.where(theta1 <= -np.pi / 2, theta1 + np.pi, theta1)
-    s1, c1, tan1 = np.sin(theta1), np.cos(theta1), np.tan(theta1)
-    r1 = r1y / s1
+    c1, tan1 = np.cos(theta1), np.tan(theta1)
     omega3 = -omega2 * r2 * c2 / (r3 * c3)  # (the report's 22)
     v_r = -c1 * (omega2 * r2 * s2 + omega3 * r3 * s3)  # (25)
     omega1 = -v_r * tan1 / r1  # (24)
@@ -370,15 +428,18 @@ def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreac
 
 
 def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
-    """Crank pivot O2, crank pin A and slider pin C (m), shape (..., 3, 2), for drawing.
+    """Crank pivot O2, crank pin A and slider pin C (m), shape (..., 3, 2), for drawing: the declaration's
+    points (:attr:`Saw.mechanism`) at the course's closed-form position.
 
     >>> np.round(joint_positions(0.0), 4).tolist()
     [[0.0, 0.0], [0.075, 0.0], [-0.0889, 0.045]]
     """
     theta2 = require_finite("theta2", theta2, unit="rad")
-    pin = polar(_checked_saw(saw).r2, theta2)
-    slider = pin + polar(saw.r3, analytic(theta2, saw=saw)[..., 2])
-    return np.stack([np.zeros(theta2.shape + (2,)), pin, slider], axis=-2)
+    saw = _checked_saw(saw)
+    position = analytic(theta2, saw=saw)[..., :3]
+    motion = saw.mechanism.motion_of(dict(zip(("r1", "theta1", "theta3"), np.moveaxis(position, -1, 0),
+                                              strict=True)), {"theta2": theta2}, singular=False)
+    return np.stack(np.broadcast_arrays(*saw.mechanism.joints(motion).values()), axis=-2)
 
 
 @dataclass(frozen=True)

@@ -13,9 +13,20 @@ import sympy as sp
 from matplotlib.figure import Figure
 
 from course_lib.errors import CourseLibError
+from course_lib.fivebar import FiveBar
+from course_lib.fourbar import FourBar
 from course_lib.mechanism import Mechanism
 from course_lib.newton import newton
-from course_lib.plotting import LinkageArtist, animate_linkage, animation_html, draw_linkage, plot_convergence
+from course_lib.plotting import (
+    LinkageArtist,
+    animate_linkage,
+    animation_html,
+    draw,
+    draw_linkage,
+    plot_convergence,
+)
+from course_lib.saw import Saw
+from course_lib.slider_crank import OffsetSliderCrank
 from course_lib.widgets import mechanism_explorer
 
 matplotlib.use("Agg")
@@ -63,6 +74,44 @@ def test_an_animation_has_one_frame_per_instant_up_to_its_cap_and_a_still():
                            caption=lambda k: f"frame {k}", title="slider-crank")
     assert html.frame_count == len(TURN.inputs["theta"]) and html.still_png[:4] == b"\x89PNG"
     assert animate_linkage(SLIDER_CRANK.links, paths, max_frames=12).frame_count == 12
+
+
+def test_one_instant_is_drawn_in_one_call():
+    # once refused with "points must give every point one (x, y) per frame; got shapes {(2,)}"
+    instant = {"O": (0.0, 0.0), "A": (0.03, 0.04), "B": (slider_x(0.927295218), 0.0)}
+    ax = draw({"crank": ("O", "A"), "rod": ("A", "B")}, instant, ground=["O"], blocks=["B"])
+    assert ax.lines[1].get_xydata().tolist() == [[0.03, 0.04], [instant["B"][0], 0.0]]
+    assert animate_linkage([("O", "A"), ("A", "B")], instant).frame_count == 1
+    assert animate_linkage([(0, 1)], np.array([[0.0, 0.0], [1.0, 1.0]])).frame_count == 1  # (P, 2)
+    sweep = draw(SLIDER_CRANK, TURN, frame=9, trace=["A"])  # a declaration and a Motion: frame 9 is 90°
+    assert sweep.lines[-2].get_xydata()[1] == pytest.approx([0.0, CRANK], abs=1e-15)
+    with pytest.raises(CourseLibError, match=r"frame must be a whole number from 0 to 35; got 36"):
+        draw(SLIDER_CRANK, TURN, frame=36)
+
+
+@pytest.mark.parametrize("machine, motion, names", [
+    (FourBar(0.06, 0.18, 0.12, 0.20), lambda m: m.motion(np.radians(np.arange(0, 360, 30)), 10.0),
+     ("crank", "coupler", "rocker", "ground")),
+    (OffsetSliderCrank(0.075, 0.170, 0.045), lambda m: m.motion(np.linspace(0, 6, 12), branch="left"),
+     ("crank", "rod")),
+    (Saw(), lambda m: m.motion(np.linspace(0, 6, 12), 6.0), ("crank", "rod")),
+    (FiveBar(0.10, 0.15, 0.15, 0.10, 0.08), lambda m: m.motion(np.linspace(1.0, 1.4, 5), 2.0), tuple(
+        f"l{k}" for k in range(1, 6))),
+])
+def test_the_machines_are_drawn_animated_and_explored_from_their_declaration(machine, motion, names):
+    sweep = motion(machine)
+    ax = draw(machine, sweep, frame=3)
+    # links named on the declaration, each drawn between its declared points at that instant
+    points = machine.mechanism.joints(sweep)
+    for name, (start, end) in machine.mechanism.links.named().items():
+        line = [line for line in ax.lines if line.get_gid() == name]  # (gid: the link's name)
+        xy = np.array([points[start][3], points[end][3]])
+        assert len(line) == 1 and np.array_equal(line[0].get_xydata(), xy), name
+    assert machine.mechanism.links.names == names
+    assert animate_linkage(machine, sweep, max_frames=4).frame_count == 4
+    if len(machine.mechanism.inputs) == 1:  # the explorer takes one input
+        explorer = mechanism_explorer(machine.mechanism, sweep)
+        assert explorer.update(**{next(iter(explorer.controls)): 30.0}).status == "ok"
 
 
 def test_the_mechanism_explorer_draws_the_slider_where_the_law_of_cosines_puts_it():
@@ -127,7 +176,7 @@ MISUSES = {
     }),
     "animate_linkage": (lambda **kw: animate_linkage(**{"links": [(0, 1)], "points": FRAMES, **kw}), {
         "links": [None, [(0, 5)]],
-        "points": [None, np.zeros((3, 2)), np.full((3, 2, 2), math.nan),
+        "points": [None, np.zeros((3, 3)), np.full((3, 2, 2), math.nan),
                    {0: np.zeros((3, 2)), 1: np.zeros((4, 2))}],
         "ground": [[7], "0"],
         "trace": [[7]],

@@ -507,3 +507,64 @@ def test_a_large_workspace_agrees_with_inverse_and_the_measures():
     for name in ("serial_leg1", "serial_leg4", "parallel"):
         assert np.array_equal(getattr(w, name)[ok], getattr(measures, name))
         assert np.isnan(getattr(w, name)[~ok]).all()
+
+
+# ------------------------------------------------------------------ the machine is its declaration
+def test_the_course_closed_form_against_the_core_derivation_from_the_declaration():
+    # the forward closed form (the course's X3 = g·Y3 + f) against the core's solve of the declared loops
+    theta1, theta4 = 1.0 + np.linspace(0, 0.4, 9), 2.0 - np.linspace(0, 0.3, 9)
+    closed = ROBOT.forward(theta1, theta4, mode=+1)
+    core = ROBOT.mechanism.solve({"theta1": theta1, "theta4": theta4},
+                                 guess={"x3": float(closed.x3[0]), "y3": float(closed.y3[0])})
+    np.testing.assert_allclose(core.position["x3"], closed.x3, atol=1e-12)
+    np.testing.assert_allclose(core.position["y3"], closed.y3, atol=1e-12)
+    # the joints are the declared points P1 … P5, here against the cranks written out by hand
+    joints = ROBOT.joints(theta1, theta4, closed.x3, closed.y3)
+    P2 = np.stack([0.10 * np.cos(theta1) + 0.04, 0.10 * np.sin(theta1)], -1)
+    P4 = np.stack([0.10 * np.cos(theta4) - 0.04, 0.10 * np.sin(theta4)], -1)
+    np.testing.assert_allclose(joints[:, 1], P2, atol=1e-15)
+    np.testing.assert_allclose(joints[:, 3], P4, atol=1e-15)
+    assert ROBOT.mechanism.links.names == ("l1", "l2", "l3", "l4", "l5")
+
+
+def test_the_motion_rates_by_finite_differences_and_one_failure_keyword():
+    h, s = 1e-6, np.linspace(0.0, 0.4, 5)
+    motion = ROBOT.motion(1.0 + s, 2.0 - s, omega1=1.0, omega4=-1.0)
+    ahead, behind = ROBOT.forward(1.0 + s + h, 2.0 - s - h), ROBOT.forward(1.0 + s - h, 2.0 - s + h)
+    np.testing.assert_allclose(motion.velocity["x3"], (ahead.x3 - behind.x3) / (2 * h), atol=1e-8)
+    np.testing.assert_allclose(motion.velocity["y3"], (ahead.y3 - behind.y3) / (2 * h), atol=1e-8)
+    short = FiveBar(0.10, 0.05, 0.05, 0.10, 0.08)  # distal links reach 0.1 m: P2, P4 0.28 m apart at θ4 = π
+    cranks = ([np.pi / 2, np.pi / 2], [np.pi / 2, np.pi])
+    far = short.forward(*cranks, on_failure="nan")
+    assert far.reachable.tolist() == short.forward(*cranks, on_unreachable="nan").reachable.tolist()
+    assert far.reachable.tolist() == [True, False]
+    assert short.motion(*cranks, on_failure="nan").converged.tolist() == [True, False]
+    inverse = ROBOT.inverse([0.0, 1.0], [0.2, 1.0], on_failure="nan")
+    assert inverse.reachable.tolist() == [True, False]
+
+
+def test_both_singularities_are_the_core_rule():
+    # on a parallel singularity (P2, P3, P4 on one line: l2, l3 folded, |P2P4| = l2 − l3) the end-effector
+    # Jacobian is singular by the core's rule: velocity_jacobian raises, or gives NaN (either spelling)
+    robot = FiveBar(0.10, 0.15, 0.12, 0.10, 0.08)
+    theta1, P2 = np.pi / 2, np.array([0.04, 0.10])
+    low, high = 0.0, np.arctan2(0.10, 0.08)  # |P2 P4| falls from 0.1 m + to its least, below 0.03 m
+    for _ in range(60):  # bisection for |P2 P4| = 0.03
+        middle = (low + high) / 2
+        P4 = np.array([0.10 * np.cos(middle) - 0.04, 0.10 * np.sin(middle)])
+        low, high = (middle, high) if np.linalg.norm(P2 - P4) > 0.03 else (low, middle)
+    theta4 = (low + high) / 2
+    P4 = np.array([0.10 * np.cos(theta4) - 0.04, 0.10 * np.sin(theta4)])
+    x3, y3 = P2 + 0.15 * (P4 - P2) / np.linalg.norm(P4 - P2)
+    assert bool(robot.mechanism.is_singular([x3, y3], [theta1, theta4]))
+    assert abs(robot.singularity_measures(theta1, theta4, x3, y3).parallel) < 1e-9
+    with pytest.raises(SingularJacobianError, match="parallel"):
+        robot.velocity_jacobian(theta1, theta4, x3, y3)
+    for keyword in ({"on_failure": "nan"}, {"on_singular": "nan"}):
+        assert np.isnan(robot.velocity_jacobian(theta1, theta4, x3, y3, **keyword)).all()
+    # a serial one: leg 1 stretched (P1, P2, P3 on one line), the crank rates singular
+    x3, y3 = np.array([0.04, 0.0]) + 0.25 * np.array([np.cos(2.3), np.sin(2.3)])
+    theta4 = robot.inverse(x3, y3).theta4
+    assert bool(robot._cores["inverse"].is_singular([2.3, theta4], [x3, y3]))
+    with pytest.raises(SingularJacobianError, match="leg 1"):
+        robot.crank_rates(2.3, theta4, x3, y3, 0.0, 0.1)

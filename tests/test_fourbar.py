@@ -538,21 +538,79 @@ def test_memory_beyond_the_results_does_not_grow_with_the_angles(monkeypatch, si
     assert beyond < 8 * 2000 * 60  # sixty block-sized float arrays, whatever the number of angles
 
 
-def test_the_toggle_test_is_skipped_only_where_it_cannot_fire():
-    # a block whose smallest discriminant proves |sin(θ3 − θ4)| ≥ TOGGLE_FREE skips the test for < 1e-7
+def test_a_toggle_is_where_the_core_rule_finds_the_declared_loop_singular():
+    # one rule: while moving, solve's singular mask is the core's is_singular at the solved position, for
+    # one instant, for a one-angle block (which may skip the test: its discriminant proves no toggle) alike
     rng = np.random.default_rng(7)
     steps = np.logspace(-12, -1, 12)
-    skipped = 0
-    for lengths in np.exp(rng.uniform(np.log(1e-3), 0, (300, 4))):
+    checked, toggles_met = 0, 0
+    for lengths in np.exp(rng.uniform(np.log(1e-3), 0, (60, 4))):
         linkage = FourBar(*lengths)
         toggles = np.array(linkage.input_range().toggle_angles)
-        for angle in np.r_[rng.uniform(-4, 4, 5), np.add.outer(toggles, np.r_[-steps, steps]).ravel()]:
-            theta3, theta4, unreachable = np.empty(1), np.empty(1), np.empty(1, bool)
+        for angle in np.r_[rng.uniform(-4, 4, 3), np.add.outer(toggles, np.r_[-steps, steps]).ravel()]:
             with np.errstate(all="ignore"):
-                *_, trig, toggle_free = linkage._block_positions(np.array([angle]), "open", theta3, theta4,
-                                                                 unreachable)
-            _, _, cos3, sin3, cos4, sin4 = trig
-            if toggle_free:
-                skipped += 1
-                assert abs(sin3 * cos4 - cos3 * sin4)[0] >= fourbar.TOGGLE_FREE / 2  # ≫ SINGULAR_TOL
-    assert skipped > 500
+                block = linkage.solve(np.array([angle]), 1.0, on_failure="nan")
+                one = linkage.solve(float(angle), 1.0, on_failure="nan")
+            if block.unreachable[0]:
+                continue
+            q = np.array([[block.theta3[0], block.theta4[0]]])
+            core = bool(linkage.mechanism.is_singular(q, [[angle]])[0])
+            assert bool(block.singular[0]) == one.singular == core, (lengths, angle)
+            checked, toggles_met = checked + 1, toggles_met + core
+    assert checked > 300 and toggles_met > 10
+
+
+# ---------------------------------------------------------------- the machine is its declaration
+def test_the_hand_closed_form_against_the_core_derivation_from_the_declaration():
+    # two independent routes to the position: Norton's half-angle formula written by hand (solve) and
+    # the core's own, derived from the declared loop (the quadratic reduce_loop finds, σ kept by the core)
+    for linkage in (DESK, FourBar(0.12, 0.06, 0.18, 0.20), FourBar(0.05, 0.12, 0.15, 0.13)):
+        theta2 = np.linspace(-3.0, 3.0, 61)
+        hand = linkage.solve(theta2, on_failure="nan")
+        keep = hand.reachable
+        start = int(np.flatnonzero(keep)[0])
+        first = {"theta3": hand.theta3[keep][start], "theta4": hand.theta4[keep][start]}
+        core = linkage.mechanism.solve({"theta2": theta2[keep][start:]}, guess=first)
+        assert angle_difference(core.position["theta3"], hand.theta3[keep][start:]).max() < 1e-12
+        assert angle_difference(core.position["theta4"], hand.theta4[keep][start:]).max() < 1e-12
+    # the joints are the declaration's points, O2, A, B, O4 in its order, at the hand solution
+    joints = DESK.joints(SWEEP)
+    A, B = fourbar_pins(0.20, 0.06, 0.18, 0.12, SWEEP, "open")
+    np.testing.assert_allclose(joints[:, 1], A, atol=1e-15)
+    np.testing.assert_allclose(joints[:, 2], B, atol=1e-12)
+    assert list(DESK.mechanism.points) == ["O2", "A", "B", "O4"]
+
+
+def test_the_motion_is_a_motion_of_the_declaration_with_independently_checked_rates():
+    from course_lib.mechanism import Motion
+
+    motion = DESK.motion(SWEEP, 10.0, 3.0)
+    assert isinstance(motion, Motion) and set(motion.position) == {"theta3", "theta4"}
+    assert motion.converged.all() and not motion.singular.any() and motion.inputs["theta2"] is not None
+    # Norton's sine formulas, written here: ω3 = l2 ω2 sin(θ4 − θ2) / (l3 sin(θ3 − θ4)), ω4 likewise
+    theta3, theta4 = motion.position["theta3"], motion.position["theta4"]
+    omega3 = 0.06 * 10.0 * np.sin(theta4 - SWEEP) / (0.18 * np.sin(theta3 - theta4))
+    omega4 = 0.06 * 10.0 * np.sin(theta3 - SWEEP) / (0.12 * np.sin(theta3 - theta4))
+    np.testing.assert_allclose(motion.velocity["theta3"], omega3, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(motion.velocity["theta4"], omega4, rtol=1e-9, atol=1e-12)
+    joints = DESK.mechanism.joints(motion)
+    np.testing.assert_array_equal(np.stack(list(joints.values()), axis=-2), DESK.joints(SWEEP))
+
+
+def test_one_failure_keyword_and_a_mask_named_for_what_it_marks():
+    triple = FourBar(0.15, 0.10, 0.12, 0.20)
+    new = triple.solve([0.0, 2.0], on_failure="nan")
+    old = triple.solve([0.0, 2.0], on_unreachable="nan")
+    assert new.unreachable.tolist() == old.mask.tolist() == [False, True] and new.unreachable is new.mask
+    calls = {"joints": lambda **kw: triple.joints(2.0, **kw)[2],  # B
+             "transmission_angle": lambda **kw: triple.transmission_angle(2.0, **kw),
+             "coupler_point": lambda **kw: triple.coupler_point(2.0, 0.1, 0.0, **kw).position,
+             "motion": lambda **kw: triple.motion(2.0, **kw).position["theta4"]}
+    for name, call in calls.items():
+        with pytest.raises(UnreachableError):
+            call()
+        assert np.isnan(call(on_failure="nan")).all(), name
+        if name != "motion":
+            assert np.isnan(call(on_unreachable="nan")).all(), name
+    with pytest.raises(InvalidGeometryError, match=r"on_failure='nan', on_unreachable='raise'"):
+        triple.solve(2.0, on_unreachable="raise", on_failure="nan")

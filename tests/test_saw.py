@@ -354,3 +354,38 @@ def test_convergence_failure_is_named():
 def test_bad_input_is_named(call, name):
     with pytest.raises(InvalidGeometryError, match=name):
         call()
+
+
+# ------------------------------------------------------------------ the saw is its declaration
+
+
+def test_the_course_closed_form_against_the_core_derivation_from_the_declaration():
+    # the course's eqs. 20–28, written by hand in analytic, against the core's solve of the declared loop:
+    # positions by the core's own route (closed form where the loop reduces, else Newton and continuation)
+    # and rates by its linear solves: independent routes, both from θ2(t) of the motor profile
+    t = np.linspace(0.0, 3.8, 40)
+    theta2, omega2, alpha2 = saw.motor_profile(t)
+    closed = saw.COURSE_SAW.motion(theta2, omega2, alpha2)
+    core = saw.COURSE_SAW.mechanism.solve({"theta2": theta2}, {"theta2": omega2}, {"theta2": alpha2},
+                                          guess={"r1": -0.1, "theta1": -0.5, "theta3": 3.0})
+    for name in ("r1", "theta1", "theta3"):
+        np.testing.assert_allclose(core.position[name], closed.position[name], atol=1e-12)
+        np.testing.assert_allclose(core.velocity[name], closed.velocity[name], atol=1e-11)
+        np.testing.assert_allclose(core.acceleration[name], closed.acceleration[name], atol=1e-9)
+    # the joints are the declared points: C, the slider pin, on the slider line y = r1y at x = r1 cos θ1
+    joints = saw.COURSE_SAW.joints(theta2)
+    np.testing.assert_allclose(joints[:, 2, 1], 0.045, atol=1e-15)
+    np.testing.assert_allclose(joints[:, 2, 0], closed.position["r1"] * np.cos(closed.position["theta1"]),
+                               atol=1e-15)
+    assert list(saw.COURSE_SAW.mechanism.points) == ["O2", "A", "C"]
+
+
+def test_the_limit_position_is_the_core_rule_and_one_failure_keyword():
+    toggle = saw.Saw(r1y=0.045, r2=0.075, r3=0.045 + 0.075)  # rod vertical when θ2 = −π/2
+    q = saw.analytic(-np.pi / 2 + 1e-3, saw=toggle)[:3]
+    assert not toggle.mechanism.is_singular(q, [-np.pi / 2 + 1e-3])
+    assert toggle.mechanism.is_singular([q[0], q[1], np.pi / 2], [-np.pi / 2])
+    old = saw.analytic([0.0, -np.pi / 2], saw=SHORT_ROD, on_unreachable="nan")
+    new = saw.analytic([0.0, -np.pi / 2], saw=SHORT_ROD, on_failure="nan")
+    np.testing.assert_array_equal(old, new)
+    assert SHORT_ROD.motion([0.0, -np.pi / 2], on_failure="nan").converged.tolist() == [True, False]

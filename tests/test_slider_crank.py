@@ -115,3 +115,22 @@ def test_motion_unpacks_and_converts():
     motion = OffsetSliderCrank(0.075, 0.170, 0.045).solve([0.0, 1.0], 6.0, branch="left")
     theta3, x, omega3, v, alpha3, a = motion
     assert np.array(motion).shape == (6, 2) and np.array_equal(np.array(motion)[3], v)
+
+
+def test_the_declaration_gives_joints_motion_and_the_singularity_rule():
+    theta2 = np.linspace(0.0, 6.0, 25)
+    joints = MACHINE.joints(theta2, branch="left")
+    solved = MACHINE.solve(theta2, branch="left")
+    np.testing.assert_allclose(joints[:, 2], np.stack([solved.x, np.full(25, 0.045)], -1), atol=1e-15)
+    np.testing.assert_allclose(np.linalg.norm(joints[:, 2] - joints[:, 1], axis=-1), 0.170, atol=1e-15)
+    assert list(MACHINE.mechanism.points) == ["O2", "A", "C"]
+    assert MACHINE.mechanism.links.names == ("crank", "rod")
+    # the core's own solve of the declared loop (an independent route to the position) lands on the left
+    # assembly the closed form gives
+    core = MACHINE.mechanism.solve({"theta2": theta2}, guess={"theta3": float(solved.theta3[0]),
+                                                              "x": float(solved.x[0])})
+    np.testing.assert_allclose(core.position["x"], solved.x, atol=1e-12)
+    toggle = OffsetSliderCrank(crank=0.075, rod=0.12, offset=0.045)
+    motion = toggle.motion([0.0, -np.pi / 2], 1.0, on_failure="nan")
+    assert motion.singular.tolist() == [False, True] and np.isnan(motion.velocity["x"][1])
+    assert toggle.mechanism.is_singular([np.pi / 2, 0.0], [-np.pi / 2])

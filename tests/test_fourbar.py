@@ -480,19 +480,6 @@ def test_one_instant_gives_the_bits_of_the_array_solve(linkage):
                 assert isinstance(one.theta4, float) and isinstance(one.mask, bool)
 
 
-def test_blocks_do_not_change_the_results(monkeypatch):
-    # toggles, unreachable angles and rates that differ from angle to angle, cut into blocks of 7
-    linkage = FourBar(0.15, 0.10, 0.12, 0.20)
-    angles = np.r_[np.linspace(-3, 3, 61), linkage.input_range().toggle_angles]
-    omega2 = np.where(np.arange(angles.size) % 3, 2.0, 0.0)
-    whole = linkage.solve(angles, omega2, 1.5, on_unreachable="nan")
-    monkeypatch.setattr(fourbar, "BLOCK", 7)
-    blocks = linkage.solve(angles, omega2, 1.5, on_unreachable="nan")
-    for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "mask", "singular"):
-        assert np.array_equal(getattr(blocks, name), getattr(whole, name), equal_nan=True), name
-    assert blocks.singular.sum() == 2 and blocks.mask.any() and not blocks.mask[-2:].any()
-
-
 def test_errors_name_the_first_bad_angle_of_any_block(monkeypatch):
     monkeypatch.setattr(fourbar, "BLOCK", 4)
     linkage = FourBar(0.15, 0.10, 0.12, 0.20)  # closes for |θ2| ≤ 1.3336
@@ -507,16 +494,6 @@ def test_errors_name_the_first_bad_angle_of_any_block(monkeypatch):
     undetermined = np.r_[np.full(9, 1.0), 0.0]
     with pytest.raises(SingularJacobianError, match=r"theta2=0\b.*not determined"):
         FourBar(1, 1, 1, 1).solve(undetermined)
-
-
-def test_rates_are_those_of_the_declared_loop():
-    solution = DESK.solve(SWEEP, 10.0, -4.0)
-    q = np.stack([solution.theta3, solution.theta4], axis=-1)
-    q_rate, q_acc, singular = DESK.mechanism.rates(q, SWEEP[:, None], [10.0], [-4.0])
-    assert not singular.any()
-    np.testing.assert_allclose(q_rate, np.stack([solution.omega3, solution.omega4], -1), rtol=1e-12)
-    accelerations = np.stack([solution.alpha3, solution.alpha4], -1)
-    np.testing.assert_allclose(q_acc, accelerations, rtol=1e-12, atol=1e-12)
 
 
 def peak_bytes(function):

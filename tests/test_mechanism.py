@@ -1,10 +1,13 @@
 """course_lib.mechanism: each result against an independent route.
 
-Routes: circle–circle intersections (tests/geometry.py) and the four-bar's closed form
-(FourBar), the textbook offset slider-crank (OffsetSliderCrank), the five-bar's closed form
-(FiveBar.forward), central finite differences along time paths with nonzero accelerations,
-the time derivatives rebuilt by the chain rule with sympy Jacobians, Newton on the stacked 3n
-system, sequential one-instant solves (continuation by hand), and finite-difference Jacobians.
+Routes: circle–circle intersections (tests/geometry.py) and the four-bar's hand-written half-angle
+closed form (FourBar.solve's positions), Norton's sine formulas for ω3, ω4 and the loop differentiated
+twice by hand for α3, α4 (written out below, in numpy), the offset slider-crank's x(θ2) differentiated
+by sympy's chain rule, the five-bar's closed form (FiveBar.forward), central finite differences along
+time paths with nonzero accelerations, the time derivatives rebuilt by the chain rule with sympy
+Jacobians, Newton on the stacked 3n system, sequential one-instant solves (continuation by hand), and
+finite-difference Jacobians.  No reference is the core's own work: the machines' rates come from the
+core, so they are never used as a check of it.
 """
 
 import numpy as np
@@ -22,7 +25,6 @@ from course_lib.fivebar import FiveBar
 from course_lib.fourbar import FourBar
 from course_lib.mechanism import Mechanism, Motion
 from course_lib.newton import NewtonResult, finite_difference_jacobian, newton
-from course_lib.slider_crank import OffsetSliderCrank
 
 th2, th3, th4, th5, th6 = sp.symbols("theta2 theta3 theta4 theta5 theta6")
 l1, l2, l3, l4 = sp.symbols("l1:5", positive=True)
@@ -40,6 +42,21 @@ GUESS = {th3: 0.4, th4: 1.6}
 def fourbar(lengths):
     """The four-bar loop with other lengths (ground, crank, coupler, rocker)."""
     return Mechanism([LOOP], [th3, th4], [th2], dict(zip((l1, l2, l3, l4), lengths, strict=True)))
+
+
+def norton_rates(theta2, theta3, theta4, omega2, alpha2, lengths=(0.20, 0.06, 0.18, 0.12)):
+    """ω3, ω4 by Norton's sine formulas and α3, α4 from the loop differentiated twice by hand (Cramer's
+    rule), for the four-bar of ``lengths`` (ground, crank, coupler, rocker): a route free of the core."""
+    _, a, b, c = lengths
+    s2, c2, s3, c3, s4, c4 = (f(v) for v in (theta2, theta3, theta4) for f in (np.sin, np.cos))
+    omega3 = a * omega2 * np.sin(theta4 - theta2) / (b * np.sin(theta3 - theta4))
+    omega4 = a * omega2 * np.sin(theta3 - theta2) / (c * np.sin(theta3 - theta4))
+    # x: −a α2 s2 − a ω2² c2 − b α3 s3 − b ω3² c3 + c α4 s4 + c ω4² c4 = 0, and y likewise
+    rx = a * alpha2 * s2 + a * omega2**2 * c2 + b * omega3**2 * c3 - c * omega4**2 * c4
+    ry = -a * alpha2 * c2 + a * omega2**2 * s2 + b * omega3**2 * s3 - c * omega4**2 * s4
+    m11, m12, m21, m22 = -b * s3, c * s4, b * c3, -c * c4
+    det = m11 * m22 - m12 * m21
+    return omega3, omega4, (rx * m22 - m12 * ry) / det, (m11 * ry - m21 * rx) / det
 
 
 def angle_gap(a, b):
@@ -70,14 +87,15 @@ def test_contract_sweep_is_the_open_branch_of_the_circle_construction():
     assert np.all(np.abs(np.angle(np.exp(1j * (motion.position["theta4"] - crossed_theta4)))) > 0.1)
 
 
-def test_contract_rates_match_the_fourbar_closed_form():
+def test_contract_rates_match_norton_and_the_loop_differentiated_by_hand():
     theta2 = np.radians(np.arange(0, 360, 2))
     motion = WIPER.solve({th2: theta2}, rates={th2: 10.0}, accelerations={th2: 3.0}, guess=GUESS)
-    closed = DESK.solve(theta2, 10.0, 3.0, branch="open")
-    np.testing.assert_allclose(motion.velocity["theta3"], closed.omega3, atol=1e-10)
-    np.testing.assert_allclose(motion.velocity["theta4"], closed.omega4, atol=1e-10)
-    np.testing.assert_allclose(motion.acceleration["theta3"], closed.alpha3, atol=1e-9)
-    np.testing.assert_allclose(motion.acceleration["theta4"], closed.alpha4, atol=1e-9)
+    omega3, omega4, alpha3, alpha4 = norton_rates(theta2, motion.position["theta3"],
+                                                  motion.position["theta4"], 10.0, 3.0)
+    np.testing.assert_allclose(motion.velocity["theta3"], omega3, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(motion.velocity["theta4"], omega4, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(motion.acceleration["theta3"], alpha3, rtol=1e-11, atol=1e-10)
+    np.testing.assert_allclose(motion.acceleration["theta4"], alpha4, rtol=1e-11, atol=1e-10)
 
 
 def test_one_instant_gives_numbers_and_newton_history():
@@ -86,8 +104,9 @@ def test_one_instant_gives_numbers_and_newton_history():
     assert isinstance(motion.position["theta4"], float) and isinstance(motion.converged, bool)
     assert isinstance(motion.iterations, int) and motion.singular is False
     assert angle_gap(motion.position["theta3"], closed.theta3) < 1e-12
-    assert abs(motion.velocity["theta4"] - closed.omega4) < 1e-10
-    assert abs(motion.acceleration["theta3"] - closed.alpha3) < 1e-9
+    _, omega4, alpha3, _ = norton_rates(0.7, closed.theta3, closed.theta4, 10.0, 0.0)
+    assert abs(motion.velocity["theta4"] - omega4) < 1e-12
+    assert abs(motion.acceleration["theta3"] - alpha3) < 1e-10
     assert isinstance(motion.newton, NewtonResult) and motion.newton.converged
     assert motion.newton.history[0].tolist() == [0.4, 1.6]
     assert motion.newton.iterations == motion.iterations == len(motion.newton.history) - 1
@@ -98,9 +117,10 @@ def test_without_rates_velocity_and_acceleration_are_none():
     motion = WIPER.solve({"theta2": [0.1, 0.2]}, guess={"theta3": 0.4, "theta4": 1.6})
     assert motion.velocity is None and motion.acceleration is None and motion.newton is None
     only_acceleration = WIPER.solve({th2: 0.1}, accelerations={th2: 2.0}, guess=GUESS)
-    closed = DESK.solve(0.1, 0.0, 2.0)
+    closed = DESK.solve(0.1)
+    alpha4 = norton_rates(0.1, closed.theta3, closed.theta4, 0.0, 2.0)[3]
     assert only_acceleration.velocity["theta4"] == 0.0
-    assert abs(only_acceleration.acceleration["theta4"] - closed.alpha4) < 1e-10
+    assert abs(only_acceleration.acceleration["theta4"] - alpha4) < 1e-12
 
 
 def test_inputs_and_rates_broadcast():
@@ -108,8 +128,9 @@ def test_inputs_and_rates_broadcast():
     omega2 = np.array([[1.0], [-2.0]])
     motion = WIPER.solve({th2: theta2}, rates={th2: omega2}, guess=GUESS)
     assert motion.velocity["theta4"].shape == (2, 3) and motion.position["theta3"].shape == (2, 3)
-    closed = DESK.solve(theta2, omega2)
-    np.testing.assert_allclose(motion.velocity["theta4"], closed.omega4, atol=1e-10)
+    closed = DESK.solve(theta2)
+    omega4 = norton_rates(theta2, closed.theta3, closed.theta4, omega2, 0.0)[1]
+    np.testing.assert_allclose(motion.velocity["theta4"], omega4, rtol=1e-12, atol=1e-12)
     assert motion.inputs["theta2"].shape == (2, 3)
 
 
@@ -149,17 +170,30 @@ SLIDER = Mechanism([sp.Matrix([a_ * sp.cos(th2) + b_ * sp.cos(th3) - x,
                    unknowns=[th3, x], inputs=[th2], parameters={a_: 0.075, b_: 0.170, c_: 0.045})
 
 
+def chain_rule_slider(sign):
+    """x(θ2) and θ3(θ2) of the offset slider-crank in closed form, their rates by sympy's chain rule:
+    v = x'·ω2, a = x''·ω2² + x'·α2 (θ3 likewise); a route free of the core."""
+    t, w, al = sp.symbols("t w al")
+    height = 0.045 - 0.075 * sp.sin(t)
+    run = sign * sp.sqrt(0.170**2 - height**2)
+    x_of, theta3_of = 0.075 * sp.cos(t) + run, sp.atan2(height, run)
+    values = [f for g in (x_of, theta3_of) for f in (g, g.diff(t) * w, g.diff(t, 2) * w**2 + g.diff(t) * al)]
+    return sp.lambdify([t, w, al], values, "numpy")
+
+
 @pytest.mark.parametrize(("branch", "guess"), [("right", {th3: -0.2, x: 0.2}), ("left", {th3: 2.9, x: -0.1})])
-def test_slider_travel_as_unknown_matches_the_textbook_slider_crank(branch, guess):
+def test_slider_travel_as_unknown_matches_the_chain_rule(branch, guess):
     theta2 = np.linspace(0, 4 * np.pi, 200)
     omega2, alpha2 = 6.0 + theta2, 1.0
     motion = SLIDER.solve({th2: theta2}, {th2: omega2}, {th2: alpha2}, guess=guess)
-    book = OffsetSliderCrank(0.075, 0.170, 0.045).solve(theta2, omega2, alpha2, branch=branch)
-    np.testing.assert_allclose(motion.position["x"], book.x, atol=1e-12)
-    assert angle_gap(motion.position["theta3"], book.theta3) < 1e-12
-    np.testing.assert_allclose(motion.velocity["x"], book.v, atol=1e-10)
-    np.testing.assert_allclose(motion.acceleration["x"], book.a, atol=1e-8)
-    np.testing.assert_allclose(motion.acceleration["theta3"], book.alpha3, atol=1e-8)
+    book = chain_rule_slider(1 if branch == "right" else -1)
+    x_, v, a, theta3, omega3, alpha3 = book(theta2, omega2, alpha2)
+    np.testing.assert_allclose(motion.position["x"], x_, atol=1e-12)
+    assert angle_gap(motion.position["theta3"], theta3) < 1e-12
+    np.testing.assert_allclose(motion.velocity["x"], v, atol=1e-11)
+    np.testing.assert_allclose(motion.velocity["theta3"], omega3, atol=1e-10)
+    np.testing.assert_allclose(motion.acceleration["x"], a, atol=1e-9)
+    np.testing.assert_allclose(motion.acceleration["theta3"], alpha3, atol=1e-8)
     assert SLIDER.rate_symbols[x][0].name == "v_x"
 
 
@@ -260,44 +294,24 @@ def test_numeric_jacobians_match_finite_differences():
     assert G.shape == (6,) and JG.shape == (6, 6)
 
 
-def test_residual_and_jacobian_alone_are_the_bits_newton_and_the_rates_use():
-    # residual() and jacobian() compute only what they return, each entry as in the evaluation of F with J
-    # (Newton's) and of J with F_u (the rates'); F and J also against finite differences above
-    from course_lib import saw
-
-    rng = np.random.default_rng(11)
-    saws = [saw._core(saw.COURSE_SAW, variant) for variant in ("loop", "substituted")]
-    for mechanism in (WIPER, SLIDER, WATT, *saws):
-        n, m = len(mechanism.unknowns), len(mechanism.inputs)
-        q, u = rng.uniform(-3, 3, (9, n)), rng.uniform(-3, 3, (9, m))
-        F, J = mechanism._newton_terms(q, u)
-        np.testing.assert_array_equal(mechanism.residual(q, u), F)
-        np.testing.assert_array_equal(mechanism.jacobian(q, u), mechanism._rate_terms(q, u)[0])
-        np.testing.assert_allclose(mechanism.jacobian(q, u), J, rtol=1e-14, atol=1e-15)
-        assert mechanism.residual(q[0], u[0]).shape == (n,) and mechanism.jacobian(q[0], u[0]).shape == (n, n)
-
-
 def test_one_instant_and_a_long_sweep_give_the_rows_of_a_short_batch():
-    # one instant is evaluated in Python numbers and a sweep of over 131,072 points in blocks: both
-    # are other routes through the same arithmetic, so each must give a short batch's rows to the bit
+    # one instant is evaluated in Python numbers and a long sweep in pieces: both must give a short batch's
+    # rows to the bit, so a lesson prints the same digits whichever way it asks (the public functions only)
     rng = np.random.default_rng(3)
     count = 2 * 65_536 + 17
     q, u = rng.uniform(-3, 3, (count, 2)), rng.uniform(-3, 3, (count, 1))
     rows = np.concatenate([rng.choice(count, 30), [0, 65_535, 65_536, count - 1]])
-    F_long, J_long = WIPER._newton_terms(q, u)
-    F_short, J_short = WIPER._newton_terms(q[rows], u[rows])
-    np.testing.assert_array_equal(F_long[rows], F_short)
-    np.testing.assert_array_equal(J_long[rows], J_short)
-    for k, row in enumerate(rows[:8]):
-        F_one, J_one = WIPER._newton_terms(q[row], u[row])
-        np.testing.assert_array_equal(F_one, F_short[k])
-        np.testing.assert_array_equal(J_one, J_short[k])
-        np.testing.assert_array_equal(WIPER.residual(q[row], u[row]), F_short[k])
+    np.testing.assert_array_equal(WIPER.residual(q, u)[rows], WIPER.residual(q[rows], u[rows]))
+    np.testing.assert_array_equal(WIPER.jacobian(q, u)[rows], WIPER.jacobian(q[rows], u[rows]))
+    for row in rows[:8]:
+        np.testing.assert_array_equal(WIPER.residual(q[row], u[row]), WIPER.residual(q[rows], u[rows])[
+            list(rows).index(row)])
     # the acceleration terms hold squares of rates, where a Python number's x**2 (pow) and an array's
     # (x*x) differ in the last bit for about one x in a thousand: 3000 instants find such an x
-    q_rate, u_rate, u_acc = (rng.uniform(-30, 30, (3000, k)) for k in (2, 1, 1))
-    batch = WIPER._rhs(q[:3000], q_rate, u[:3000], u_rate, u_acc)
-    ones = np.array([WIPER._rhs(q[k], q_rate[k], u[k], u_rate[k], u_acc[k]) for k in range(3000)])
+    q_acc, q_rate, u_rate, u_acc = (rng.uniform(-30, 30, (3000, k)) for k in (2, 2, 1, 1))
+    batch = WIPER.acceleration_residual(q_acc, q_rate, q[:3000], u[:3000], u_rate, u_acc)
+    ones = np.array([WIPER.acceleration_residual(q_acc[k], q_rate[k], q[k], u[k], u_rate[k], u_acc[k])
+                     for k in range(3000)])
     np.testing.assert_array_equal(ones, batch)
 
 
@@ -493,9 +507,10 @@ def test_with_parameters_shares_the_derivation_and_changes_the_numbers():
     other = WIPER.with_parameters({"l1": 0.20, "l2": 0.06, l3: 0.20, l4: 0.12})
     theta2 = np.linspace(0.0, 6.0, 7)
     motion = other.solve({th2: theta2}, {th2: 2.0}, guess=GUESS)
-    closed = FourBar(0.06, 0.20, 0.12, 0.20).solve(theta2, 2.0)
+    closed = FourBar(0.06, 0.20, 0.12, 0.20).solve(theta2)
     assert angle_gap(motion.position["theta4"], closed.theta4) < 1e-12
-    np.testing.assert_allclose(motion.velocity["theta3"], closed.omega3, atol=1e-12)
+    omega3 = norton_rates(theta2, closed.theta3, closed.theta4, 2.0, 0.0, (0.20, 0.06, 0.20, 0.12))[0]
+    np.testing.assert_allclose(motion.velocity["theta3"], omega3, rtol=1e-12, atol=1e-12)
     assert other._derived is WIPER._derived and WIPER.parameters[l3] == 0.18
     with pytest.raises(InvalidGeometryError, match=r"must give a number for each of \[l1, l2, l3, l4\]"):
         WIPER.with_parameters({l1: 0.2})
@@ -505,13 +520,14 @@ def test_with_parameters_shares_the_derivation_and_changes_the_numbers():
 
 def test_rates_with_known_trig_or_own_singular_mask_are_the_same_rates():
     theta2 = np.linspace(0, 2 * np.pi, 50)
-    closed = DESK.solve(theta2, 10.0, 3.0)
+    closed = DESK.solve(theta2)
     q, u = np.stack([closed.theta3, closed.theta4], -1), theta2[:, None]
     plain = WIPER.rates(q, u, [10.0], [3.0])
     trig = {name: (np.cos(a), np.sin(a)) for name, a in (("theta2", theta2), ("theta3", q[:, 0]))}
     known = WIPER.rates(q, u, [10.0], [3.0], trig=trig, singular=np.arange(50) == 7)
-    np.testing.assert_allclose(plain[0][:, 1], closed.omega4, atol=1e-12)
-    np.testing.assert_allclose(plain[1][:, 0], closed.alpha3, atol=1e-10)
+    _, omega4, alpha3, _ = norton_rates(theta2, q[:, 0], q[:, 1], 10.0, 3.0)
+    np.testing.assert_allclose(plain[0][:, 1], omega4, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(plain[1][:, 0], alpha3, rtol=1e-11, atol=1e-10)
     np.testing.assert_allclose(known[0][known[2] == 0], plain[0][known[2] == 0], rtol=1e-13)
     assert np.isnan(known[0][7]).all() and np.isnan(known[1][7]).all() and not plain[2].any()
 

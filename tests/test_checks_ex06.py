@@ -333,3 +333,19 @@ def test_a_sign_slip_in_one_component_names_the_component():
         where = f"equation {order.index(0) + 1} alone"
         feedback = checks.check_shaper_loops([rows[k] for k in order])
         rejects(feedback, "sign slip", where, "both of its components")
+
+
+def test_loops_written_as_equations_pass_the_check_and_solve_in_the_core():
+    def R(length, angle):
+        return length * sp.Matrix([sp.cos(angle), sp.sin(angle)])
+
+    per_component = [sp.Eq(r4 * sp.cos(th4), r2 * sp.cos(th2)), sp.Eq(r4 * sp.sin(th4), d + r2 * sp.sin(th2)),
+                     sp.Eq(l4 * sp.cos(th4) + l5 * sp.cos(th5), x),
+                     sp.Eq(l4 * sp.sin(th4) + l5 * sp.sin(th5), h)]
+    as_matrices = [sp.Eq(R(r4, th4), sp.Matrix([0, d]) + R(r2, th2)),
+                   sp.Eq(R(l4, th4) + R(l5, th5), sp.Matrix([x, h]))]
+    for loops in (per_component, as_matrices):
+        accepts(checks.check_shaper_loops(loops))
+        motion = Mechanism(loops, [th4, r4, th5, x], [th2], LENGTHS).solve({th2: 1.0}, guess=GUESS)
+        solved = np.array([motion.position[name] for name in ("theta4", "r4", "theta5", "x")])
+        assert np.abs(solved - np.array(by_hand(1.0))).max() < 1e-12

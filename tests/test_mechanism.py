@@ -592,3 +592,25 @@ def test_the_compiled_code_does_not_depend_on_what_the_process_made_before():
         sources.append(inspect.getsource(mechanism._newton_fn.function))
     assert sources[0] == sources[1]
     assert "r1y" in sources[0] and "Dummy" not in sources[0], sources[0]
+
+
+def test_links_named_on_the_declaration_and_a_motion_of_values_found_elsewhere():
+    named = Mechanism([LOOP], [th3, th4], [th2], WIPER_LENGTHS, points=WIPER_POINTS,
+                      links={"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4")})
+    assert named.links == WIPER.links and named.links.names == ("crank", "coupler", "rocker")
+    assert WIPER.links.names == ("link 1", "link 2", "link 3")  # a plain list keeps the old names
+    with pytest.raises(InvalidGeometryError, match=r"links must be named by text; got the names \[3\]"):
+        Mechanism([LOOP], [th3, th4], [th2], WIPER_LENGTHS, points=WIPER_POINTS, links={3: ("O2", "A")})
+    # motion_of: the circle construction's positions (tests/geometry.py) as a Motion, singular by the rule
+    theta2 = np.array([0.3, 1.1])
+    A, B = fourbar_pins(0.20, 0.06, 0.18, 0.12, theta2, "open")
+    position = {"theta3": np.arctan2(B[:, 1] - A[:, 1], B[:, 0] - A[:, 0]),
+                "theta4": np.arctan2(B[:, 1], B[:, 0] - 0.20)}
+    motion = WIPER.motion_of(position, {"theta2": theta2})
+    assert motion.converged.tolist() == [True, True] and not motion.singular.any()
+    np.testing.assert_allclose(WIPER.joints(motion)["B"], B, atol=1e-15)
+    with pytest.raises(InvalidGeometryError, match=r"position must map each of \['theta3', 'theta4'\]"):
+        WIPER.motion_of({"theta3": 0.1}, {"theta2": 0.3})
+    with pytest.raises(InvalidGeometryError, match=r"position\[theta4\] must be .*got 'x'"):
+        WIPER.motion_of({"theta3": 0.1, "theta4": "x"}, {"theta2": 0.3})
+    assert bool(WIPER.is_singular([0.2, 0.2], [0.0])) and not WIPER.is_singular([0.4, 1.6], [0.0])

@@ -913,23 +913,6 @@ class Mechanism:
                                        f"got {shapes}") from None
         return out
 
-    def _newton_terms(self, q, u, known=None, seen=None) -> tuple[np.ndarray, np.ndarray]:
-        """F (..., n) and J (..., n, n) from one evaluation (``known``, ``seen``: see _compile)."""
-        n = len(self.unknowns)
-        terms = self._newton_fn(self._values, q, u, known=known, seen=seen)
-        return _vector(terms, 0, n), _matrix(terms, n, n, n)
-
-    def _rate_terms(self, q, u, known=None, same_point=False) -> tuple[np.ndarray, np.ndarray]:
-        """J (..., n, n) and F_u (..., n, m) from one evaluation (``known``, ``same_point``: see _compile)."""
-        n, m = len(self.unknowns), len(self.inputs)
-        terms = self._rate_fn(self._values, q, u, known=known, same_point=same_point)
-        return _matrix(terms, 0, n, n), _matrix(terms, n * n, n, m)
-
-    def _rhs(self, q, q_rate, u, u_rate, u_acceleration, known=None) -> np.ndarray:
-        """−(d²F/dt² with q̈ = 0), shape (..., n): the right-hand side of J·q̈ = …"""
-        terms = self._acceleration_fn(self._values, q, q_rate, u, u_rate, u_acceleration, known=known)
-        return _vector(terms, 0, len(self.unknowns))
-
     def newton_function(self, u) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
         """q ↦ (F(q, u), J(q, u)) at the fixed inputs ``u`` (N, m), for ``newton_batch(..., jac=True)``:
         F and J from one evaluation, sharing the cos and sin of q, those of ``u`` computed once for

@@ -576,7 +576,7 @@ def saw_explorer(
     _grid(ax_profile, xlim=(0, end)).set_title("motor profile", fontsize=9, pad=3)
     ax_profile.set_xlabel("t (s)", labelpad=1)
     ax_profile.legend(fontsize=7, loc="upper left")
-    drawing = LinkageArtist(ax, {"r1": ("O2", "B"), "crank": ("O2", "A"), "rod": ("A", "B")}, blocks=["B"],
+    drawing = LinkageArtist(ax, {"r1": ("O2", "C"), "crank": ("O2", "A"), "rod": ("A", "C")}, blocks=["C"],
                             styles={"r1": {"color": "tab:purple", "lw": 1.2, "linestyle": "--"},
                                     "crank": {"color": LINK_COLORS[0]}, "rod": {"color": LINK_COLORS[1]}},
                             animated=True)
@@ -617,7 +617,7 @@ def saw_explorer(
                  if t < turn else "steady speed")
         shown = [label.replace(" (", f" = {_num(value, 5)} ")[:-1]  # "r1 (m)" → "r1 = -0.09967 m"
                  for (_, label), value in zip(_SAW_PANELS, values, strict=True)]
-        return _solved(artists, drawing, dict(zip(("O2", "A", "B"), joints, strict=True)), (
+        return _solved(artists, drawing, dict(zip(("O2", "A", "C"), joints, strict=True)), (
             f"t = {t:.3f} s ({phase}; first turn ends at T = {turn:.4f} s)",
             f"motor: θ2 = {_num(theta2, 4)} rad ({np.degrees(theta2):.1f}°), ω2 = {_num(omega2, 4)} rad/s, "
             f"α2 = {_num(alpha2, 4)} rad/s²",

@@ -290,17 +290,11 @@ def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (
             raise InvalidArgumentError(f"{argument} must be a function or None; got {function!r}")
     figure = Figure(figsize=_figure_size(size), dpi=_dpi(dpi), layout="constrained")
     ax = figure.add_subplot()
-    artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels)
-    for name, ends in artist.links.items():
-        if not set(ends) <= set(paths):
-            raise InvalidGeometryError(f"links: {name} joins {ends}, not all points; points: {list(paths)}")
-    (xmin, xmax, ymin, ymax), span = _motion_background(ax, paths, ground, trace)
-    ax.set(xlim=(xmin, xmax), ylim=(ymin, ymax), aspect="equal", xlabel="x (m)", ylabel="y (m)")
+    artist = _stage(ax, links, paths, ground, trace, styles, blocks, labels)
     if title is not None:
         ax.set_title(title)
     if background is not None:
         _callback("background", lambda _: background(ax), 0)
-    artist.label_offset = 0.03 * span
     text = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize=8) if caption else None
 
     def update(frame: int) -> None:
@@ -310,6 +304,19 @@ def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (
 
     return animation_html(figure, update, frames=len(next(iter(paths.values()))),
                           interval_ms=interval_ms, max_frames=max_frames)
+
+
+def _stage(ax, links, paths, ground, trace, styles, blocks, labels) -> LinkageArtist:
+    """The linkage's artist on ``ax``, its links checked against the points, the ground and the traces
+    drawn, and the axes fitted to the whole motion."""
+    artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels)
+    for name, ends in artist.links.items():
+        if not set(ends) <= set(paths):
+            raise InvalidGeometryError(f"links: {name} joins {ends}, not all points; points: {list(paths)}")
+    (xmin, xmax, ymin, ymax), span = _motion_background(ax, paths, ground, trace)
+    ax.set(xlim=(xmin, xmax), ylim=(ymin, ymax), aspect="equal", xlabel="x (m)", ylabel="y (m)")
+    artist.label_offset = 0.03 * span
+    return artist
 
 
 def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Sequence = (),
@@ -338,13 +345,7 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
 
         ax = plt.figure(figsize=_figure_size(size), layout="constrained").add_subplot()
     _axes(ax)
-    artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels)
-    for name, ends in artist.links.items():
-        if not set(ends) <= set(paths):
-            raise InvalidGeometryError(f"links: {name} joins {ends}, not all points; points: {list(paths)}")
-    (xmin, xmax, ymin, ymax), span = _motion_background(ax, paths, ground, trace)
-    ax.set(xlim=(xmin, xmax), ylim=(ymin, ymax), aspect="equal", xlabel="x (m)", ylabel="y (m)")
-    artist.label_offset = 0.03 * span
+    artist = _stage(ax, links, paths, ground, trace, styles, blocks, labels)
     artist.move({key: path[frame] for key, path in paths.items()})
     if title is not None:
         ax.set_title(title)

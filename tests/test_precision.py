@@ -130,6 +130,13 @@ def rounded(values, digits: int, decimals: bool) -> np.ndarray:
     return np.array([float(f"{value:.{digits - 1}e}") for value in values])
 
 
+def last_digit(reference, digits: int, decimals: bool) -> np.ndarray:
+    """One unit of the last digit asked for, per entry of ``reference``."""
+    if decimals:
+        return np.full(np.shape(reference), 10.0**-digits)
+    return 10.0 ** (np.floor(np.log10(np.abs(reference) + 1e-300)) - digits + 1)
+
+
 def judge(checker, answer, arguments):
     answer = np.atleast_1d(np.asarray(answer, float))
     return checker(float(answer[0]) if answer.size == 1 else answer, *arguments)
@@ -152,7 +159,7 @@ def test_answers_with_one_digit_fewer_are_asked_for_more_digits(name):
     short = rounded(reference, digits - 1, decimals)
     feedback = judge(checker, short, arguments)
     reference = np.atleast_1d(np.asarray(reference, float))
-    unit = 10.0 ** -digits if decimals else 10.0 ** (np.floor(np.log10(np.abs(reference))) - digits + 1)
+    unit = last_digit(reference, digits, decimals)
     if np.all(np.abs(short - reference) <= 0.5 * unit):
         assert feedback.ok, feedback  # the shorter rounding happens to be as close (it ends in a zero)
     elif np.all(np.abs(short - reference) <= 0.51 * unit):
@@ -167,7 +174,7 @@ def test_answers_with_one_digit_fewer_are_asked_for_more_digits(name):
 def test_slips_never_pass(name):
     checker, (reference, arguments), (digits, decimals), angles = CASES[name]
     reference = np.atleast_1d(np.asarray(reference, float))
-    unit = 10.0 ** -digits if decimals else 10.0 ** (np.floor(np.log10(np.abs(reference))) - digits + 1)
+    unit = last_digit(reference, digits, decimals)
     for k in np.flatnonzero(np.abs(reference) > 10 * np.broadcast_to(unit, reference.shape)):
         flipped = reference.copy()
         flipped[k] = -flipped[k]

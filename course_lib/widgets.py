@@ -779,7 +779,8 @@ def mechanism_explorer(
     rates: Mapping | None = None, readout: Callable[[object], Sequence[str]] | None = None,
     title: str = "mechanism", size: tuple[float, float] = (4.0, 3.6),
 ) -> Explorer:
-    """Explorer of any declared :class:`~course_lib.mechanism.Mechanism` driven by one input.
+    """Explorer of any declared :class:`~course_lib.mechanism.Mechanism` driven by one input, or of a
+    machine that declares one (``FourBar``, ``Saw``, ``OffsetSliderCrank``: anything with ``.mechanism``).
 
     ``motion``, a sweep of the input solved by ``mechanism.solve``, sets the slider's range (degrees for
     an input named "theta…"), the limits and the ``trace`` paths, and seeds each solve from its nearest
@@ -796,12 +797,21 @@ def mechanism_explorer(
     >>> turn = crank.solve({th: np.radians(np.arange(0, 360, 10))}, guess={x: 1.0})
     >>> mechanism_explorer(crank, turn, ground=["O"], blocks=["B"]).update(theta_deg=60.0).lines[0]
     'x = 0.5'
+    >>> from course_lib.fourbar import FourBar
+    >>> linkage = FourBar(0.06, 0.18, 0.12, 0.20)
+    >>> mechanism_explorer(linkage, linkage.motion(np.radians(np.arange(-180, 180, 10)))).update(
+    ...     theta2_deg=60.0).status
+    'ok'
     """
     from .errors import ConvergenceError, SingularJacobianError, UnreachableError
     from .mechanism import Mechanism, Motion
 
+    declared = getattr(mechanism, "mechanism", None)  # a machine (FourBar, Saw, …): its declaration
+    if not isinstance(mechanism, Mechanism) and isinstance(declared, Mechanism):
+        mechanism = declared
     if not isinstance(mechanism, Mechanism):
-        raise InvalidGeometryError(f"mechanism must be a course_lib Mechanism; got {mechanism!r}")
+        raise InvalidGeometryError(f"mechanism must be a course_lib Mechanism or a machine with one "
+                                   f"(its .mechanism); got {mechanism!r}")
     if not isinstance(motion, Motion) or np.ndim(next(iter(motion.inputs.values()))) != 1:
         raise InvalidGeometryError(f"motion must be a sweep solved by mechanism.solve (one input array); "
                                    f"got {type(motion).__name__}")

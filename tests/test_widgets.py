@@ -13,7 +13,9 @@ from matplotlib.figure import Figure
 from PIL import Image
 
 from course_lib.errors import CourseLibError, InvalidGeometryError
-from course_lib.widgets import fivebar_explorer, fourbar_explorer, saw_explorer
+from course_lib.fourbar import FourBar
+from course_lib.saw import Saw
+from course_lib.widgets import fivebar_explorer, fourbar_explorer, mechanism_explorer, saw_explorer
 
 NAN, INF = float("nan"), float("inf")
 #: a number shown as nan or inf ("θ3 = nan°", "|P2P4| = inf m", "P3 = (nan, …)")
@@ -602,3 +604,22 @@ def test_png_keeps_the_figures_colours_also_those_that_appear_later():
         where = np.all(drawn == colour, axis=2)
         assert where.any() and np.all(shown[where] == colour)
     assert np.mean(np.abs(shown - drawn)) < 0.5  # anti-aliased blends: the nearest of 255 colours
+
+
+@pytest.mark.parametrize("machine", [FourBar(0.06, 0.18, 0.12, 0.20), Saw()], ids=["four-bar", "saw"])
+def test_mechanism_explorer_takes_a_machine_as_its_declaration(machine):
+    turn = machine.motion(np.radians(np.arange(-180.0, 180.0, 10.0)))
+    by_machine = mechanism_explorer(machine, turn)
+    by_declaration = mechanism_explorer(machine.mechanism, turn)
+    assert list(by_machine.controls) == list(by_declaration.controls) == ["theta2_deg"]
+    for degrees in (-120.0, 35.0, 150.0):
+        assert by_machine.update(theta2_deg=degrees) == by_declaration.update(theta2_deg=degrees)
+        assert by_machine.last.status == "ok"
+    assert by_machine.render() == by_declaration.render()
+
+
+@pytest.mark.parametrize("machine", [object(), "FourBar", 3.0], ids=["object", "text", "number"])
+def test_mechanism_explorer_refuses_what_is_neither_a_mechanism_nor_a_machine_by_name(machine):
+    turn = Saw().motion(np.radians(np.arange(-180.0, 180.0, 10.0)))
+    with pytest.raises(InvalidGeometryError, match="mechanism must be"):
+        mechanism_explorer(machine, turn)

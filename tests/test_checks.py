@@ -355,6 +355,13 @@ def test_saw_slider_acceleration():
     rejects(check(bare, MY_SAW, theta2, omega2, alpha2), "ω²", hidden=[a_r])
     rejects(check(-a_r, MY_SAW, theta2, omega2, alpha2), "sign error", hidden=[a_r])
     rejects(check(1000 * a_r, MY_SAW, theta2, omega2, alpha2), "1000")
+    # the slider's own acceleration ẍ (x = r1 cos θ1 of the Cartesian slider-crank), and the course's saw
+    textbook = OffsetSliderCrank(crank=0.06, rod=0.15, offset=0.03)
+    x_ddot = float(textbook.solve(theta2, omega2, alpha2, branch="left").a)
+    rejects(check(x_ddot, MY_SAW, theta2, omega2, alpha2), "ẍ", "a_r = d²r1/dt²", hidden=[a_r])
+    course = analytic(theta2, omega2, alpha2)[6]
+    rejects(check(course, MY_SAW, theta2, omega2, alpha2), "saw=my_saw", hidden=[a_r])
+    rejects(checks.check_saw_position(analytic(theta2)[:3], MY_SAW, theta2), "saw=my_saw")
 
 
 # ---------------------------------------------------------------- ex05
@@ -479,6 +486,13 @@ def test_rocker_pin_speed():
     rejects(check(speed / BENCH.l4, BENCH, theta2, omega2), "rad/s", hidden=[speed])
     rejects(check(omega2 * BENCH.l2, BENCH, theta2, omega2), "crank pin A", hidden=[speed])
     rejects(check(1.5 * speed, BENCH, theta2, omega2), "|ω4|·l4", hidden=[speed])
+    rejects(check(1000 * speed, BENCH, theta2, omega2), "mm/s", hidden=[speed])
+    crossed = []
+    for angle in (theta2 - h, theta2 + h):
+        theta4 = fourbar_by_circles(BENCH, angle, "crossed")[1]
+        crossed.append(BENCH.l4 * np.array([np.cos(theta4), np.sin(theta4)]))
+    crossed_speed = np.linalg.norm(crossed[1] - crossed[0]) / (2 * h) * omega2
+    rejects(check(crossed_speed, BENCH, theta2, omega2), "crossed branch", hidden=[speed])
 
 
 def test_motor_start_against_a_numerical_integration():
@@ -513,6 +527,8 @@ def test_saw_rates_against_finite_differences():
     assert check(rates, MY_SAW, theta2, omega2).ok
     rejects(check(-rates, MY_SAW, theta2, omega2), "sign", hidden=rates)
     rejects(check(rates[::-1], MY_SAW, theta2, omega2), "order", hidden=rates)
+    for order in ([1, 0, 2], [0, 2, 1], [2, 0, 1]):  # every other order of the components
+        rejects(check(rates[order], MY_SAW, theta2, omega2), "wrong order", hidden=rates)
     rejects(check(rates * 1.01, MY_SAW, theta2, omega2), "matrix J", hidden=rates)
     rejects(check(rates[:2], MY_SAW, theta2, omega2), "3 plain numbers")
 

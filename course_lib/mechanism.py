@@ -770,13 +770,34 @@ class Mechanism:
             if J is None:
                 rows = columns = np.ones(n)
             else:
+                units = self._column_units(J)
+                J = J / units
                 rows = np.sqrt((J * J).mean(axis=(0, 2)))
                 rows = np.where(rows > 0, rows, 1.0)
                 scaled = J / rows[:, None]
                 columns = np.sqrt((scaled * scaled).mean(axis=(0, 1)))
-                columns = np.where(columns > 0, columns, 1.0)
+                columns = np.where(columns > 0, columns, 1.0) * units
             self._numeric["scales"] = (rows, columns)
         return self._numeric["scales"]
+
+    def _column_units(self, J: np.ndarray) -> np.ndarray:
+        """A unit for each column of J: 1 for an angle, one typical length ℓ for every length — the ℓ of
+        the least-squares fit log|J_ij| ≈ log d_i + log ℓ·[j a length] over the nonzero typical sizes.  A
+        change of units multiplies row i of J by some d_i and the lengths' columns by 1/k: ℓ moves by k, so
+        J divided by these units changes by whole rows only, which the row sizes take.  With angles alone
+        or lengths alone every unit is 1 (then a change of units is such rows already)."""
+        lengths = [j for j, s in enumerate(self.unknowns) if s not in self._structure["angles"]]
+        units = np.ones(len(self.unknowns))
+        if not lengths or len(lengths) == len(units):
+            return units
+        size = np.sqrt((J * J).mean(axis=0))
+        i, j = np.nonzero(size > 0)
+        fit = np.zeros((len(i), len(units) + 1))
+        fit[np.arange(len(i)), i] = 1.0
+        fit[:, -1] = np.isin(j, lengths)
+        solution = np.linalg.lstsq(fit, np.log(size[i, j]), rcond=None)[0]
+        units[lengths] = np.exp(solution[-1])
+        return units
 
     def smallest_singular_value(self, q, u) -> np.ndarray:
         """σ_min(J̃) at positions ``q`` (..., n) and inputs ``u`` (..., m): J̃ is J with each row and column
@@ -1497,6 +1518,11 @@ class Mechanism:
                 change *= MAX_STEP / largest
             delta = change / columns
             q, step = q + delta, float(np.sqrt(delta @ delta))
+        # at a toggle or limit the root is double: F falls to round-off while the steps only halve, so
+        # the step test cannot pass there; a vanishing residual where J is singular is the root itself
+        F, J = self._newton_terms(q, u)
+        if np.sqrt(F @ F) <= tol and not self._smallest(J) >= SINGULAR:
+            return q, True, max_iter
         return q, False, max_iter
 
     def _advance(self, q, u_from, u_to, tol, max_iter) -> tuple[np.ndarray | None, int]:

@@ -34,8 +34,8 @@ from .errors import CourseLibError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
 from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _ground_symbol, _motion_background, _Quantizer
 
-__all__ = ["Explorer", "Readout", "fourbar_explorer", "saw_explorer", "fivebar_explorer",
-           "mechanism_explorer"]
+__all__ = ["Explorer", "ExplorerSpec", "ExplorerStage", "Readout", "build_explorer", "fourbar_explorer",
+           "saw_explorer", "fivebar_explorer", "mechanism_explorer"]
 
 _STYLE = {"description_width": "120px"}  # shared by every slider and toggle, so the columns line up
 _ERROR_COLOR = "#b00020"
@@ -216,6 +216,84 @@ class Explorer:
         return _Quantizer(picture).png(picture, compress_level=9)
 
 
+@dataclass(eq=False)
+class ExplorerStage:
+    """What an explorer's draw step moves: the linkage's ``axes``, its ``linkage`` artist and all the named
+    ``artists`` (the panels', the linkage's and "failure", the red text that says why nothing is drawn)."""
+
+    axes: object
+    linkage: LinkageArtist
+    artists: dict[str, object]
+
+    def failed(self, points, text: str, status: str, lines, circles=()) -> Readout:
+        """A failed step: the linkage at the known ``points``, the red ``text``, the reach ``circles``
+        (artist name, centre, radius) shown."""
+        self.linkage.move(points)
+        self.artists["failure"].set_text(text)
+        for name, center, radius in circles:
+            self.artists[name].set(center=tuple(center), radius=radius, visible=True)
+        return Readout(status, tuple(lines))
+
+    def solved(self, points, lines, **shown) -> Readout:
+        """A solved step: the linkage at ``points``, the ``shown`` line artists at their (x, y) data."""
+        self.artists["failure"].set_text("")
+        self.linkage.move(points)
+        for name, data in shown.items():
+            self.artists[name].set(data=data, visible=True)
+        return Readout("ok", tuple(lines))
+
+
+@dataclass(frozen=True)
+class ExplorerSpec:
+    """One explorer as a specification for :func:`build_explorer`.
+
+    ``controls``: the input widgets by state key; ``size``: the figure (inches, at 80 dpi);
+    ``panels(figure) -> (axes, before, after)`` lays the figure out, draws what never moves and returns
+    the linkage's axes and the named artists drawn before and after the linkage (an "after" artist
+    "failure" places the red failure text, else it goes last, top left); ``linkage``: the
+    :class:`~course_lib.plotting.LinkageArtist` arguments (``links``, ``styles``, ``blocks``, ``labels``,
+    ``label_offset``); ``draw(stage, state, geometry_changed) -> Readout`` moves the
+    :class:`ExplorerStage`.  ``geometry_keys``, ``geometry_artists`` and ``extra`` as in :class:`Explorer`.
+    """
+
+    name: str
+    controls: Mapping[str, widgets.ValueWidget]
+    size: tuple[float, float]
+    panels: Callable[[Figure], tuple[object, Mapping[str, object], Mapping[str, object]]]
+    linkage: Mapping[str, object]
+    draw: Callable[[ExplorerStage, Mapping[str, object], bool], Readout]
+    geometry_keys: tuple[str, ...] = ()
+    geometry_artists: tuple[str, ...] = ()
+    extra: tuple[widgets.Widget, ...] = ()
+
+
+def build_explorer(spec: ExplorerSpec) -> Explorer:
+    """The :class:`Explorer` of a specification: its figure, panels, animated linkage and draw step.
+
+    >>> import sympy as sp
+    >>> from course_lib.mechanism import Mechanism
+    >>> th = sp.Symbol("theta")
+    >>> spec = ExplorerSpec("crank", {"theta_deg": _slider("θ (°)", 30.0, -180.0, 180.0, 1.0)}, (3.0, 3.0),
+    ...     panels=lambda figure: (_grid(figure.add_subplot(), xlim=(-1, 1), ylim=(-1, 1)), {}, {}),
+    ...     linkage={"links": {"crank": ("O", "A")}},
+    ...     draw=lambda stage, state, changed: stage.solved(
+    ...         {"O": (0.0, 0.0), "A": (np.cos(np.radians(state["theta_deg"])), 0.0)}, ["turned"]))
+    >>> crank = build_explorer(spec)
+    >>> crank.update(theta_deg=60.0).lines, crank.artists["crank"].get_xydata()[1].round(3).tolist()
+    (('turned',), [0.5, 0.0])
+    """
+    figure = Figure(figsize=spec.size, dpi=80)
+    axes, before, after = spec.panels(figure)
+    linkage = LinkageArtist(axes, animated=True, **spec.linkage)
+    artists = {**before, **linkage.artists, **after}
+    if "failure" not in artists:
+        artists["failure"] = _failure_text(axes)
+    stage = ExplorerStage(axes, linkage, artists)
+    return Explorer(spec.name, dict(spec.controls), figure, artists,
+                    lambda state, geometry_changed: spec.draw(stage, state, geometry_changed),
+                    spec.geometry_keys, spec.extra, spec.geometry_artists)
+
+
 _REFUSED = object()  # marks a value update() does not set
 
 
@@ -336,24 +414,6 @@ def _failure_text(ax, y: float = 0.97):
                    fontweight="bold", animated=True)
 
 
-def _failed(artists, drawing, points, text: str, status: str, lines, circles=()) -> Readout:
-    """A failed step: the linkage at the known ``points``, the red ``text``, the reach ``circles`` shown."""
-    drawing.move(points)
-    artists["failure"].set_text(text)
-    for name, center, radius in circles:
-        artists[name].set(center=tuple(center), radius=radius, visible=True)
-    return Readout(status, tuple(lines))
-
-
-def _solved(artists, drawing, points, lines, **shown) -> Readout:
-    """A solved step: the linkage at ``points``, the ``shown`` line artists at their (x, y) data."""
-    artists["failure"].set_text("")
-    drawing.move(points)
-    for name, data in shown.items():
-        artists[name].set(data=data, visible=True)
-    return Readout("ok", tuple(lines))
-
-
 def _num(value: float, digits: int) -> str:
     """``value`` with ``digits`` decimals and no "-0.000" (rounded first); "undefined" if not finite."""
     number = float(value)
@@ -401,43 +461,40 @@ def fourbar_explorer(
     branch = _toggle("branch", BRANCHES, "branch", branch)
     controls.update(theta2_deg=_degrees("theta2", theta2, "θ2 (°)"), branch=branch, p=p,
                     delta_deg=_degrees("delta", delta, "point P: δ (°)", 5.0))
-    figure = Figure(figsize=(8.6, 3.8), dpi=80)
-    grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,
-                               top=0.97, wspace=0.22)
-    ax = _grid(figure.add_subplot(grid[0]), xlabel="x (m)", ylabel="y (m)")
-    ax_mu = _grid(figure.add_subplot(grid[1]), xlabel="θ2 (°)", ylabel="transmission angle μ (°)",
-                  xlim=(-180, 180), ylim=(0, 92), xticks=np.arange(-180, 181, 90))
-    ax_mu.axhline(40.0, color="0.5", linestyle=":", lw=1)
-    ax_mu.text(-175, 42, "μ = 40°", color="0.4", fontsize=8)
-    curve_line, = ax.plot([], [], color="tab:purple", lw=1.2, label="coupler curve of P")
-    plate = {"color": LINK_COLORS[1], "lw": 1, "alpha": 0.6}
-    linkage = LinkageArtist(ax, {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"),
-                                 "plate": ("A", "P"), "plate PB": ("P", "B")},
-                            styles={"plate": plate, "plate PB": plate}, labels={"A": "A", "B": "B", "P": "P"},
-                            animated=True)
-    artists = {
-        "coupler_curve": curve_line, "mu_curve": ax_mu.plot([], [], color="tab:purple", lw=1.5)[0],
-        "ground": _moving_line(ax, [], [], "--", color=LINK_COLORS[3], lw=1.5),
-        **linkage.artists,
-        "point_p": _moving_line(ax, [], [], "o", ms=6, color="tab:purple", zorder=5),
-        "mu_cursor": _moving_line(ax_mu, [], [], "o", ms=7, color="black", zorder=5),
-        "mu_cursor_line": ax_mu.axvline(0.0, color="black", lw=1, animated=True),
-        "failure": _failure_text(ax),
-        **{f"label_{key}": ax.text(0, 0, key, fontsize=9, animated=True) for key in ("O2", "O4")},
-        **{f"ground_{key}": ax.add_patch(Polygon(_TRIANGLE * 0.01, closed=True, facecolor="none",
-                                                 edgecolor="0.3", hatch="///", lw=1, animated=True))
-           for key in ("O2", "O4")},
-        **{key: _reach_circle(ax, "0.45") for key in ("reach_A", "reach_O4")},
-    }
-    ax.legend(handles=[curve_line], loc="lower right", fontsize=8)
 
-    def draw(state, geometry_changed: bool) -> Readout:
+    def panels(figure):  # the linkage with its coupler curve; μ(θ2) with its 40° line
+        grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,
+                                   top=0.97, wspace=0.22)
+        ax = _grid(figure.add_subplot(grid[0]), xlabel="x (m)", ylabel="y (m)")
+        ax_mu = _grid(figure.add_subplot(grid[1]), xlabel="θ2 (°)", ylabel="transmission angle μ (°)",
+                      xlim=(-180, 180), ylim=(0, 92), xticks=np.arange(-180, 181, 90))
+        ax_mu.axhline(40.0, color="0.5", linestyle=":", lw=1)
+        ax_mu.text(-175, 42, "μ = 40°", color="0.4", fontsize=8)
+        curve_line, = ax.plot([], [], color="tab:purple", lw=1.2, label="coupler curve of P")
+        ax.legend(handles=[curve_line], loc="lower right", fontsize=8)
+        return ax, {
+            "coupler_curve": curve_line, "mu_curve": ax_mu.plot([], [], color="tab:purple", lw=1.5)[0],
+            "ground": _moving_line(ax, [], [], "--", color=LINK_COLORS[3], lw=1.5),
+        }, {
+            "point_p": _moving_line(ax, [], [], "o", ms=6, color="tab:purple", zorder=5),
+            "mu_cursor": _moving_line(ax_mu, [], [], "o", ms=7, color="black", zorder=5),
+            "mu_cursor_line": ax_mu.axvline(0.0, color="black", lw=1, animated=True),
+            "failure": _failure_text(ax),
+            **{f"label_{key}": ax.text(0, 0, key, fontsize=9, animated=True) for key in ("O2", "O4")},
+            **{f"ground_{key}": ax.add_patch(Polygon(_TRIANGLE * 0.01, closed=True, facecolor="none",
+                                                     edgecolor="0.3", hatch="///", lw=1, animated=True))
+               for key in ("O2", "O4")},
+            **{key: _reach_circle(ax, "0.45") for key in ("reach_A", "reach_O4")},
+        }
+
+    def draw(stage, state, geometry_changed: bool) -> Readout:
         """Solve the four-bar at the state's θ2 and move the artists."""
+        ax, artists = stage.axes, stage.artists
         theta2, branch = np.radians(float(state["theta2_deg"])), state["branch"]
         four = FourBar(**{key: state[key] for key in named})
         l1, l2, l3, l4 = four.l1, four.l2, four.l3, four.l4
         p, delta = float(state["p"]), np.radians(float(state["delta_deg"]))
-        offset = linkage.label_offset = 0.04 * max(l1, l2, l3, l4)
+        offset = stage.linkage.label_offset = 0.04 * max(l1, l2, l3, l4)
         if geometry_changed:
             sweep = np.linspace(-np.pi, np.pi, 361)
             curve = four.coupler_point(sweep, p, delta, branch=branch, on_unreachable="nan").position
@@ -484,7 +541,7 @@ def fourbar_explorer(
             at, distance = f"θ2 = {np.degrees(theta2):.0f}°", float(np.hypot(*(O4 - A)))
             known, says = {"O2": O2, "A": A, "O4": O4}, f"course_lib says: {failure}"
             if distance < 1e-9 * max(l1, l2):  # A on O4: the coupler's direction is undefined
-                return _failed(artists, linkage, known, f"A lands on O4 at {at}", "singular", (
+                return stage.failed(known, f"A lands on O4 at {at}", "singular", (
                     f"{at}: the crank pin A lands on the pivot O4 (l2 = l1), "
                     "so the coupler's direction, θ3 and θ4 are undefined here.",
                     "Move θ2 a little, or change l1 or l2.", *lines, says))
@@ -493,23 +550,28 @@ def fourbar_explorer(
                 f"> {far}: coupler and rocker cannot reach" if distance > l3 + l4
                 else f"< {near}: the longer link overshoots" if distance < abs(l3 - l4)
                 else f"is at the limit {far} or {near}: a toggle position")
-            return _failed(artists, linkage, known, f"cannot assemble at {at}", "unreachable", (
+            return stage.failed(known, f"cannot assemble at {at}", "unreachable", (
                 f"{at} is outside the input range: the loop cannot close.",
                 why + " (the dashed circles about A and O4 do not meet).",
                 "Move θ2 back into the input range, or change the lengths.", *lines, says),
                 circles=(("reach_A", A, l3), ("reach_O4", O4, l4)))
         B = O4 + l4 * np.array([np.cos(solution.theta4), np.sin(solution.theta4)])
         warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
-        return _solved(artists, linkage, {"O2": O2, "A": A, "B": B, "O4": O4, "P": point}, (
+        return stage.solved({"O2": O2, "A": A, "B": B, "O4": O4, "P": point}, (
             f"θ2 = {np.degrees(theta2):.1f}°  →  θ3 = {np.degrees(solution.theta3):.2f}°, "
             f"θ4 = {np.degrees(solution.theta4):.2f}°  ({branch} branch)",
             f"transmission angle μ = {np.degrees(mu):.2f}°{warning}",
             f"coupler point P = ({point[0]:.4f}, {point[1]:.4f}) m", *lines),
             point_p=([point[0]], [point[1]]), mu_cursor=([np.degrees(theta2)], [np.degrees(mu)]))
 
-    return Explorer("four-bar", controls, figure, artists, draw, (*named, "branch", "p", "delta_deg"),
-                    geometry_artists=("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4",
-                                      "label_O2", "label_O4"))
+    plate = {"color": LINK_COLORS[1], "lw": 1, "alpha": 0.6}
+    return build_explorer(ExplorerSpec(
+        "four-bar", controls, (8.6, 3.8), panels, {
+            "links": {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "plate": ("A", "P"),
+                      "plate PB": ("P", "B")},
+            "styles": {"plate": plate, "plate PB": plate}, "labels": {"A": "A", "B": "B", "P": "P"}},
+        draw, (*named, "branch", "p", "delta_deg"),
+        ("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4", "label_O2", "label_O4")))
 
 
 #: (key in saw.UNKNOWNS, panel label with units)
@@ -555,59 +617,56 @@ def saw_explorer(
     sweep_t = np.linspace(0.0, end, 481)
     profile = motor_profile(sweep_t)
     values = analytic(*profile, saw=COURSE_SAW)
-    figure = Figure(figsize=(8.6, 6.6), dpi=80)
-    grid = figure.add_gridspec(2, 1, height_ratios=(1.0, 1.25), left=0.08, right=0.985, bottom=0.06,
-                               top=0.97, hspace=0.2)
-    top = grid[0].subgridspec(1, 2, width_ratios=(1.25, 1.0), wspace=0.25)
-    bottom = grid[1].subgridspec(3, 3, hspace=0.55, wspace=0.38)
-    ax, ax_profile = figure.add_subplot(top[0]), figure.add_subplot(top[1])
-    r1y, r2, r3 = COURSE_SAW.r1y, COURSE_SAW.r2, COURSE_SAW.r3
-    _grid(ax, xlabel="x (m)", ylabel="y (m)").xaxis.labelpad = ax.yaxis.labelpad = 1
-    ax.axhline(r1y, color="0.55", lw=1, linestyle="-.")
-    ax.text(-r2 - r3 - 0.015, r1y + 0.006, "slider line y = r1y", fontsize=7, color="0.4")
-    crank_circle = np.linspace(0, 2 * np.pi, 100)
-    ax.plot(r2 * np.cos(crank_circle), r2 * np.sin(crank_circle), color="0.75", lw=0.8)
-    _ground_symbol(ax, (0.0, 0.0), 0.008)
-    _set_equal_limits(ax, -r2 - r3 - 0.02, r2 + 0.02, -r2 - 0.015, max(r2, r1y) + 0.025)
-    for curve, color, label in zip(profile, ("tab:blue", "tab:orange", "tab:green"),
-                                   ("θ2 (rad)", "ω2 (rad/s)", "α2 (rad/s²)"), strict=True):
-        ax_profile.plot(sweep_t, curve, color=color, label=label)
-    ax_profile.axvline(turn, color="0.5", linestyle=":", lw=1)
-    _grid(ax_profile, xlim=(0, end)).set_title("motor profile", fontsize=9, pad=3)
-    ax_profile.set_xlabel("t (s)", labelpad=1)
-    ax_profile.legend(fontsize=7, loc="upper left")
-    drawing = LinkageArtist(ax, {"r1": ("O2", "C"), "crank": ("O2", "A"), "rod": ("A", "C")}, blocks=["C"],
-                            styles={"r1": {"color": "tab:purple", "lw": 1.2, "linestyle": "--"},
-                                    "crank": {"color": LINK_COLORS[0]}, "rod": {"color": LINK_COLORS[1]}},
-                            animated=True)
-    artists = {
-        **drawing.artists,
-        "profile_cursor": ax_profile.axvline(0.0, color="black", lw=1, animated=True),
-        "profile_points": _moving_line(ax_profile, [], [], "o", ms=5, color="black"),
-        "failure": _failure_text(ax, 0.96),
-        "title": ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", fontsize=9, animated=True),
-    }
-    for k, (key, label) in enumerate(_SAW_PANELS):
-        panel = _grid(figure.add_subplot(bottom[k // 3, k % 3]), xlim=(0, end))
-        panel.plot(sweep_t, values[:, k], color="tab:purple", lw=1.2)
-        panel.set_title(label, fontsize=8, pad=2)
-        panel.tick_params(labelsize=7, pad=1)
-        if k >= 6:
-            panel.set_xlabel("t (s)", fontsize=7, labelpad=0)
-        artists[f"cursor_{key}"] = panel.axvline(0.0, color="black", lw=1, animated=True)
-        artists[f"point_{key}"] = _moving_line(panel, [], [], "o", ms=4, color="black")
 
-    def draw(state, geometry_changed: bool) -> Readout:
+    def panels(figure):  # the saw; the motor profile; the nine unknowns over time, each with a cursor
+        grid = figure.add_gridspec(2, 1, height_ratios=(1.0, 1.25), left=0.08, right=0.985, bottom=0.06,
+                                   top=0.97, hspace=0.2)
+        top = grid[0].subgridspec(1, 2, width_ratios=(1.25, 1.0), wspace=0.25)
+        bottom = grid[1].subgridspec(3, 3, hspace=0.55, wspace=0.38)
+        ax, ax_profile = figure.add_subplot(top[0]), figure.add_subplot(top[1])
+        r1y, r2, r3 = COURSE_SAW.r1y, COURSE_SAW.r2, COURSE_SAW.r3
+        _grid(ax, xlabel="x (m)", ylabel="y (m)").xaxis.labelpad = ax.yaxis.labelpad = 1
+        ax.axhline(r1y, color="0.55", lw=1, linestyle="-.")
+        ax.text(-r2 - r3 - 0.015, r1y + 0.006, "slider line y = r1y", fontsize=7, color="0.4")
+        crank_circle = np.linspace(0, 2 * np.pi, 100)
+        ax.plot(r2 * np.cos(crank_circle), r2 * np.sin(crank_circle), color="0.75", lw=0.8)
+        _ground_symbol(ax, (0.0, 0.0), 0.008)
+        _set_equal_limits(ax, -r2 - r3 - 0.02, r2 + 0.02, -r2 - 0.015, max(r2, r1y) + 0.025)
+        for curve, color, label in zip(profile, ("tab:blue", "tab:orange", "tab:green"),
+                                       ("θ2 (rad)", "ω2 (rad/s)", "α2 (rad/s²)"), strict=True):
+            ax_profile.plot(sweep_t, curve, color=color, label=label)
+        ax_profile.axvline(turn, color="0.5", linestyle=":", lw=1)
+        _grid(ax_profile, xlim=(0, end)).set_title("motor profile", fontsize=9, pad=3)
+        ax_profile.set_xlabel("t (s)", labelpad=1)
+        ax_profile.legend(fontsize=7, loc="upper left")
+        artists = {
+            "profile_cursor": ax_profile.axvline(0.0, color="black", lw=1, animated=True),
+            "profile_points": _moving_line(ax_profile, [], [], "o", ms=5, color="black"),
+            "failure": _failure_text(ax, 0.96),
+            "title": ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", fontsize=9, animated=True),
+        }
+        for k, (key, label) in enumerate(_SAW_PANELS):
+            panel = _grid(figure.add_subplot(bottom[k // 3, k % 3]), xlim=(0, end))
+            panel.plot(sweep_t, values[:, k], color="tab:purple", lw=1.2)
+            panel.set_title(label, fontsize=8, pad=2)
+            panel.tick_params(labelsize=7, pad=1)
+            if k >= 6:
+                panel.set_xlabel("t (s)", fontsize=7, labelpad=0)
+            artists[f"cursor_{key}"] = panel.axvline(0.0, color="black", lw=1, animated=True)
+            artists[f"point_{key}"] = _moving_line(panel, [], [], "o", ms=4, color="black")
+        return ax, {}, artists
+
+    def draw(stage, state, geometry_changed: bool) -> Readout:
         """Solve the saw at time t of the motor profile and move the artists."""
-        t = float(state["t"])
+        t, artists = float(state["t"]), stage.artists
         try:
             theta2, omega2, alpha2 = (float(v) for v in motor_profile(t))
             values = analytic(theta2, omega2, alpha2, saw=COURSE_SAW)
             joints = joint_positions(theta2, saw=COURSE_SAW)
         except CourseLibError as err:
             artists["profile_points"].set_visible(False)
-            return _failed(artists, drawing, {}, f"no assembly at t = {t:.3f} s", "unreachable",
-                           (f"t = {t:.3f} s: the saw cannot be solved here.", f"course_lib says: {err}"))
+            return stage.failed({}, f"no assembly at t = {t:.3f} s", "unreachable",
+                                (f"t = {t:.3f} s: the saw cannot be solved here.", f"course_lib says: {err}"))
         artists["title"].set_text(f"t = {t:.3f} s")
         artists["profile_cursor"].set_xdata([t, t])
         for k, (key, _label) in enumerate(_SAW_PANELS):
@@ -617,7 +676,7 @@ def saw_explorer(
                  if t < turn else "steady speed")
         shown = [label.replace(" (", f" = {_num(value, 5)} ")[:-1]  # "r1 (m)" → "r1 = -0.09967 m"
                  for (_, label), value in zip(_SAW_PANELS, values, strict=True)]
-        return _solved(artists, drawing, dict(zip(("O2", "A", "C"), joints, strict=True)), (
+        return stage.solved(dict(zip(("O2", "A", "C"), joints, strict=True)), (
             f"t = {t:.3f} s ({phase}; first turn ends at T = {turn:.4f} s)",
             f"motor: θ2 = {_num(theta2, 4)} rad ({np.degrees(theta2):.1f}°), ω2 = {_num(omega2, 4)} rad/s, "
             f"α2 = {_num(alpha2, 4)} rad/s²",
@@ -625,7 +684,12 @@ def saw_explorer(
               for k, kind in enumerate(("position", "velocity", "acceleration")))),
             profile_points=([t, t, t], [theta2, omega2, alpha2]))
 
-    explorer = Explorer("power saw", {"t": time_slider}, figure, artists, draw, (), (play,))
+    explorer = build_explorer(ExplorerSpec(
+        "power saw", {"t": time_slider}, (8.6, 6.6), panels, {
+            "links": {"r1": ("O2", "C"), "crank": ("O2", "A"), "rod": ("A", "C")}, "blocks": ["C"],
+            "styles": {"r1": {"color": "tab:purple", "lw": 1.2, "linestyle": "--"},
+                       "crank": {"color": LINK_COLORS[0]}, "rod": {"color": LINK_COLORS[1]}}},
+        draw, extra=(play,)))
     explorer.play = play  # the Play button (frame k ↔ t = k·dt), also in ``extra``
     return explorer
 
@@ -662,41 +726,42 @@ def fivebar_explorer(
         "sigma1": _toggle("σ1 (θ1 root)", _ROOT, "sigma1", sigma1),
         "sigma2": _toggle("σ2 (θ4 root)", _ROOT, "sigma2", sigma2),
     }
-    figure = Figure(figsize=(6.2, 5.0), dpi=80)
-    ax = _grid(figure.add_axes((0.12, 0.1, 0.85, 0.86)), xlabel="X (m)", ylabel="Y (m)")
-    _set_equal_limits(ax, -limit, limit, -limit, limit)
     grid = np.linspace(-limit, limit, 161)
-    reachable = robot.workspace(grid, grid, modes=(1, 1)).reachable
-    shade = np.zeros(reachable.shape + (4,))
-    shade[reachable] = (0.12, 0.47, 0.71, 0.16)
-    shading = ax.imshow(shade, extent=(-limit, limit, -limit, limit), origin="lower", interpolation="nearest")
     half = robot.l5 / 2
     P1, P5 = np.array([half, 0.0]), np.array([-half, 0.0])
-    for center in (half, -half):
-        _ground_symbol(ax, (center, 0.0), 0.012)
-    singular_line, = ax.plot([], [], ".", color="tab:red", ms=2, label="parallel singularity of (σ1, σ2)")
-    drawing = LinkageArtist(ax, {"leg1_crank": ("P1", "P2"), "leg1_distal": ("P2", "P3"),
-                                 "leg4_distal": ("P4", "P3"), "leg4_crank": ("P5", "P4")},
-                            labels={"P3": "P3"}, label_offset=0.03 * limit, animated=True)
-    ax.plot([], [], "s", color=(0.12, 0.47, 0.71, 0.3), label="workspace (both legs reach)")
-    ax.legend(loc="lower left", fontsize=8)
-    artists = {
-        "workspace": shading, "singularity": singular_line,
-        "base": _moving_line(ax, [-half, half], [0.0, 0.0], color=LINK_COLORS[4], lw=2),
-        **drawing.artists,
-        "end_effector": _moving_line(ax, [], [], "o", ms=8, color="black", zorder=5),
-        "target": _moving_line(ax, [], [], "x", ms=11, mew=2.5, color=_ERROR_COLOR),
-        "failure": _failure_text(ax),
-        **{key: _reach_circle(ax, "0.35") for key in ("reach_a", "reach_b")},
-    }
+
+    def panels(figure):  # the workspace shaded, the ground pivots, the legend
+        ax = _grid(figure.add_axes((0.12, 0.1, 0.85, 0.86)), xlabel="X (m)", ylabel="Y (m)")
+        _set_equal_limits(ax, -limit, limit, -limit, limit)
+        reachable = robot.workspace(grid, grid, modes=(1, 1)).reachable
+        shade = np.zeros(reachable.shape + (4,))
+        shade[reachable] = (0.12, 0.47, 0.71, 0.16)
+        shading = ax.imshow(shade, extent=(-limit, limit, -limit, limit), origin="lower",
+                            interpolation="nearest")
+        for center in (half, -half):
+            _ground_symbol(ax, (center, 0.0), 0.012)
+        singular_line, = ax.plot([], [], ".", color="tab:red", ms=2, label="parallel singularity of (σ1, σ2)")
+        ax.plot([], [], "s", color=(0.12, 0.47, 0.71, 0.3), label="workspace (both legs reach)")
+        ax.legend(loc="lower left", fontsize=8)
+        return ax, {
+            "workspace": shading, "singularity": singular_line,
+            "base": _moving_line(ax, [-half, half], [0.0, 0.0], color=LINK_COLORS[4], lw=2),
+        }, {
+            "end_effector": _moving_line(ax, [], [], "o", ms=8, color="black", zorder=5),
+            "target": _moving_line(ax, [], [], "x", ms=11, mew=2.5, color=_ERROR_COLOR),
+            "failure": _failure_text(ax),
+            **{key: _reach_circle(ax, "0.35") for key in ("reach_a", "reach_b")},
+        }
+
     curves: dict[tuple[int, int], np.ndarray] = {}  # singularity curve per working mode, computed once
 
     def pins(theta1, theta4):  # P2 and P4, the crank pins
         return (P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)]),
                 P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)]))
 
-    def draw(state, geometry_changed: bool) -> Readout:
+    def draw(stage, state, geometry_changed: bool) -> Readout:
         """Forward or inverse kinematics of the state and the artists moved."""
+        artists = stage.artists
         inverse = state["mode"] == "inverse"
         modes = (int(state["sigma1"]), int(state["sigma2"]))
         if geometry_changed:  # the controls of the current mode; in inverse mode the singularity curve
@@ -735,22 +800,22 @@ def fivebar_explorer(
                         lines.append(f"{leg}: distance {distance:.4f} m > {far:.4f} m, fully stretched")
                     elif distance < near:
                         lines.append(f"{leg}: distance {distance:.4f} m < {near:.4f} m, fully folded")
-                return _failed(artists, drawing, {"P1": P1, "P5": P5},
-                               f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach", "unreachable",
-                               (*lines, "Bring the target back into the shaded workspace.", says))
+                return stage.failed({"P1": P1, "P5": P5},
+                                    f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach", "unreachable",
+                                    (*lines, "Bring the target back into the shaded workspace.", says))
             P2, P4 = pins(theta1, theta4)
             distance, l2, l3 = float(np.hypot(*(P2 - P4))), robot.l2, robot.l3
             why = (f"|P2P4| = {distance:.4f} m > l2 + l3 = {l2 + l3:.4f} m" if distance > l2 + l3
                    else f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(l2 - l3):.4f} m")
             at = f"θ1 = {state['theta1_deg']:.0f}°, θ4 = {state['theta4_deg']:.0f}°"
-            return _failed(artists, drawing, {"P1": P1, "P2": P2, "P4": P4, "P5": P5},
-                           "the distal links cannot meet", "unreachable", (
-                               f"{at}: the robot cannot be assembled.",
-                               why + " (the dashed circles about P2 and P4 do not meet).",
-                               "Move θ1 or θ4 until the circles meet again.", says),
-                           circles=(("reach_a", P2, l2), ("reach_b", P4, l3)))
+            return stage.failed({"P1": P1, "P2": P2, "P4": P4, "P5": P5},
+                                "the distal links cannot meet", "unreachable", (
+                                    f"{at}: the robot cannot be assembled.",
+                                    why + " (the dashed circles about P2 and P4 do not meet).",
+                                    "Move θ1 or θ4 until the circles meet again.", says),
+                                circles=(("reach_a", P2, l2), ("reach_b", P4, l3)))
         if not np.isfinite(np.hstack([theta1, theta4, x3, y3])).all():
-            return _failed(artists, drawing, {"P1": P1, "P5": P5}, "no position here", "singular", (
+            return stage.failed({"P1": P1, "P5": P5}, "no position here", "singular", (
                 "The robot's position is undefined for these inputs (the closed form returns no number).",
                 "Move a slider a little."))
         P2, P4 = pins(theta1, theta4)
@@ -762,7 +827,7 @@ def fivebar_explorer(
                 f"θ4 = {_num(np.degrees(theta4), 2)}°" if inverse
                 else f"forward, σ = {int(state['sigma']):+d}: θ1 = {np.degrees(theta1):.1f}°, "
                 f"θ4 = {np.degrees(theta4):.1f}°  →  P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m")
-        return _solved(artists, drawing, {"P1": P1, "P2": P2, "P3": np.array([x3, y3]), "P4": P4, "P5": P5}, (
+        return stage.solved({"P1": P1, "P2": P2, "P3": np.array([x3, y3]), "P4": P4, "P5": P5}, (
             head,
             f"singularity measures (0 = singular): leg 1 {_num(measures.serial_leg1, 3)}, "
             f"leg 4 {_num(measures.serial_leg4, 3)}, parallel {_num(parallel, 3)}",
@@ -770,8 +835,11 @@ def fivebar_explorer(
             *["near a serial (type-1) singularity: a leg almost stretched or folded"] * (serial < 0.05)),
             end_effector=([x3], [y3]))
 
-    return Explorer("five-bar", controls, figure, artists, draw, ("mode", "sigma1", "sigma2"),
-                    geometry_artists=("singularity",))
+    return build_explorer(ExplorerSpec(
+        "five-bar", controls, (6.2, 5.0), panels, {
+            "links": {"leg1_crank": ("P1", "P2"), "leg1_distal": ("P2", "P3"), "leg4_distal": ("P4", "P3"),
+                      "leg4_crank": ("P5", "P4")}, "labels": {"P3": "P3"}, "label_offset": 0.03 * limit},
+        draw, ("mode", "sigma1", "sigma2"), ("singularity",)))
 
 
 def mechanism_explorer(
@@ -836,13 +904,6 @@ def mechanism_explorer(
     step = 1.0 if angle else (high - low) / 200 or 1.0
     label = f"{name.replace('theta', 'θ')} ({'°' if angle else 'm'})"
     controls = {key: _slider(label, first, low, high, step, ".0f" if angle else ".4f")}
-    figure = Figure(figsize=(width, height), dpi=80)  # margins in inches, for the labels and the title:
-    ax = _grid(figure.add_axes((0.75 / width, 0.5 / height, 1 - 0.9 / width, 1 - 0.8 / height)),
-               xlabel="x (m)", ylabel="y (m)", title=title)
-    box, _ = _motion_background(ax, mechanism.joints(motion), ground, trace)
-    _set_equal_limits(ax, *box)
-    drawing = LinkageArtist(ax, mechanism.links, blocks=blocks, styles=styles, animated=True)
-    artists = {**drawing.artists, "failure": _failure_text(ax)}
     converged = np.flatnonzero(np.asarray(motion.converged, dtype=bool))
 
     def guess(k: int) -> dict:
@@ -851,7 +912,14 @@ def mechanism_explorer(
     # a bad ``rates`` is refused here, by name, rather than at the first event
     mechanism.solve({name: sweep[converged[0]]}, rates=rates, guess=guess(converged[0]))
 
-    def draw(state, geometry_changed: bool) -> Readout:
+    def panels(figure):  # margins in inches, for the labels and the title; the ground and the traces
+        ax = _grid(figure.add_axes((0.75 / width, 0.5 / height, 1 - 0.9 / width, 1 - 0.8 / height)),
+                   xlabel="x (m)", ylabel="y (m)", title=title)
+        box, _ = _motion_background(ax, mechanism.joints(motion), ground, trace)
+        _set_equal_limits(ax, *box)
+        return ax, {}, {}
+
+    def draw(stage, state, geometry_changed: bool) -> Readout:
         value = math.radians(state[key]) if angle else float(state[key])
         gaps = np.abs((sweep[converged] - value + np.pi) % (2 * np.pi) - np.pi if angle
                       else sweep[converged] - value)
@@ -859,11 +927,12 @@ def mechanism_explorer(
         try:
             now = mechanism.solve({name: value}, rates=rates, guess=guess(nearest))
         except (ConvergenceError, UnreachableError, SingularJacobianError) as err:
-            return _failed(artists, drawing, {}, f"no assembly at {name} = {state[key]:g}", "unreachable", (
+            return stage.failed({}, f"no assembly at {name} = {state[key]:g}", "unreachable", (
                 f"{name} = {state[key]:g}: the loops cannot be closed here from the nearest solved instant.",
                 f"course_lib says: {err}"))
-        _solved(artists, drawing, mechanism.joints(now), ())  # first: a readout may raise
+        stage.solved(mechanism.joints(now), ())  # first: a readout may raise
         return Readout("ok", tuple(readout(now) if readout is not None else
                                    [f"{unknown} = {value:.4g}" for unknown, value in now.position.items()]))
 
-    return Explorer(title, controls, figure, artists, draw)
+    return build_explorer(ExplorerSpec(title, controls, (width, height), panels,
+                                       {"links": mechanism.links, "blocks": blocks, "styles": styles}, draw))

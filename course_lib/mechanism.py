@@ -883,29 +883,32 @@ class Mechanism:
     def _smallest(self, J: np.ndarray) -> np.ndarray:
         """σ_min(J̃) of a stack J (..., n, n): exact for n ≤ 2, else exact where a bound cannot settle it."""
         rows, columns = self._scales
-        A = J / rows[:, None] / columns[None, :]
-        n = A.shape[-1]
+        n = J.shape[-1]
+        # entries first (n, n, ...): contiguous for the compiled terms' J, so each operation runs in one pass
+        A = np.moveaxis(J, (-2, -1), (0, 1)) / rows[:, None].reshape((n, 1) + (1,) * (J.ndim - 2))
+        A /= columns.reshape((1, n) + (1,) * (J.ndim - 2))
         with np.errstate(all="ignore"):
             if n == 1:
-                return np.abs(A[..., 0, 0])
-            frobenius = (A * A).sum(axis=(-2, -1))
+                return np.abs(A[0, 0])
+            frobenius = (A * A).sum(axis=(0, 1))
             if n == 2:
-                det = A[..., 0, 0] * A[..., 1, 1] - A[..., 0, 1] * A[..., 1, 0]
+                det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
                 largest = np.sqrt((frobenius + np.sqrt(np.maximum(frobenius**2 - 4 * det**2, 0.0))) / 2)
                 return np.where(largest > 0, np.abs(det) / largest, 0.0)
-            det = np.ones(A.shape[:-2])
+            det = np.ones(A.shape[2:])
             for block_rows, block_columns in self._structure["blocks"]:
-                block = A[..., block_rows, :][..., block_columns]
+                block = A[np.ix_(block_rows, block_columns)]
                 if len(block_rows) == 1:
-                    det = det * block[..., 0, 0]
+                    det = det * block[0, 0]
                 elif len(block_rows) == 2:
-                    det = det * (block[..., 0, 0] * block[..., 1, 1] - block[..., 0, 1] * block[..., 1, 0])
+                    det = det * (block[0, 0] * block[1, 1] - block[0, 1] * block[1, 0])
                 else:
-                    det = det * np.linalg.det(block)
+                    det = det * np.linalg.det(np.moveaxis(block, (0, 1), (-2, -1)))
             smallest = np.array(np.abs(det) / np.sqrt(frobenius) ** (n - 1))  # a lower bound (an array)
             unsure = ~(smallest >= NEAR_SINGULAR) & np.isfinite(frobenius)
             if unsure.any():
-                smallest[unsure] = np.linalg.svd(A[unsure], compute_uv=False)[..., -1]
+                stacked = np.moveaxis(A, (0, 1), (-2, -1))
+                smallest[unsure] = np.linalg.svd(stacked[unsure], compute_uv=False)[..., -1]
             return smallest
 
     # ------------------------------------------------------------ numbers (arrays ordered as declared)
@@ -1030,19 +1033,33 @@ class Mechanism:
                                        f"{list(self.unknowns)} and inputs {list(self.inputs)}; "
                                        f"got {position!r}")
 
-    def _solve_blocks(self, J: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """x (N, n) with J·x = b for a stack J (N, n, n), block by block (forward substitution)."""
+    def _block_stacks(self, J: np.ndarray) -> list:
+        """Per block of a stack J (N, n, n): its rows, columns, the columns solved before it, its diagonal
+        block prepared for solving (:class:`LinearStack`) and the coupling to the earlier columns."""
         blocks = self._structure["blocks"]
         if len(blocks) == 1:
-            return LinearStack(J).solve(b)
-        x = np.empty(b.shape)
-        done: list[int] = []
+            return [(None, None, [], LinearStack(J), None)]
+        entries = J.transpose(1, 2, 0)  # (n, n, N): contiguous for the compiled terms' J
+        stacks, done = [], []
         for rows, columns in blocks:
+            block = np.ascontiguousarray(entries[np.ix_(rows, columns)]).transpose(2, 0, 1)
+            coupling = J[:, rows][:, :, done] if done else None
+            stacks.append((rows, columns, done, LinearStack(block), coupling))
+            done = done + list(columns)
+        return stacks
+
+    def _solve_blocks(self, J: np.ndarray, b: np.ndarray, stacks: list | None = None) -> np.ndarray:
+        """x (N, n) with J·x = b for a stack J (N, n, n), block by block (forward substitution);
+        ``stacks``: :meth:`_block_stacks` of J, when already prepared."""
+        stacks = self._block_stacks(J) if stacks is None else stacks
+        if len(stacks) == 1:
+            return stacks[0][3].solve(b)
+        x = np.empty(b.shape)
+        for rows, columns, done, stack, coupling in stacks:
             rhs = b[:, rows]
             if done:
-                rhs = rhs - np.einsum("nij,nj->ni", J[:, rows][:, :, done], x[:, done])
-            x[:, columns] = LinearStack(np.ascontiguousarray(J[:, rows][:, :, columns])).solve(rhs)
-            done = done + list(columns)
+                rhs = rhs - np.einsum("nij,nj->ni", coupling, x[:, done])
+            x[:, columns] = stack.solve(rhs)
         return x
 
     def rates(self, q, u, u_rate, u_acceleration=None, *, trig: Mapping | None = None, singular=None):
@@ -1073,11 +1090,12 @@ class Mechanism:
         any_singular = singular.any()
         if any_singular:
             J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
+        stacks = self._block_stacks(J)
         q_rate = self._solve_blocks(J, sum(F_u[:, :, j] * -u_rate[:, j, None]
-                                           for j in range(u_rate.shape[1])))
+                                           for j in range(u_rate.shape[1])), stacks)
         q_acc = None
         if u_acceleration is not None:
-            q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, arrays[3], known))
+            q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, arrays[3], known), stacks)
             if any_singular:
                 q_acc[singular] = np.nan
             q_acc = q_acc.reshape(shape + q_acc.shape[-1:])
@@ -1198,12 +1216,13 @@ class Mechanism:
 
     # ------------------------------------------------------------ solving a motion
 
-    def _F(self, q, u) -> np.ndarray:
-        return _vector(self._residual_fn(self._values, q, u), 0, len(self.unknowns))
+    def _F(self, q, u, known=None, same_point=False) -> np.ndarray:
+        terms = self._residual_fn(self._values, q, u, known=known, same_point=same_point)
+        return _vector(terms, 0, len(self.unknowns))
 
-    def _J(self, q, u) -> np.ndarray:
+    def _J(self, q, u, known=None) -> np.ndarray:
         n = len(self.unknowns)
-        return _matrix(self._jacobian_fn(self._values, q, u), 0, n, n)
+        return _matrix(self._jacobian_fn(self._values, q, u, known=known), 0, n, n)
 
     def solve(self, inputs: Mapping, rates: Mapping | None = None, accelerations: Mapping | None = None,
               guess: Mapping | None = None, *, assembly: Mapping | None = None, tol: float = 1e-10,
@@ -1256,6 +1275,7 @@ class Mechanism:
         shape, m = arrays[0].shape, len(self.inputs)
         u, u_rate, u_acc = (np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in range(3))
         paths, notes, result, assembly = self._paths(u), [], None, None
+        known, at_q = {}, None  # the cos and sin of the inputs, computed once; of q, where q is final
         stuck = np.zeros(len(u), bool)
         with np.errstate(all="ignore"):
             if seed is not None:
@@ -1266,7 +1286,8 @@ class Mechanism:
                 if result is not None and not result.converged:
                     notes.append(f"Newton from the guess did not converge at {self._where(u, 0)} "
                                  f"({result.message}); the closed form gave the assembly nearest the guess")
-                q, iterations, sigma = self._closed(u, paths, target, tol, max_iter, notes, chosen)
+                q, iterations, sigma, at_q = self._closed(u, paths, target, tol, max_iter, notes, chosen,
+                                                          known)
                 if shape == () and result is not None:
                     iterations[0] = result.iterations
                 assembly = {name: scalar_or_array(values.reshape(shape)) for name, values in sigma.items()}
@@ -1295,13 +1316,14 @@ class Mechanism:
             converged = np.isfinite(q).all(axis=1)
             safe = q if converged.all() else np.where(converged[:, None], q, 0.0)
             want_rates = rates is not None or accelerations is not None
-            J, F_u = (self._rate_terms(safe, u, {}, same_point=True) if want_rates
-                      else (self._J(safe, u), None))
+            at_q = at_q if at_q is not None and safe is q else dict(known)
+            J, F_u = (self._rate_terms(safe, u, at_q, same_point=True) if want_rates
+                      else (self._J(safe, u, at_q), None))
             smallest = self._smallest(J)
             singular = converged & ~(smallest >= SINGULAR) | stuck
             near = converged & ~(smallest >= NEAR_SINGULAR)
             if want_rates:
-                q_rate, q_acc, _ = self._rates(safe, u, u_rate, u_acc, singular | ~converged, (J, F_u))
+                q_rate, q_acc, _ = self._rates(safe, u, u_rate, u_acc, singular | ~converged, (J, F_u), at_q)
         self._notes(notes, converged, singular, near, u)
         if on_failure == "raise":
             self._report(~converged, singular & want_rates, u, closed)
@@ -1319,13 +1341,16 @@ class Mechanism:
                       near_singular=shaped(near), message="; ".join(notes),
                       assembly=None if assembly is None else MappingProxyType(assembly))
 
-    def _rates(self, q, u, u_rate, u_acc, singular, terms) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """q̇ and q̈ (N, n) at solved positions from (J, F_u) there, NaN where ``singular``."""
+    def _rates(self, q, u, u_rate, u_acc, singular, terms, known=None
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """q̇ and q̈ (N, n) at solved positions from (J, F_u) there, NaN where ``singular`` (``known``: the
+        cos and sin already computed at q and u, see _compile)."""
         J, F_u = terms
         if singular.any():
             J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
-        q_rate = self._solve_blocks(J, np.einsum("nij,nj->ni", F_u, -u_rate))
-        q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, u_acc))
+        stacks = self._block_stacks(J)
+        q_rate = self._solve_blocks(J, np.einsum("nij,nj->ni", F_u, -u_rate), stacks)
+        q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, u_acc, known), stacks)
         q_rate[singular], q_acc[singular] = np.nan, np.nan
         return q_rate, q_acc, singular
 
@@ -1375,6 +1400,25 @@ class Mechanism:
         value = 2 * np.arctan2(y, x) if kind == "angle" else y / x
         return np.where(bad, np.nan, value), np.where(scale > 0, discriminant / scale, 0.0)
 
+    @staticmethod
+    def _roots(a, b, c, kind):
+        """:meth:`_root` for σ = +1 and −1 (the same bits), the discriminant and its scale computed once:
+        (root +1, root −1, Δ over its scale)."""
+        discriminant = b * b - 4 * a * c
+        scale = b * b + ((a - c) ** 2 if kind == "angle" else np.abs(4 * a * c))
+        bad = ~(discriminant >= -1e-12 * scale)
+        root = np.sqrt(np.maximum(discriminant, 0.0))
+        two_a, two_c = 2 * a, 2 * c
+        size_a, size_c = np.abs(two_a), np.abs(two_c)
+        out = []
+        for y1, x2 in ((-b + root, -b - root), (-b - root, -b + root)):
+            first = np.abs(y1) + size_a >= size_c + np.abs(x2)
+            y, x = np.where(first, y1, two_c), np.where(first, two_a, x2)
+            wrong = bad | ((np.abs(y) + np.abs(x)) == 0)
+            value = 2 * np.arctan2(y, x) if kind == "angle" else y / x
+            out.append(np.where(wrong, np.nan, value))
+        return out[0], out[1], np.where(scale > 0, discriminant / scale, 0.0)
+
     def _assembly(self, assembly: Mapping | None, closed: bool) -> dict[str, int]:
         """``solve``'s ``assembly``: σ = ±1 by the name (or symbol) of a block's first unknown."""
         if assembly is None:
@@ -1393,21 +1437,24 @@ class Mechanism:
             chosen[name] = int(value)
         return chosen
 
-    def _closed(self, u, paths, target, tol, max_iter, notes, chosen=None
-                ) -> tuple[np.ndarray, np.ndarray, dict]:
+    def _closed(self, u, paths, target, tol, max_iter, notes, chosen=None, known=None
+                ) -> tuple[np.ndarray, np.ndarray, dict, dict | None]:
         """Positions (N, n) from the closed forms, each block's σ picked at the first instant from
         ``target`` (the Newton solution, or the guess) and kept along the paths except where the two
-        assemblies meet (a change point, reported in ``notes``); then cross-checked by the residual."""
+        assemblies meet (a change point, reported in ``notes``); then cross-checked by the residual.
+        ``known``: the inputs' cos and sin (see _compile), shared; also returned: those of the positions
+        too, where every position is found and none was corrected (else None)."""
+        known = {} if known is None else known
         N, n = len(u), len(self.unknowns)
         q, sigmas = np.full((N, n), np.nan), {}
         structure = self._structure
         for form, (coefficients, second, linear) in zip(structure["forms"], self._closed_fns, strict=True):
             first = self.unknowns.index(form.unknowns[0])
-            a, b, c = coefficients(self._values, q, u)
+            a, b, c = coefficients(self._values, q, u, known=known)
             if linear:
                 q[:, first] = -c / b
             else:
-                (plus, level), (minus, _) = (self._root(a, b, c, s, form.kind) for s in (1, -1))
+                plus, minus, level = self._roots(a, b, c, form.kind)
                 name = form.unknowns[0].name
                 picked = (chosen or {}).get(name) or self._pick(plus, minus, paths, target, first)
                 sigma = np.full(N, picked)
@@ -1416,18 +1463,22 @@ class Mechanism:
                 sigmas[form.unknowns[0].name] = sigma
             if form.second is not None:
                 other = self.unknowns.index(form.unknowns[1])
-                values = second(self._values, q, u)
+                values = second(self._values, q, u, known=known)
                 q[:, other] = np.arctan2(values[1], values[0]) if form.second[0] == "angle" else values[0]
         self._continuous(q, paths, target)
         iterations = np.zeros(N, int)
         rows = self._scales[0]
-        residual = np.abs(self._F(np.where(np.isfinite(q), q, 0.0), u)) / rows
-        doubt = np.flatnonzero(np.isfinite(q).all(axis=1) & ~(residual.max(axis=1) <= RESIDUAL))
+        finite = np.isfinite(q).all(axis=1)
+        everywhere = bool(finite.all())
+        at_q = dict(known)
+        at = q if everywhere else np.where(finite[:, None], q, 0.0)
+        residual = np.abs(self._F(at, u, at_q, same_point=True)) / rows
+        doubt = np.flatnonzero(finite & ~(residual.max(axis=1) <= RESIDUAL))
         for k in doubt:  # the cross-check: Newton from the closed form, kept only on the same assembly
             polished, fixed, count = self._correct(q[k], u[k], tol, max_iter)
             iterations[k] = count
             q[k] = polished if fixed and self._distance(polished, q[k]) <= MAX_CHANGE else np.nan
-        return q, iterations, sigmas
+        return q, iterations, sigmas, at_q if everywhere and not len(doubt) else None
 
     def _pick(self, plus, minus, paths, target, first) -> int:
         """σ at the first instant (along the paths) where the two roots differ: the one nearer ``target``."""
@@ -1484,14 +1535,24 @@ class Mechanism:
         if target is not None:
             q[0, columns] = _unwrap_to(q[0, columns], target[columns])
         for path in paths:
-            values = q[np.ix_(path, columns)]
+            ordered = len(path) > 1 and path[0] == 0 and path[-1] == len(path) - 1 \
+                and bool((np.diff(path) == 1).all())
+            rows = slice(0, len(path)) if ordered else path
+            values = q[rows][:, columns]
             finite = np.isfinite(values).all(axis=1)
-            if finite.sum() < 2 or not finite[0]:
+            if not finite[0] or finite.sum() < 2:
                 continue
-            steps = np.diff(values[finite], axis=0)
-            first = values[finite][:1]
-            kept = np.concatenate([first, first + np.cumsum(_unwrap_to(steps, 0.0), axis=0)])
-            q[np.ix_(path[finite], columns)] = kept
+            if not finite.all():
+                rows, values = path[finite], values[finite]
+            # each step within π: whole turns taken off, counted along the path
+            turns = np.cumsum(np.round(np.diff(values, axis=0) / (2 * np.pi)), axis=0)
+            moved = (turns != 0).any(axis=0)
+            for k in np.flatnonzero(moved):
+                kept = values[1:, k] - 2 * np.pi * turns[:, k]
+                if isinstance(rows, slice):
+                    q[1:len(path), columns[k]] = kept
+                else:
+                    q[rows[1:], columns[k]] = kept
 
     # ------------------------------------------------------------ Newton with continuation
 

@@ -5,6 +5,8 @@ image, a readout, and ``update(**state)``, which never raises for a value (a sta
 take is explained); a builder argument outside its slider's range raises ``InvalidGeometryError``.
 Without a widget manager (GitHub, ``nbconvert``) an explorer shows a PNG of figure and readout.
 Units: metres and seconds; sliders show angles in degrees (the state keys say so: ``theta2_deg``).
+Every explorer here is an :class:`ExplorerSpec` (controls, panels, linkage, draw step) on one builder,
+:func:`build_explorer`; ``mechanism_explorer`` makes one for any declared mechanism or machine.
 
 >>> explorer = fourbar_explorer()
 >>> explorer.update(theta2_deg=90.0).status, explorer.update(branch="sideways").status

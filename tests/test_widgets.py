@@ -5,17 +5,26 @@ import gc
 import io
 import re
 
+import ipywidgets
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 from geometry import circle_intersections, fourbar_pins
 from matplotlib.figure import Figure
+from matplotlib.patches import Circle
 from PIL import Image
 
 from course_lib.errors import CourseLibError, InvalidGeometryError
 from course_lib.fourbar import FourBar
 from course_lib.saw import Saw
-from course_lib.widgets import fivebar_explorer, fourbar_explorer, mechanism_explorer, saw_explorer
+from course_lib.widgets import (
+    ExplorerSpec,
+    build_explorer,
+    fivebar_explorer,
+    fourbar_explorer,
+    mechanism_explorer,
+    saw_explorer,
+)
 
 NAN, INF = float("nan"), float("inf")
 #: a number shown as nan or inf ("θ3 = nan°", "|P2P4| = inf m", "P3 = (nan, …)")
@@ -623,3 +632,46 @@ def test_mechanism_explorer_refuses_what_is_neither_a_mechanism_nor_a_machine_by
     turn = Saw().motion(np.radians(np.arange(-180.0, 180.0, 10.0)))
     with pytest.raises(InvalidGeometryError, match="mechanism must be"):
         mechanism_explorer(machine, turn)
+
+
+def _crank_spec(**changes):
+    """A one-slider crank on the builder: unreachable beyond 90°, where it shows its reach circle."""
+    slider = ipywidgets.FloatSlider(value=30.0, min=-180.0, max=180.0, description="θ (°)")
+
+    def panels(figure):
+        ax = figure.add_subplot()
+        ax.set(xlim=(-1.5, 1.5), ylim=(-1.5, 1.5))
+        return ax, {}, {"reach": ax.add_patch(Circle((0, 0), 1.0, fill=False, animated=True))}
+
+    def draw(stage, state, geometry_changed):
+        stage.artists["reach"].set_visible(False)
+        theta = np.radians(state["theta_deg"])
+        if abs(state["theta_deg"]) > 90.0:
+            return stage.failed({"O": (0.0, 0.0)}, "too far", "unreachable", ["beyond 90°"],
+                                circles=[("reach", (0.0, 0.0), 0.5)])
+        pins = {"O": (0.0, 0.0), "A": (np.cos(theta), np.sin(theta))}
+        return stage.solved(pins, [f"θ = {state['theta_deg']:g}"])
+
+    spec = {"name": "crank", "controls": {"theta_deg": slider}, "size": (3.0, 3.0), "panels": panels,
+            "linkage": {"links": {"crank": ("O", "A")}}, "draw": draw}
+    return ExplorerSpec(**{**spec, **changes})
+
+
+def test_a_specification_on_the_builder_gets_statuses_failure_text_and_stills():
+    explorer = build_explorer(_crank_spec())
+    assert explorer.update(theta_deg=45.0) == explorer.last and explorer.message == "θ = 45"
+    assert np.allclose(explorer.artists["crank"].get_xydata()[1], [np.cos(np.pi / 4), np.sin(np.pi / 4)])
+    readout = explorer.update(theta_deg=120.0)
+    assert readout.status == "unreachable" and explorer.artists["failure"].get_text() == "too far"
+    assert explorer.artists["reach"].get_visible() and explorer.artists["reach"].get_radius() == 0.5
+    assert explorer.update(theta_deg=float("nan")).status == "invalid"
+    assert explorer.update(theta_deg=10.0).status == "ok" and explorer.artists["failure"].get_text() == ""
+    assert explorer.render()[:4] == explorer.picture()[:4] == b"\x89PNG"
+    assert "image/png" in explorer._repr_mimebundle_()
+    with pytest.raises(InvalidGeometryError, match="unknown explorer input"):
+        explorer.update(phi=1.0)
+
+
+def test_the_builder_refuses_a_bad_linkage_by_name():
+    with pytest.raises(CourseLibError, match="styles"):
+        build_explorer(_crank_spec(linkage={"links": {"crank": ("O", "A")}, "styles": {"rod": {}}}))

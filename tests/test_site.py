@@ -9,9 +9,7 @@ temporary folder whose path is printed.
 """
 
 import ast
-import functools
 import html
-import http.server
 import json
 import os
 import pathlib
@@ -19,7 +17,6 @@ import re
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 import urllib.parse
 
@@ -241,22 +238,10 @@ def test_the_display_copy_drops_widget_views_and_cdn_icon_links():
 # ---------------------------------------------------------------- in a browser
 
 
-class _QuietHandler(http.server.SimpleHTTPRequestHandler):
-    def log_message(self, *args):
-        pass
-
-
 @pytest.fixture(scope="module")
 def served(site):
-    handler = functools.partial(_QuietHandler, directory=str(site))
-    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    try:
-        yield f"http://127.0.0.1:{server.server_address[1]}"
-    finally:
-        server.shutdown()
-        server.server_close()
+    with build_site.serve(site) as address:
+        yield address
 
 
 SHOTS = pathlib.Path(tempfile.mkdtemp(prefix="course-site-"))

@@ -60,14 +60,12 @@ class Precision:
     def agrees(self, value, reference, angles=False, digits: int | None = None) -> bool:
         """Whether ``value`` is ``reference`` to this precision; ``angles`` (one bool, or one per entry)
         marks the entries compared modulo 2π; None in a tuple ``reference`` stands for any value."""
-        value, reference = np.asarray(value, float), np.asarray(reference, object)
+        angles = np.broadcast_to(np.asarray(angles, bool), np.shape(value))
+        value, reference, kept = _pairs(value, reference)
         if value.shape != reference.shape:
             return False
-        kept = np.array([entry is not None for entry in reference.ravel()]).reshape(reference.shape)
-        value, reference = value[kept], reference[kept].astype(float)
         gaps = value - reference
-        angles = np.broadcast_to(np.asarray(angles, bool), kept.shape)[kept]
-        gaps = np.where(angles, wrap_angle(gaps, nan_ok=True), gaps)
+        gaps = np.where(angles[kept], wrap_angle(gaps, nan_ok=True), gaps)
         return bool(np.all(np.abs(gaps) <= self.unit(reference, digits)))
 
     def of_size(self, vector) -> "Precision":
@@ -265,16 +263,18 @@ def choice(answer: Any, correct: str, why_not: Mapping[str, str], message: str) 
     return reads(read)(lambda letter: right(message) if letter == correct else wrong(why_not[letter]))(answer)
 
 
-def _pairs(value, reference) -> tuple[np.ndarray, np.ndarray]:
-    """Float arrays to compare; None in a tuple ``reference`` stands for any value."""
+def _pairs(value, reference) -> tuple[np.ndarray, np.ndarray, Any]:
+    """Float arrays to compare, and the index of the entries kept: None in a tuple ``reference`` stands for
+    any value."""
+    kept = ...
     if isinstance(reference, tuple) and any(r is None for r in reference):
         kept = [i for i, r in enumerate(reference) if r is not None]
-        return np.asarray(value, float)[kept], np.array([reference[i] for i in kept], float)
-    return np.asarray(value, float), np.asarray(reference, float)
+        reference = [reference[i] for i in kept]
+    return np.asarray(value, float)[kept], np.asarray(reference, float), kept
 
 
 def close(value, reference, rtol: float = RELATIVE_TOL, atol: float = 1e-12) -> bool:
-    value, reference = _pairs(value, reference)
+    value, reference, _ = _pairs(value, reference)
     difference = np.abs(value - reference)
     return value.shape == reference.shape and bool(np.all(difference <= atol + rtol * np.abs(reference)))
 
@@ -284,7 +284,7 @@ near = functools.partial(close, atol=1e-9)
 
 
 def angles_close(value, reference, tol: float = ANGLE_TOL) -> bool:
-    value, reference = _pairs(value, reference)
+    value, reference, _ = _pairs(value, reference)
     gaps = np.abs(wrap_angle(value - reference, nan_ok=True))
     return value.shape == reference.shape and bool(np.all(gaps <= tol))
 
@@ -294,8 +294,7 @@ def in_degrees(value, reference, precision: Precision | None = None) -> bool:
     (to :data:`ANGLE_TOL` without one)."""
     if precision is None:
         return angles_close(np.radians(value), reference) and not angles_close(value, reference)
-    degrees = np.degrees(np.asarray(reference, float))
-    return (precision.agrees(np.radians(value), np.radians(degrees), angles=True, digits=precision.digits - 2)
+    return (precision.agrees(np.radians(value), reference, angles=True, digits=precision.digits - 2)
             and not precision.agrees(value, reference, angles=True))
 
 
@@ -329,9 +328,9 @@ def diagnose(answer: Any, matches: "Callable[[Any, Any], bool] | Precision", rul
             references = candidate if isinstance(candidate, list) else [candidate]
             hints = (_try(lambda r=r: precision.more_digits(answer, r, angles)) for r in references)
             hint = next((hint for hint in hints if hint is not None), None)
-            known = any(not isinstance(c, types.FunctionType) and not _partial(c)
-                        and _holds(matches, answer, c) for c, _ in rules[1:])
-            if hint is not None and not known:  # close to the answer, and not a known mistake's value
+            if hint is not None and not any(  # close to the answer, and not a known mistake's value
+                    not isinstance(c, types.FunctionType) and not _partial(c) and _holds(matches, answer, c)
+                    for c, _ in rules[1:]):
                 return hint
     return wrong(otherwise)
 

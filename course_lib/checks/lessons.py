@@ -27,9 +27,9 @@ def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Fee
     B = polar(linkage.l4, theta4) + [linkage.l1, 0.0]
     # A = l2(cos θ2, sin θ2) lies l3 from B: |B|² + l2² − 2 l2 |B| cos(θ2 − φ) = l3², φ the direction of B
     cosine = (B @ B + linkage.l2**2 - linkage.l3**2) / (2 * linkage.l2 * np.linalg.norm(B))
-    roots = np.arctan2(B[1], B[0]) + np.array([1, -1]) * np.arccos(np.clip(cosine, -1, 1))
-    inside = [float(root) for root in wrap_angle(roots) if 0 < root < np.pi]
-    outside = [float(root) for root in wrap_angle(roots) if not 0 < root < np.pi]
+    roots = wrap_angle(np.arctan2(B[1], B[0]) + np.array([1, -1]) * np.arccos(np.clip(cosine, -1, 1)))
+    inside = [float(root) for root in roots if 0 < root < np.pi]
+    outside = [float(root) for root in roots if not 0 < root < np.pi]
     return diagnose(answer, DECIMALS, [
         (inside, "Correct: the crank pin A is exactly l3 from the rocker pin B."),
         (lambda v: any(in_degrees(v, root, DECIMALS) for root in inside),

@@ -507,17 +507,21 @@ class Mechanism:
             rates[symbol] = pair
         return rates
 
-    @_derived
-    def _time_derivatives(self) -> tuple[sp.Matrix, sp.Matrix]:
-        """dF/dt and d²F/dt²: unknowns and inputs made functions of the core's own time (a Dummy), the
-        loops differentiated, the derivatives named by :attr:`rate_symbols`."""
+    def _in_time(self, expressions: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
+        """d/dt and d²/dt² of ``expressions``: unknowns and inputs made functions of the core's own time (a
+        Dummy), differentiated, the derivatives named by :attr:`rate_symbols`."""
         functions = {s: sp.Function(s.name, real=True)(_TIME) for s in self.rate_symbols}
         back = {}
         for symbol, function in functions.items():
             first, second = self.rate_symbols[symbol]
             back.update({function.diff(_TIME, 2): second, function.diff(_TIME): first, function: symbol})
-        first = self.equations.xreplace(functions).diff(_TIME)
+        first = expressions.xreplace(functions).diff(_TIME)
         return first.xreplace(back), first.diff(_TIME).xreplace(back)
+
+    @_derived
+    def _time_derivatives(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """dF/dt and d²F/dt² of the loops."""
+        return self._in_time(self.equations)
 
     @property
     def velocity_equations(self) -> sp.Matrix:
@@ -1698,17 +1702,10 @@ class Mechanism:
 
     @_derived
     def _point_rate_fn(self):
-        """(q, q̇, q̈, u, u̇, ü) → each point's velocity and acceleration, from its declaration differentiated
-        in the core's own time."""
-        functions = {s: sp.Function(s.name, real=True)(_TIME) for s in self.rate_symbols}
-        back = {}
-        for symbol, function in functions.items():
-            first, second = self.rate_symbols[symbol]
-            back.update({function.diff(_TIME, 2): second, function.diff(_TIME): first, function: symbol})
+        """(q, q̇, q̈, u, u̇, ü) → each point's velocity and acceleration, its declaration differentiated."""
         terms = []
         for point in self.points.values():
-            velocity = point.xreplace(functions).diff(_TIME)
-            terms += [*velocity.xreplace(back), *velocity.diff(_TIME).xreplace(back)]
+            terms += [entry for derivative in self._in_time(point) for entry in derivative]
         q, u = self.unknowns, self.inputs
         return self._compile(terms, q, self._rates_of(q, 1), self._rates_of(q, 2), u, self._rates_of(u, 1),
                              self._rates_of(u, 2))

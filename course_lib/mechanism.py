@@ -1387,28 +1387,13 @@ class Mechanism:
     # ------------------------------------------------------------ the closed-form route
 
     @staticmethod
-    def _root(a, b, c, sigma, kind):
-        """The root σ of a·v² + b·v + c = 0 (v = tan(θ/2) → θ for an angle), from the better-conditioned
-        of (−b + σ√Δ)/(2a) and 2c/(−b − σ√Δ); NaN where Δ < 0 beyond rounding; and Δ over its scale."""
+    def _roots(a, b, c, kind):
+        """The roots σ = +1 and −1 of a·v² + b·v + c = 0 (v = tan(θ/2) → θ for an angle), each from the
+        better-conditioned of (−b + σ√Δ)/(2a) and 2c/(−b − σ√Δ), NaN where Δ < 0 beyond rounding; and Δ over
+        its scale: (root +1, root −1, Δ / scale)."""
         discriminant = b * b - 4 * a * c
         # for an angle, (a, b, c) = (C − A, 2B, C + A) of A cos θ + B sin θ + C:
         # Δ ≤ b² + (a − c)² = 4(A² + B²)
-        scale = b * b + ((a - c) ** 2 if kind == "angle" else np.abs(4 * a * c))
-        bad = ~(discriminant >= -1e-12 * scale)
-        root = np.sqrt(np.maximum(discriminant, 0.0))
-        y1, x1 = -b + sigma * root, 2 * a
-        y2, x2 = 2 * c, -b - sigma * root
-        first = np.abs(y1) + np.abs(x1) >= np.abs(y2) + np.abs(x2)
-        y, x = np.where(first, y1, y2), np.where(first, x1, x2)
-        bad |= (np.abs(y) + np.abs(x)) == 0
-        value = 2 * np.arctan2(y, x) if kind == "angle" else y / x
-        return np.where(bad, np.nan, value), np.where(scale > 0, discriminant / scale, 0.0)
-
-    @staticmethod
-    def _roots(a, b, c, kind):
-        """:meth:`_root` for σ = +1 and −1 (the same bits), the discriminant and its scale computed once:
-        (root +1, root −1, Δ over its scale)."""
-        discriminant = b * b - 4 * a * c
         scale = b * b + ((a - c) ** 2 if kind == "angle" else np.abs(4 * a * c))
         bad = ~(discriminant >= -1e-12 * scale)
         root = np.sqrt(np.maximum(discriminant, 0.0))

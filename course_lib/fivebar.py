@@ -29,13 +29,10 @@ from .newton import linear_solver
 from .planar import Unpacks, scalar_or_array, wrap_angle
 
 __all__ = ["FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures", "WorkspaceMap",
-           "WORKING_MODES", "SINGULAR_TOL"]
+           "WORKING_MODES"]
 
 #: The four working modes (σ1, σ2) of the inverse kinematics, in the course's order.
 WORKING_MODES = ((1, 1), (-1, 1), (1, -1), (-1, -1))
-#: No longer the singularity rule (kept for code that reads it): a singularity is where the core's rule
-#: finds the declared loops' Jacobian singular, σ_min(J̃) < ``course_lib.mechanism.SINGULAR``.
-SINGULAR_TOL = 1e-7
 #: The lengths (m) the five-bar accepts: fourth powers of them stay far from under- and overflow.
 LENGTH_RANGE = (1e-60, 1e60)
 #: Relative slack for a discriminant that is negative only by rounding (clipped to zero).

@@ -31,9 +31,6 @@ __all__ = ["BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRang
 
 #: The two assembly circuits, named as in Norton's *Design of Machinery*.
 BRANCHES = ("open", "crossed")
-#: No longer the toggle rule (kept for code that reads it): a toggle is where the core's rule finds the
-#: declared loop's J singular, σ_min(J̃) < ``course_lib.mechanism.SINGULAR`` (|sin(θ3 − θ4)| ≲ 1e-6).
-SINGULAR_TOL = 1e-7
 #: |AO4| below this (in lengths scaled by the longest) puts the crank pin A on O4.
 COINCIDENT = 1e-14
 #: A toggle angle this close (rad) to π or 0 is a full turn's change point (rounding), not a limit.

@@ -43,6 +43,7 @@ from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.precedence import precedence
 
 from .errors import (
+    FAILURE_POLICIES,
     ConvergenceError,
     InvalidGeometryError,
     SingularJacobianError,
@@ -64,7 +65,6 @@ from .symbolic import LoopForm, is_angle, rate_name, reduce_loop
 
 __all__ = ["Mechanism", "Motion", "Links", "SINGULAR", "NEAR_SINGULAR"]
 
-ON_FAILURE = ("raise", "nan")
 LINEAR_STAGES = ("newton", "direct")
 
 #: J is singular where σ_min(J̃) < SINGULAR (J̃: rows and columns scaled by their typical sizes).
@@ -1251,7 +1251,7 @@ class Mechanism:
         >>> motion.position["x"].tolist(), motion.velocity["x"].tolist(), motion.acceleration["x"].tolist()
         ([2.0, 1.0], [0.25, 0.5], [-0.03125, -0.25])
         """
-        require_choice("on_failure", on_failure, ON_FAILURE)
+        require_choice("on_failure", on_failure, FAILURE_POLICIES)
         u_given = _keyed("inputs", inputs, self.inputs)
         rate_given = _keyed("rates", {} if rates is None else rates, self.inputs, required=False)
         acc_given = _keyed("accelerations", {} if accelerations is None else accelerations, self.inputs,

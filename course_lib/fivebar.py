@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cache, cached_property, partial
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -25,6 +26,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
+from .motion import Motion
 from .newton import linear_solver
 from .planar import Unpacks, scalar_or_array, wrap_angle
 
@@ -42,23 +44,46 @@ _BLOCK = 65_536
 
 
 @dataclass(frozen=True)
-class ForwardResult(Unpacks):
-    """End effector P3 = (x3, y3) (m); ``reachable`` False where the robot cannot be assembled (NaN)."""
+class ForwardResult(Unpacks, Motion):
+    """A :class:`~course_lib.mechanism.Motion` of :attr:`FiveBar.mechanism` (position X3, Y3; inputs θ1,
+    θ4) that also names its values: the end effector P3 = (x3, y3) (m), NaN where the robot cannot be
+    assembled (``reachable`` False, the older name of ``converged``); ``singular`` and ``near_singular``
+    by the core's rule (a parallel singularity: l2 and l3 aligned); ``mode`` the assembly σ.  Unpacks as
+    (x3, y3).
 
-    x3: Any
-    y3: Any
-    reachable: Any
+    >>> x3, y3 = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).forward(np.pi / 2, np.pi / 2)
+    >>> round(x3, 6), round(y3, 6)
+    (0.0, 0.244568)
+    """
+
+    mode: int = 1
     _values = ("x3", "y3")
+    _names = MappingProxyType({"x3": ("position", "x3"), "y3": ("position", "y3"),
+                               "theta1": ("inputs", "theta1"), "theta4": ("inputs", "theta4")})
+
+    reachable = property(lambda self: self.converged, doc="True where assembled (``converged``).")
 
 
 @dataclass(frozen=True)
-class InverseResult(Unpacks):
-    """Crank angles (θ1, θ4) (rad) in (−π, π]; ``reachable`` False where out of reach (NaN)."""
+class InverseResult(Unpacks, Motion):
+    """A :class:`~course_lib.mechanism.Motion` of the five-bar's loops solved the other way round
+    (position θ1, θ4; inputs X3, Y3) that also names its values: the crank angles (θ1, θ4) (rad) in
+    (−π, π], NaN where out of reach (``reachable`` False, the older name of ``converged``);
+    ``singular`` and ``near_singular`` by the core's rule (a serial singularity: a leg stretched or
+    folded); ``modes`` the working mode (σ1, σ2).  Draws like a forward one: ``draw(robot, result)``.
+    Unpacks as (θ1, θ4).
 
-    theta1: Any
-    theta4: Any
-    reachable: Any
+    >>> result = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).inverse(0.0, np.sqrt(0.25**2 - 0.04**2) - 1e-9)
+    >>> bool(result.reachable), bool(result.singular), bool(result.near_singular)
+    (True, False, True)
+    """
+
+    modes: tuple[int, int] = (1, 1)
     _values = ("theta1", "theta4")
+    _names = MappingProxyType({"theta1": ("position", "theta1"), "theta4": ("position", "theta4"),
+                               "x3": ("inputs", "x3"), "y3": ("inputs", "y3")})
+
+    reachable = property(lambda self: self.converged, doc="True where in reach (``converged``).")
 
 
 @dataclass(frozen=True)
@@ -108,7 +133,8 @@ def _declaration():
     points = {"P1": P1, "P2": P2, "P3": P3, "P4": P4, "P5": P5}
     links = {"l1": ("P1", "P2"), "l2": ("P2", "P3"), "l3": ("P3", "P4"), "l4": ("P4", "P5"),
              "l5": ("P5", "P1")}
-    return Mechanism(loops, [x3, y3], [theta1, theta4], parameters, points=points, links=links)
+    return Mechanism(loops, [x3, y3], [theta1, theta4], parameters, points=points, links=links,
+                     ground=("P1", "P5"))
 
 
 @cache
@@ -217,9 +243,10 @@ class FiveBar:
 
     def motion(self, theta1, theta4, mode: int = 1, omega1=0.0, omega4=0.0, alpha1=0.0, alpha4=0.0, *,
                on_failure: str | None = None):
-        """The forward closed form (:meth:`forward`) as a :class:`~course_lib.mechanism.Motion` of
-        :attr:`mechanism`: position X3, Y3 with the velocity and acceleration of the end effector from the
-        crank rates (by the declared loops); NaN rates at a parallel singularity (the core's rule).
+        """:meth:`forward` with the rates: position X3, Y3 with the velocity and acceleration of the end
+        effector from the crank rates (by the declared loops), as its :class:`ForwardResult`, a
+        :class:`~course_lib.mechanism.Motion` of :attr:`mechanism`; NaN rates at a parallel singularity
+        (the core's rule).
 
         >>> motion = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).motion(1.0, 2.0, omega1=1.0)
         >>> round(motion.position["y3"], 6), bool(motion.converged), bool(motion.singular)
@@ -244,7 +271,8 @@ class FiveBar:
             {"x3": end.x3, "y3": end.y3}, {"theta1": p[..., 2], "theta4": p[..., 3]},
             {"x3": velocity[..., 0], "y3": velocity[..., 1]},
             {"x3": acceleration[..., 0], "y3": acceleration[..., 1]},
-            converged=end.reachable, singular=singular)
+            converged=end.reachable, singular=singular, near_singular=end.near_singular, kind=ForwardResult,
+            mode=end.mode)
 
     def joints(self, theta1, theta4, x3, y3) -> np.ndarray:
         """Joints P1 … P5 (m), shape (..., 5, 2), of a configuration (no solving): the declaration's
@@ -334,7 +362,8 @@ class FiveBar:
         unknown = np.where(bad, np.nan, (-B + tau * root) / (2 * A))
         other = g * unknown + f
         x3, y3 = np.where(course, other, unknown), np.where(course, unknown, other)
-        return ForwardResult(scalar_or_array(x3), scalar_or_array(y3), scalar_or_array(~bad))
+        return self.mechanism.motion_of({"x3": x3, "y3": y3}, inputs, converged=~bad, kind=ForwardResult,
+                                        mode=sigma)
 
     def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:
         """The course's half-angle coefficients: a1·α1² + b1·α1 + c1 = 0 with α1 = tan(θ1/2), and a2, b2,
@@ -381,7 +410,8 @@ class FiveBar:
         report_unreachable(free, inputs, "a crank angle is undetermined (P3 on a base pivot)", on_unreachable)
         reachable = np.logical_or(far1, far4, out=np.asarray(far1))
         reachable = np.logical_not(np.logical_or(reachable, free, out=reachable), out=reachable)
-        return InverseResult(scalar_or_array(theta1), scalar_or_array(theta4), scalar_or_array(reachable))
+        return self._cores["inverse"].motion_of({"theta1": theta1, "theta4": theta4}, {"x3": X, "y3": Y},
+                                                converged=reachable, kind=InverseResult, modes=sigmas)
 
     def _inverse_points(self, X, Y, sigmas: tuple[int, int]):
         """θ1, θ4 (NaN where out of reach), the masks leg 1 or leg 4 out of reach and undetermined."""

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cache, cached_property
+from types import MappingProxyType
 
 import numpy as np
 
@@ -25,6 +26,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
+from .motion import NEAR_SINGULAR, SINGULAR, Motion
 from .planar import Unpacks, cross_k, scalar_or_array, wrap_angle
 
 __all__ = ["BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRange", "CouplerPointMotion"]
@@ -66,30 +68,30 @@ def _declaration():
     points = {"O2": sp.Matrix([0, 0]), "A": A, "B": B, "O4": sp.Matrix([l1, 0])}
     links = {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "ground": ("O4", "O2")}
     return Mechanism([loop], [theta3, theta4], [theta2], {l1: 0.20, l2: 0.06, l3: 0.18, l4: 0.12},
-                     points=points, links=links)
+                     points=points, links=links, ground=("O2", "O4"))
 
 
 @dataclass(frozen=True)
-class FourBarSolution(Unpacks):
-    """θ3, θ4 (rad, in (−π, π]), ω3, ω4 (rad/s), α3, α4 (rad/s²) of coupler and rocker; ``unreachable``
-    True where the loop cannot close (``mask`` is its older name, the same array), ``singular`` where
-    rates or position are undefined (NaN entries, with ``on_failure="nan"``).  Unpacks as the six values;
+class FourBarSolution(Unpacks, Motion):
+    """A :class:`~course_lib.mechanism.Motion` of :attr:`FourBar.mechanism` (position θ3, θ4; velocity;
+    acceleration; input θ2) that also names its values as the course does: θ3, θ4 (rad, in (−π, π]),
+    ω3, ω4 (rad/s), α3, α4 (rad/s²) of coupler and rocker.  ``unreachable`` True where the loop cannot
+    close (``converged`` False there), ``singular`` where rates or position are undefined (NaN entries,
+    with ``on_failure="nan"``), ``near_singular`` by the core's rule.  Unpacks as the six values;
     ``np.array`` gives (6, ...).
 
-    >>> np.array(FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0])).shape
-    (6, 2)
+    >>> solution = FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0], omega2=10.0)
+    >>> np.array(solution).shape, bool(np.all(solution.omega4 == solution.velocity["theta4"]))
+    ((6, 2), True)
     """
 
-    theta3: float | np.ndarray
-    theta4: float | np.ndarray
-    omega3: float | np.ndarray
-    omega4: float | np.ndarray
-    alpha3: float | np.ndarray
-    alpha4: float | np.ndarray
-    mask: bool | np.ndarray
-    singular: bool | np.ndarray
-    branch: str
+    unreachable: bool | np.ndarray = False
+    branch: str = "open"
     _values = ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4")
+    _names = MappingProxyType({"theta3": ("position", "theta3"), "theta4": ("position", "theta4"),
+                               "omega3": ("velocity", "theta3"), "omega4": ("velocity", "theta4"),
+                               "alpha3": ("acceleration", "theta3"), "alpha4": ("acceleration", "theta4"),
+                               "theta2": ("inputs", "theta2")})
 
     @property
     def reachable(self) -> bool | np.ndarray:
@@ -98,16 +100,12 @@ class FourBarSolution(Unpacks):
         >>> FourBar(0.15, 0.10, 0.12, 0.20).solve([0.0, 2.0], on_failure="nan").reachable.tolist()
         [True, False]
         """
-        return scalar_or_array(~np.asarray(self.mask))
+        return scalar_or_array(~np.asarray(self.unreachable))
 
     @property
-    def unreachable(self) -> bool | np.ndarray:
-        """True where the loop cannot close (no real root): the mask named for what it marks.
-
-        >>> FourBar(0.15, 0.10, 0.12, 0.20).solve([0.0, 2.0], on_failure="nan").unreachable.tolist()
-        [False, True]
-        """
-        return self.mask
+    def mask(self) -> bool | np.ndarray:
+        """The older name of ``unreachable`` (the same array)."""
+        return self.unreachable
 
 
 @dataclass(frozen=True)
@@ -231,7 +229,7 @@ class FourBar:
                          unreachable: np.ndarray):
         """θ3, θ4 and the unreachable mask of a block into the arrays given; returns the undetermined and NaN
         masks (or None), (cos, sin) of θ2, θ3, θ4 and the block's smallest discriminant (see
-        :attr:`_toggle_free_level`).  Norton's A, B, C
+        :attr:`_free_levels`).  Norton's A, B, C
         times 2·l2·l4 (the same roots, no ratio of lengths that could overflow)."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
@@ -293,18 +291,29 @@ class FourBar:
         return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4), smallest
 
     @cached_property
-    def _toggle_free_level(self) -> float:
-        """The smallest discriminant of a block that proves no toggle in it: |sin(θ3 − θ4)| ≥ TOGGLE_FREE
-        and the core's σ_min(J̃) ≥ 2·SINGULAR (σ_min ≥ |det J̃| / ‖J̃‖_F, with ‖J̃‖_F bounded by the
-        lengths and the core's scales), as B² − 4AC = 16 l3² l4² sin²(θ3 − θ4) (rounding below 1e-12)."""
-        from .mechanism import SINGULAR
-
+    def _free_levels(self) -> tuple[float, float]:
+        """The smallest discriminants of a block that prove no toggle in it (|sin(θ3 − θ4)| ≥ TOGGLE_FREE
+        and the core's σ_min(J̃) ≥ 2·SINGULAR) and none near one (σ_min(J̃) ≥ 2·NEAR_SINGULAR): σ_min ≥
+        |det J̃| / ‖J̃‖_F, with ‖J̃‖_F bounded by the lengths and the core's scales, and B² − 4AC =
+        16 l3² l4² sin²(θ3 − θ4) (rounding below 1e-12)."""
         _, _, l3, l4 = self._unit_lengths()
         rows, columns = self._unit_mechanism._scales
         frobenius = math.sqrt((l3**2 / columns[0] ** 2 + l4**2 / columns[1] ** 2)
                               * (1 / rows[0] ** 2 + 1 / rows[1] ** 2))
-        sine = 2 * SINGULAR * rows[0] * rows[1] * columns[0] * columns[1] * frobenius / (l3 * l4)
-        return max(16 * l3**2 * l4**2 * max(TOGGLE_FREE, sine) ** 2, 1e-9)
+        per_sigma = 2 * rows[0] * rows[1] * columns[0] * columns[1] * frobenius / (l3 * l4)
+        return (max(16 * l3**2 * l4**2 * max(TOGGLE_FREE, SINGULAR * per_sigma) ** 2, 1e-9),
+                max(16 * l3**2 * l4**2 * (NEAR_SINGULAR * per_sigma) ** 2, 1e-9))
+
+    def _near(self, theta2, theta3, theta4) -> np.ndarray:
+        """True where the core's rule finds J near singular (σ_min(J̃) < NEAR_SINGULAR), False where the
+        position is not found."""
+        theta2, theta3, theta4 = np.broadcast_arrays(theta2, theta3, theta4)
+        q = np.stack([theta3, theta4], axis=-1).reshape(-1, 2)
+        found = np.isfinite(q).all(axis=-1)
+        with np.errstate(invalid="ignore"):
+            J = self._unit_mechanism._J(np.where(found[:, None], q, 0.0), np.reshape(theta2, (-1, 1)))
+            near = found & (self._unit_mechanism._smallest(J) < NEAR_SINGULAR)
+        return near.reshape(theta2.shape)
 
     def _core_rates(self, q, u, u_rate, u_acceleration, trig, toggle):
         """(ω3, ω4), (α3, α4), each (n, 2), and the singular mask, from the declared loop with the closed
@@ -352,7 +361,9 @@ class FourBar:
                                                      [np.array([v]) for v in trig], None)
             singular = bool(toggle[0]) and not (unreachable or undetermined or math.isnan(cos3))
             rates = [*q_rate[0].tolist(), *q_acc[0].tolist()]
-        return [theta3, theta4, *rates], unreachable, singular or undetermined, 0 if undetermined else None
+        near = discriminant < self._free_levels[1] and bool(self._near(theta2, theta3, theta4))
+        return [theta3, theta4, *rates], unreachable, singular or undetermined, near, \
+            0 if undetermined else None
 
     def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, smallest: float,
                      moving_any: bool, omegas: np.ndarray, alphas: np.ndarray, singular: np.ndarray) -> None:
@@ -364,7 +375,7 @@ class FourBar:
             singular[...] = False
             omegas[...] = alphas[...] = np.where(np.isnan(cos3), np.nan, 0.0)[:, None]  # NaN: no position
             return
-        toggle_free = smallest >= self._toggle_free_level
+        toggle_free = smallest >= self._free_levels[0]
         rates = self._core_rates(
             np.stack([theta3, theta4], axis=-1), theta2[:, None], np.reshape(omega2, (-1, 1)),
             np.reshape(alpha2, (-1, 1)), trig, np.zeros(theta2.shape, bool) if toggle_free else None)
@@ -404,11 +415,11 @@ class FourBar:
             require_broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)  # raises, naming the shapes
             raise
         if shape:
-            values, unreachable, singular, first_undetermined = self._solve_blocks(
+            values, unreachable, singular, near, first_undetermined = self._solve_blocks(
                 theta2, omega2, alpha2, shape, branch)
             any_unreachable, any_singular = unreachable.any(), singular.any()
         else:  # one instant: Python numbers throughout
-            values, unreachable, singular, first_undetermined = self._solve_one(
+            values, unreachable, singular, near, first_undetermined = self._solve_one(
                 float(theta2), float(omega2), float(alpha2), branch)
             any_unreachable, any_singular = unreachable, singular
         if any_unreachable:
@@ -429,7 +440,11 @@ class FourBar:
                 f"the loop Jacobian is singular at theta2={at[0]:.6g} (coupler and rocker "
                 f"collinear: a toggle position), so omega3, omega4 are undefined for "
                 f"omega2={at[1]:.6g}, alpha2={at[2]:.6g}{count}", x=float(at[0]))
-        return FourBarSolution(*values, mask=unreachable, singular=singular, branch=branch)
+        return self.mechanism.motion_of(
+            {"theta3": values[0], "theta4": values[1]}, {"theta2": theta2},
+            {"theta3": values[2], "theta4": values[3]}, {"theta3": values[4], "theta4": values[5]},
+            converged=~np.isnan(values[0]), singular=singular, near_singular=near, kind=FourBarSolution,
+            unreachable=unreachable, branch=branch)
 
     def _solve_blocks(self, theta2, omega2, alpha2, shape, branch: str):
         """The six values, unreachable, singular and the flat index of the first undetermined position."""
@@ -440,7 +455,7 @@ class FourBar:
         moving_any = size > 0 and bool(np.any(omega2 != 0) or np.any(alpha2 != 0))
         angles3, angles4 = np.empty(size), np.empty(size)
         omegas, alphas = np.empty((size, 2)), np.empty((size, 2))  # (ω3, ω4) and (α3, α4), as the core's
-        unreachable, singular = np.empty(size, bool), np.empty(size, bool)
+        unreachable, singular, near = np.empty(size, bool), np.empty(size, bool), np.zeros(size, bool)
         first_undetermined = None
         with np.errstate(invalid="ignore", divide="ignore"):
             for start in range(0, size, BLOCK):
@@ -452,29 +467,27 @@ class FourBar:
                     angles[block], speed if np.ndim(speed) == 0 else speed[block],
                     acceleration if np.ndim(acceleration) == 0 else acceleration[block], theta3, theta4,
                     trig, bad, smallest, moving_any, omegas[block], alphas[block], singular[block])
+                if smallest < self._free_levels[1]:
+                    near[block] = self._near(angles[block], theta3, theta4)
                 if undetermined is not None and undetermined.any():
                     singular[block] |= undetermined
                     if first_undetermined is None:
                         first_undetermined = start + int(np.flatnonzero(undetermined)[0])
         values = [v.reshape(shape) for v in (angles3, angles4, *omegas.T, *alphas.T)]
-        return values, unreachable.reshape(shape), singular.reshape(shape), first_undetermined
+        return values, unreachable.reshape(shape), singular.reshape(shape), near.reshape(shape), \
+            first_undetermined
 
     def motion(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *,
                on_failure: str | None = None):
-        """The closed form's solution as a :class:`~course_lib.mechanism.Motion` of :attr:`mechanism`
-        (position θ3, θ4; velocity ω3, ω4; acceleration α3, α4; input θ2), to draw, animate or explore
-        like any declaration's; ``singular`` and ``near_singular`` by the core's rule.
+        """:meth:`solve` under the name the declarations use: its :class:`FourBarSolution` is a
+        :class:`~course_lib.mechanism.Motion` of :attr:`mechanism`, to draw, animate or explore like any
+        declaration's.
 
         >>> motion = FourBar(0.06, 0.18, 0.12, 0.20).motion([0.0, 0.7], omega2=10.0)
         >>> np.round(motion.position["theta4"], 6).tolist(), motion.converged.tolist()
         ([1.618433, 1.516178], [True, True])
         """
-        solution = self.solve(theta2, omega2, alpha2, branch=branch, on_failure=on_failure)
-        return self.mechanism.motion_of(
-            {"theta3": solution.theta3, "theta4": solution.theta4}, {"theta2": theta2},
-            {"theta3": solution.omega3, "theta4": solution.omega4},
-            {"theta3": solution.alpha3, "theta4": solution.alpha4},
-            converged=~np.asarray(solution.unreachable), singular=solution.singular)
+        return self.solve(theta2, omega2, alpha2, branch=branch, on_failure=on_failure)
 
     def joints(self, theta2, branch: str = "open", on_unreachable: str = UNSET, *,
                on_failure: str | None = None) -> np.ndarray:
@@ -485,9 +498,7 @@ class FourBar:
         [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]
         """
         policy = failure_policy(on_failure, on_unreachable=on_unreachable)
-        solution = self.solve(theta2, branch=branch, on_failure=policy)
-        points = self.mechanism.joints(self.mechanism.motion_of(
-            {"theta3": solution.theta3, "theta4": solution.theta4}, {"theta2": theta2}, singular=False))
+        points = self.mechanism.joints(self.solve(theta2, branch=branch, on_failure=policy))
         return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
 
     def transmission_angle(self, theta2, branch: str = "open", acute: bool = True,

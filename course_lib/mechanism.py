@@ -33,7 +33,6 @@ from __future__ import annotations
 import copy
 import itertools
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 from functools import wraps
 from types import MappingProxyType
 
@@ -52,6 +51,7 @@ from .errors import (
     require_choice,
     require_finite,
 )
+from .motion import NEAR_SINGULAR, SINGULAR, Motion
 from .newton import (
     BatchNewtonResult,
     LinearStack,
@@ -67,10 +67,6 @@ __all__ = ["Mechanism", "Motion", "Links", "SINGULAR", "NEAR_SINGULAR"]
 
 LINEAR_STAGES = ("newton", "direct")
 
-#: J is singular where σ_min(J̃) < SINGULAR (J̃: rows and columns scaled by their typical sizes).
-SINGULAR = 1e-6
-#: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
-NEAR_SINGULAR = 1e-3
 #: A continuation step changes no unknown by more than this (radians, or typical lengths).
 MAX_CHANGE = 0.1
 #: A corrector step moves no unknown by more than this (radians, or typical lengths).
@@ -82,32 +78,6 @@ RESIDUAL = 1e-8
 _TIME = sp.Dummy("t", real=True)
 _NOT_SMOOTH = (sp.Abs, sp.sign, sp.Heaviside, sp.Max, sp.Min, sp.Piecewise, sp.floor, sp.ceiling, sp.re,
                sp.im, sp.arg, sp.conjugate, sp.DiracDelta, sp.frac, sp.Mod)
-
-
-@dataclass(frozen=True)
-class Motion:
-    """What :meth:`Mechanism.solve` found, shaped like the broadcast inputs (Python numbers for scalars).
-
-    position, velocity, acceleration : unknown's name → q, q̇, q̈ (SI); the rates None unless asked.
-    converged, singular : masks, True where the position was found / J is singular (see ``SINGULAR``).
-    iterations : Newton updates per instant (0 where the closed form alone gave it).
-    inputs : input's name → its broadcast values.  newton : one instant's ``NewtonResult``; None for a sweep.
-    near_singular : True where σ_min(J̃) < NEAR_SINGULAR (rates large and sensitive).  message : the toggles,
-    limits and change points met, in words ("" when none).  assembly : each closed-form block's first
-    unknown → its root σ (±1) per instant; None where Newton alone solved.
-    """
-
-    position: Mapping[str, float | np.ndarray]
-    velocity: Mapping[str, float | np.ndarray] | None
-    acceleration: Mapping[str, float | np.ndarray] | None
-    converged: bool | np.ndarray
-    singular: bool | np.ndarray
-    iterations: int | np.ndarray
-    inputs: Mapping[str, float | np.ndarray]
-    newton: NewtonResult | None = None
-    near_singular: bool | np.ndarray = False
-    message: str = ""
-    assembly: Mapping[str, int | np.ndarray] | None = None
 
 
 def _symbols(argument: str, values) -> tuple[sp.Symbol, ...]:
@@ -273,6 +243,31 @@ def _links(links, points) -> Links:
     return Links(out, names)
 
 
+def _drawing(points, links: Links, ground, sliders, plates, styles):
+    """The declaration's drawing: ``ground`` and ``sliders`` as tuples of declared point names, ``plates``
+    (name → three or more point names) and ``styles`` (link name → line properties) as read-only
+    mappings, else the named error."""
+    found = []
+    for argument, names in (("ground", ground), ("sliders", sliders)):
+        names = (names,) if isinstance(names, str) else names
+        if not isinstance(names, Sequence) or not all(isinstance(n, str) and n in points for n in names):
+            raise InvalidGeometryError(f"{argument} must name declared points {list(points)}; got {names!r}")
+        found.append(tuple(names))
+    plates = {} if plates is None else plates
+    if not isinstance(plates, Mapping) or not all(
+            isinstance(name, str) and isinstance(corners, Sequence) and not isinstance(corners, str)
+            and len(corners) >= 3 and all(c in points for c in corners) for name, corners in plates.items()):
+        raise InvalidGeometryError(f"plates must map names to three or more declared points {list(points)}; "
+                                   f"got {plates!r}")
+    styles = {} if styles is None else styles
+    if not isinstance(styles, Mapping) or not set(styles) <= set(links.names) or not all(
+            isinstance(style, Mapping) for style in styles.values()):
+        raise InvalidGeometryError(f"styles must map link names {list(links.names)} to line properties; "
+                                   f"got {styles!r}")
+    return (*found, MappingProxyType({name: tuple(corners) for name, corners in plates.items()}),
+            MappingProxyType({name: MappingProxyType(dict(style)) for name, style in styles.items()}))
+
+
 def _derived(build):
     """A property computed once per declaration, shared by its :meth:`~Mechanism.with_parameters` copies."""
 
@@ -358,9 +353,11 @@ class Mechanism:
     ``parameters``: a number (or a sympy constant such as ``sp.pi / 6``) for every other symbol, keyed by
     the symbol or its name (:meth:`with_parameters` gives the same declaration with other numbers, sharing
     everything derived).  Optional ``points`` (name → 2×1 matrix of x, y) and ``links`` (pairs of point
-    names, or a dict link name → pair: :class:`Links`) describe the drawing.  A declaration is checked
-    when made: rows that are not smooth and real, involve no unknown, repeat or depend on each other (J of
-    rank < n at a generic point) are refused by name.
+    names, or a dict link name → pair: :class:`Links`) describe the drawing, with the ``ground`` pivots
+    and ``sliders`` (point names), ``plates`` (name → three or more point names: a rigid plate, shaded)
+    and ``styles`` (link name → line properties) that ``draw``, ``animate`` and ``explore`` use.  A
+    declaration is checked when made: rows that are not smooth and real, involve no unknown, repeat or
+    depend on each other (J of rank < n at a generic point) are refused by name.
 
     >>> x, th = sp.symbols("x theta")
     >>> follower = Mechanism([sp.Eq(x, sp.cos(th))], unknowns=[x], inputs=[th])
@@ -369,7 +366,9 @@ class Mechanism:
     """
 
     def __init__(self, loops, unknowns, inputs, parameters: Mapping | None = None, *,
-                 points: Mapping | None = None, links: Sequence = ()):
+                 points: Mapping | None = None, links: Sequence = (), ground: Sequence[str] = (),
+                 sliders: Sequence[str] = (), plates: Mapping[str, Sequence[str]] | None = None,
+                 styles: Mapping[str, Mapping] | None = None):
         self.unknowns = _symbols("unknowns", unknowns)
         self.inputs = _symbols("inputs", inputs)
         moving = self.unknowns + self.inputs
@@ -390,6 +389,8 @@ class Mechanism:
         self.equations = equations.xreplace(swap)
         self.points = {name: xy.xreplace(swap) for name, xy in points.items()}
         self.links = _links(links, self.points)
+        self.ground, self.sliders, self.plates, self.styles = _drawing(
+            self.points, self.links, ground, sliders, plates, styles)
         used = self.equations.free_symbols
         for argument, symbols in (("unknowns", self.unknowns), ("inputs", self.inputs)):
             for symbol in symbols:
@@ -829,12 +830,15 @@ class Mechanism:
         return ~(self.smallest_singular_value(q, u) >= SINGULAR)
 
     def motion_of(self, position: Mapping, inputs: Mapping, velocity: Mapping | None = None,
-                  acceleration: Mapping | None = None, *, converged=None, singular=None,
-                  message: str = "", assembly: Mapping | None = None) -> Motion:
+                  acceleration: Mapping | None = None, *, converged=None, singular=None, near_singular=None,
+                  message: str = "", assembly: Mapping | None = None, iterations=0,
+                  newton: NewtonResult | None = None, kind: type[Motion] = Motion, **extra) -> Motion:
         """A :class:`Motion` of this mechanism from values found another way (a machine's own closed form):
         ``position`` and the rates keyed by the unknowns' names, ``inputs`` by the inputs', broadcast
-        together.  ``converged`` defaults to "every unknown finite"; ``singular`` (and ``near_singular``,
-        always) to the core's rule where converged.
+        together.  ``converged`` defaults to "every unknown finite"; ``singular`` and ``near_singular`` to
+        the core's rule where converged; ``iterations`` (default 0) and ``newton`` say how it was found.
+        ``kind``: a machine's own :class:`Motion` (its result type, with its names for the values and its
+        ``extra`` fields).
 
         >>> th, x = sp.symbols("theta x")
         >>> follower = Mechanism([x - sp.cos(th)], [x], [th])
@@ -857,18 +861,20 @@ class Mechanism:
         arrays = dict(zip(named, require_broadcast(**{k: require_finite(k, v, allow_nan=True)
                                                          for k, v in named.items()}), strict=True))
         shape = next(iter(arrays.values())).shape
-        q = np.stack([arrays[f"position[{k}]"] for k in unknowns], axis=-1).reshape(-1, len(unknowns))
-        u = np.stack([arrays[f"inputs[{k}]"] for k in inputs_named], axis=-1).reshape(-1, len(inputs_named))
-        finite = np.isfinite(q).all(axis=1)
-        given_converged = (finite if converged is None
-                           else _broadcast(np.asarray(converged, bool), shape).ravel())
-        with np.errstate(all="ignore"):
-            smallest = self._smallest(self._J(np.where(finite[:, None], q, 0.0), u))
-        near = given_converged & ~(smallest >= NEAR_SINGULAR)
+        if converged is None:
+            given_converged = np.logical_and.reduce([np.isfinite(arrays[f"position[{k}]"]) for k in unknowns])
+        else:
+            given_converged = _broadcast(np.asarray(converged, bool), shape)
+        if singular is None or near_singular is None:  # the core's rule where the position was found
+            q = np.stack([arrays[f"position[{k}]"] for k in unknowns], axis=-1).reshape(-1, len(unknowns))
+            u = np.stack([arrays[f"inputs[{k}]"] for k in inputs_named], axis=-1)
+            u = u.reshape(-1, len(inputs_named))
+            with np.errstate(all="ignore"):
+                smallest = self._smallest(self._J(np.where(np.isfinite(q), q, 0.0), u)).reshape(shape)
+        if near_singular is None:
+            near_singular = given_converged & ~(smallest >= NEAR_SINGULAR)
         if singular is None:
             singular = given_converged & ~(smallest >= SINGULAR)
-        else:
-            singular = _broadcast(np.asarray(singular, bool), shape).ravel()
 
         def shaped(values):
             return scalar_or_array(np.asarray(values).reshape(shape))
@@ -876,13 +882,15 @@ class Mechanism:
         def by_name(prefix, names):
             return MappingProxyType({k: shaped(arrays[f"{prefix}[{k}]"]) for k in names})
 
-        return Motion(position=by_name("position", unknowns),
-                      velocity=None if velocity is None else by_name("velocity", unknowns),
-                      acceleration=None if acceleration is None else by_name("acceleration", unknowns),
-                      converged=shaped(given_converged), singular=shaped(singular),
-                      iterations=shaped(np.zeros(len(q), int)), inputs=by_name("inputs", inputs_named),
-                      near_singular=shaped(near), message=message,
-                      assembly=None if assembly is None else MappingProxyType(dict(assembly)))
+        return kind(position=by_name("position", unknowns),
+                    velocity=None if velocity is None else by_name("velocity", unknowns),
+                    acceleration=None if acceleration is None else by_name("acceleration", unknowns),
+                    converged=shaped(given_converged),
+                    singular=shaped(_broadcast(np.asarray(singular, bool), shape)),
+                    iterations=shaped(np.broadcast_to(iterations, shape)), newton=newton,
+                    inputs=by_name("inputs", inputs_named),
+                    near_singular=shaped(_broadcast(np.asarray(near_singular, bool), shape)), message=message,
+                    assembly=None if assembly is None else MappingProxyType(dict(assembly)), **extra)
 
     def _smallest(self, J: np.ndarray) -> np.ndarray:
         """σ_min(J̃) of a stack J (..., n, n): exact for n ≤ 2, else exact where a bound cannot settle it."""
@@ -1742,11 +1750,12 @@ class Mechanism:
             raise InvalidGeometryError("joints needs points: declare points={name: Matrix([x, y])}; "
                                        "got points={}")
         names = [s.name for s in self.unknowns], [s.name for s in self.inputs]
-        if not (isinstance(motion, Motion) and sorted(motion.position) == sorted(names[0])
-                and sorted(motion.inputs) == sorted(names[1])):
+        # a Motion of these loops, or of the same loops solved the other way round (a five-bar's inverse)
+        values = {**motion.inputs, **motion.position} if isinstance(motion, Motion) else {}
+        if sorted(values) != sorted(names[0] + names[1]):
             raise InvalidGeometryError(f"motion must be a Motion of this mechanism (unknowns {names[0]}, "
                                        f"inputs {names[1]}); got {motion!r}"[:400])
-        q = np.stack(np.broadcast_arrays(*(motion.position[s.name] for s in self.unknowns)), axis=-1)
-        u = np.stack(np.broadcast_arrays(*(motion.inputs[s.name] for s in self.inputs)), axis=-1)
+        q = np.stack(np.broadcast_arrays(*(values[s.name] for s in self.unknowns)), axis=-1)
+        u = np.stack(np.broadcast_arrays(*(values[s.name] for s in self.inputs)), axis=-1)
         xy = self._point_fn(self._values, q, u)
         return {name: _vector(xy, 2 * k, 2) for k, name in enumerate(self.points)}

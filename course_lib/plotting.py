@@ -29,11 +29,14 @@ from .errors import (
 )
 from .newton import NewtonResult
 
-__all__ = ["draw", "draw_linkage", "LinkageArtist", "animate_linkage", "plot_convergence", "animation_html",
+__all__ = ["draw", "animate", "draw_linkage", "LinkageArtist", "animate_linkage",
+           "plot_convergence", "animation_html",
            "AnimationHTML", "LINK_COLORS"]
 
 #: One colour per link, in the order the links are given.
 LINK_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown")
+#: The shade of a rigid plate (a coupler with its point P).
+PLATE_COLOR = "tab:gray"
 
 
 def _ground_symbol(ax: Axes, point: np.ndarray, size: float) -> None:
@@ -142,8 +145,9 @@ class LinkageArtist:
     ``blocks`` and point ``labels``; :meth:`move` puts them at one configuration, hiding a link with an
     end point missing or not finite.  ``links`` maps link names to their end points' keys (a
     declaration's ``Mechanism.links`` keeps its names; a plain list of pairs is "link 1", "link 2", …);
-    ``styles`` overrides line properties by link name; ``animated=True`` keeps the artists out of a plain
-    ``canvas.draw``.
+    ``styles`` overrides line properties by link name; ``plates`` (name → three or more keys) are shaded
+    polygons, rigid bodies such as a coupler with its point P; ``animated=True`` keeps the artists out of a
+    plain ``canvas.draw``.
 
     >>> artist = LinkageArtist(Figure().add_subplot(), {"crank": ("O2", "A"), "rod": ("A", "B")})
     >>> artist.move({"O2": (0, 0), "A": (0.03, 0.04), "B": (float("nan"), 0.0)})
@@ -152,7 +156,8 @@ class LinkageArtist:
     """
 
     def __init__(self, ax: Axes, links, *, styles: Mapping[str, Mapping] | None = None, blocks: Sequence = (),
-                 labels: Mapping | None = None, animated: bool = False, label_offset: float = 0.0):
+                 labels: Mapping | None = None, plates: Mapping[str, Sequence] | None = None,
+                 animated: bool = False, label_offset: float = 0.0):
         _axes(ax)
         if isinstance(links, Mapping):
             pairs = dict(links)
@@ -189,6 +194,14 @@ class LinkageArtist:
                                                animated=animated)
         self.texts = {key: ax.text(0, 0, str(text), fontsize=9, animated=animated)
                       for key, text in self.labels.items()}
+        self.plates: dict[str, tuple] = {}
+        for name, corners in dict(plates or {}).items():
+            if isinstance(corners, str) or not isinstance(corners, Sequence) or len(corners) < 3:
+                raise InvalidGeometryError(f"plates[{name!r}] must be three or more point keys; "
+                                           f"got {corners!r}")
+            self.plates[str(name)] = tuple(corners)
+            (self.lines[f"plate {name}"],) = ax.fill([], [], color=PLATE_COLOR, alpha=0.35, lw=0, zorder=1,
+                                                     animated=animated)
 
     @property
     def artists(self) -> dict[str, object]:
@@ -208,6 +221,11 @@ class LinkageArtist:
         if self.blocks:
             at = np.array([known[key] for key in self.blocks if key in known]).reshape(-1, 2)
             self.lines["blocks"].set_data(at[:, 0], at[:, 1])
+        for name, corners in self.plates.items():
+            plate = self.lines[f"plate {name}"]
+            plate.set_visible(all(key in known for key in corners))
+            if plate.get_visible():
+                plate.set_xy([known[key] for key in corners])
         for key, text in self.texts.items():
             text.set_visible(key in known)
             if key in known:
@@ -253,20 +271,25 @@ def _paths(points) -> dict:
     return paths
 
 
-def _declared(links, points):
-    """``links`` and ``points`` as drawn: a declaration (a ``Mechanism``, or a machine with one as its
-    ``.mechanism``) with a ``Motion`` of it gives its named links and ``joints(motion)``; anything else
-    is passed on as it is."""
+def _declared(links, points, options: dict):
+    """``links``, ``points`` and the drawing ``options`` (ground, blocks, plates, styles) as drawn: a
+    declaration (a ``Mechanism``, or a machine with one as its ``.mechanism``) with a ``Motion`` of it
+    gives its named links, ``joints(motion)`` and, for each option not given, its own (ground pivots,
+    sliders, plates, styles); anything else is passed on as it is."""
     mechanism = getattr(links, "mechanism", links)
     if all(hasattr(mechanism, name) for name in ("joints", "links", "points", "unknowns")):
         if hasattr(points, "position") and hasattr(points, "inputs"):  # a Motion
             points = mechanism.joints(points)
-        return mechanism.links, points
-    return links, points
+        declared = {"ground": mechanism.ground, "blocks": mechanism.sliders, "plates": mechanism.plates,
+                    "styles": mechanism.styles}
+        return mechanism.links, points, {key: value if value else declared[key]
+                                         for key, value in options.items()}
+    return links, points, options
 
 
 def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (), blocks: Sequence = (),
                     labels: Mapping | None = None, styles: Mapping[str, Mapping] | None = None,
+                    plates: Mapping[str, Sequence] | None = None,
                     caption: Callable[[int], str] | None = None,
                     background: Callable[[Axes], object] | None = None, title: str | None = None,
                     size: tuple[float, float] = (4.2, 3.0), dpi: float = 60, interval_ms: float = 80,
@@ -283,14 +306,15 @@ def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (
     >>> html.frame_count
     3
     """
-    links, points = _declared(links, points)
+    links, points, options = _declared(links, points, {"ground": ground, "blocks": blocks, "plates": plates,
+                                                       "styles": styles})
     paths = _paths(points)
     for argument, function in (("caption", caption), ("background", background)):
         if function is not None and not callable(function):
             raise InvalidArgumentError(f"{argument} must be a function or None; got {function!r}")
     figure = Figure(figsize=_figure_size(size), dpi=_dpi(dpi), layout="constrained")
     ax = figure.add_subplot()
-    artist = _stage(ax, links, paths, ground, trace, styles, blocks, labels)
+    artist = _stage(ax, links, paths, trace, labels, **options)
     if title is not None:
         ax.set_title(title)
     if background is not None:
@@ -306,13 +330,19 @@ def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (
                           interval_ms=interval_ms, max_frames=max_frames)
 
 
-def _stage(ax, links, paths, ground, trace, styles, blocks, labels) -> LinkageArtist:
+#: The name the declarations' vocabulary uses: ``animate(mechanism, motion)``, as ``draw(mechanism, motion)``.
+animate = animate_linkage
+
+
+def _stage(ax, links, paths, trace, labels, *, ground, blocks, plates, styles) -> LinkageArtist:
     """The linkage's artist on ``ax``, its links checked against the points, the ground and the traces
     drawn, and the axes fitted to the whole motion."""
-    artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels)
-    for name, ends in artist.links.items():
-        if not set(ends) <= set(paths):
-            raise InvalidGeometryError(f"links: {name} joins {ends}, not all points; points: {list(paths)}")
+    artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels, plates=plates)
+    for kind, parts in (("links", artist.links), ("plates", artist.plates)):
+        for name, ends in parts.items():
+            if not set(ends) <= set(paths):
+                raise InvalidGeometryError(f"{kind}: {name} joins {ends}, not all points; "
+                                           f"points: {list(paths)}")
     (xmin, xmax, ymin, ymax), span = _motion_background(ax, paths, ground, trace)
     ax.set(xlim=(xmin, xmax), ylim=(ymin, ymax), aspect="equal", xlabel="x (m)", ylabel="y (m)")
     artist.label_offset = 0.03 * span
@@ -321,7 +351,8 @@ def _stage(ax, links, paths, ground, trace, styles, blocks, labels) -> LinkageAr
 
 def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Sequence = (),
          trace: Sequence = (), blocks: Sequence = (), labels: Mapping | None = None,
-         styles: Mapping[str, Mapping] | None = None, title: str | None = None,
+         styles: Mapping[str, Mapping] | None = None, plates: Mapping[str, Sequence] | None = None,
+         title: str | None = None,
          size: tuple[float, float] = (4.2, 3.0)) -> Axes:
     """A still of one instant in one call, on ``ax`` (default: a new figure's), returned: the linkage (as
     :class:`LinkageArtist`, in the vocabulary of :func:`animate_linkage`) at ``points`` — key → (x, y),
@@ -334,7 +365,8 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
     >>> ax.lines[0].get_xydata().tolist(), ax.get_title()
     ([[0.0, 0.0], [0.03, 0.04]], 'one')
     """
-    links, points = _declared(links, points)
+    links, points, options = _declared(links, points, {"ground": ground, "blocks": blocks, "plates": plates,
+                                                       "styles": styles})
     paths = _paths(points)
     count = len(next(iter(paths.values())))
     whole = isinstance(frame, int | np.integer) and not isinstance(frame, bool | np.bool_)
@@ -345,7 +377,7 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
 
         ax = plt.figure(figsize=_figure_size(size), layout="constrained").add_subplot()
     _axes(ax)
-    artist = _stage(ax, links, paths, ground, trace, styles, blocks, labels)
+    artist = _stage(ax, links, paths, trace, labels, **options)
     artist.move({key: path[frame] for key, path in paths.items()})
     if title is not None:
         ax.set_title(title)

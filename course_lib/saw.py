@@ -33,12 +33,15 @@ from .errors import (
     require_finite,
     require_positive,
 )
+from .motion import Motion
 from .newton import NewtonResult
+from .planar import Unpacks
 from .profile import first_turn_time, motor_profile
 
 __all__ = ["Saw", "COURSE_SAW", "UNKNOWNS", "SEED_PRINTED", "SEED_CODE", "position_residual",
            "position_jacobian", "velocity_residual", "velocity_jacobian", "acceleration_residual",
-           "acceleration_jacobian", "system_residual", "system_jacobian", "SawSolution", "solve_consecutive",
+           "acceleration_jacobian", "system_residual", "system_jacobian", "SawMotion", "SawSolution",
+           "solve_consecutive",
            "solve_simultaneous", "analytic", "joint_positions", "SawSweep", "sweep"]
 
 #: Names of the nine unknowns, in the course's order.
@@ -88,21 +91,15 @@ class Saw:
         return _core(self)
 
     def motion(self, theta2, omega2=0.0, alpha2=0.0, *, on_failure: str | None = None):
-        """The course's closed form (:func:`analytic`) as a :class:`~course_lib.mechanism.Motion` of
-        :attr:`mechanism` (position r1, θ1, θ3 and their rates; input θ2), to draw, animate or explore.
+        """The course's closed form (:func:`analytic`) as a :class:`SawMotion`, a
+        :class:`~course_lib.mechanism.Motion` of :attr:`mechanism` (position r1, θ1, θ3 and their rates;
+        input θ2), to draw, animate or explore.
 
         >>> motion = Saw().motion([0.0, 1.0], omega2=6.0)
         >>> np.round(motion.position["theta3"], 6).tolist(), motion.velocity["r1"].shape
         ([2.873694, 3.248327], (2,))
         """
-        values = analytic(theta2, omega2, alpha2, saw=self, on_failure=on_failure)
-        columns = dict(zip(UNKNOWNS, np.moveaxis(values, -1, 0), strict=True))
-
-        def part(names):
-            return dict(zip(("r1", "theta1", "theta3"), (columns[name] for name in names), strict=True))
-
-        return self.mechanism.motion_of(part(UNKNOWNS[:3]), {"theta2": theta2}, part(UNKNOWNS[3:6]),
-                                        part(UNKNOWNS[6:]))
+        return _saw_motion(self, analytic(theta2, omega2, alpha2, saw=self, on_failure=on_failure), theta2)
 
     def joints(self, theta2) -> np.ndarray:
         """O2, A and C (m), shape (..., 3, 2): :func:`joint_positions` of this saw.
@@ -133,7 +130,7 @@ def _declaration(variant: str):
     A = sp.Matrix([r2 * sp.cos(theta2), r2 * sp.sin(theta2)])
     drawing = {"points": {"O2": sp.Matrix([0, 0]), "A": A,
                           "C": A + sp.Matrix([r3 * sp.cos(theta3), r3 * sp.sin(theta3)])},
-               "links": {"crank": ("O2", "A"), "rod": ("A", "C")}}
+               "links": {"crank": ("O2", "A"), "rod": ("A", "C")}, "ground": ("O2",), "sliders": ("C",)}
     if variant == "substituted":
         on_the_line = {r1: r1y / sp.sin(theta1)}
         loops = [fc, fx.subs(on_the_line), fy.subs(on_the_line)]
@@ -338,22 +335,50 @@ def _course_assembly(x, seed, method: str, theta2) -> None:
 
 
 @dataclass(frozen=True)
-class SawSolution:
-    """The nine unknowns ``x`` (ordered as :data:`UNKNOWNS`) at one crank angle, the Newton ``iterations``
-    of all ``stages`` (name → ``NewtonResult``) and the ``method``."""
+class SawMotion(Unpacks, Motion):
+    """A :class:`~course_lib.mechanism.Motion` of :attr:`Saw.mechanism` (position r1, θ1, θ3; their
+    rates; input θ2) that also names its nine values as the course does (:data:`UNKNOWNS`: r1, θ1, θ3,
+    v_r, ω1, ω3, a_r, α1, α3) and the crank's θ2.  Unpacks as the nine; ``x`` stacks them on the last
+    axis.
 
-    x: np.ndarray
-    iterations: int
-    stages: Mapping[str, NewtonResult] = field(repr=False)
-    method: str
+    >>> motion = Saw().motion([0.0, 1.0], omega2=6.0)
+    >>> np.round(motion.theta3, 6).tolist(), motion.x.shape, np.array(motion).shape
+    ([2.873694, 3.248327], (2, 9), (9, 2))
+    """
 
-    def as_dict(self) -> dict[str, float]:
+    _values = UNKNOWNS
+    _names = MappingProxyType({**{name: (part, unknown) for part, names in (
+        ("position", UNKNOWNS[:3]), ("velocity", UNKNOWNS[3:6]), ("acceleration", UNKNOWNS[6:]))
+        for name, unknown in zip(names, UNKNOWNS[:3], strict=True)}, "theta2": ("inputs", "theta2")})
+
+    @property
+    def x(self) -> np.ndarray:
+        """The nine unknowns as one array (..., 9), columns ordered as :data:`UNKNOWNS`."""
+        return np.stack(np.broadcast_arrays(*(np.asarray(value, dtype=float) for value in self)), axis=-1)
+
+    def as_dict(self) -> dict[str, float | np.ndarray]:
         """The nine values by name.
 
         >>> round(solve_consecutive(0.0).as_dict()["theta3"], 6)
         2.873694
         """
-        return {name: float(value) for name, value in zip(UNKNOWNS, self.x, strict=True)}
+        return {name: getattr(self, name) for name in UNKNOWNS}
+
+
+@dataclass(frozen=True)
+class SawSolution(SawMotion):
+    """:class:`SawMotion` at one crank angle from Newton–Raphson, with the Newton ``iterations`` of all
+    ``stages`` (name → ``NewtonResult``) and the ``method``."""
+
+    stages: Mapping[str, NewtonResult] = field(default_factory=dict, repr=False)
+    method: str = "simultaneous"
+
+
+def _saw_motion(saw: Saw, values: np.ndarray, theta2, kind: type[SawMotion] = SawMotion, **extra):
+    """The nine values (..., 9) at the crank angles ``theta2`` as a ``kind`` of :class:`SawMotion`."""
+    columns = [dict(zip(UNKNOWNS[:3], np.moveaxis(values[..., k:k + 3], -1, 0), strict=True))
+               for k in (0, 3, 6)]
+    return saw.mechanism.motion_of(columns[0], {"theta2": theta2}, *columns[1:], kind=kind, **extra)
 
 
 def solve_consecutive(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, x0=None, tol: float = 1e-6,
@@ -373,8 +398,8 @@ def solve_consecutive(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, x
                                     linear_stages=linear_stages, position=position)
     x = np.concatenate([stage.x for stage in stages.values()])
     _course_assembly(x, seed, "consecutive", theta2)
-    return SawSolution(x=x, iterations=sum(stage.iterations for stage in stages.values()),
-                       stages=MappingProxyType(stages), method="consecutive")
+    return _saw_motion(saw, x, theta2, SawSolution, stages=MappingProxyType(stages), method="consecutive",
+                       iterations=sum(stage.iterations for stage in stages.values()))
 
 
 def solve_simultaneous(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, x0=None, tol: float = 1e-6,
@@ -390,8 +415,8 @@ def solve_simultaneous(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, 
     result = _core(saw).simultaneous([theta2], [omega2], [alpha2], seed, tol=tol, max_iter=max_iter,
                                      position=position)
     _course_assembly(result.x, seed, "simultaneous", theta2)
-    return SawSolution(x=result.x, iterations=result.iterations,
-                       stages=MappingProxyType({"simultaneous": result}), method="simultaneous")
+    return _saw_motion(saw, result.x, theta2, SawSolution, stages=MappingProxyType({"simultaneous": result}),
+                       method="simultaneous", iterations=result.iterations, newton=result)
 
 
 def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreachable: str = UNSET,
@@ -443,35 +468,20 @@ def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class SawSweep:
-    """The nine unknowns (:data:`UNKNOWNS`) and the motor's ``theta2, omega2, alpha2`` at the times ``t`` (s),
-    with the Newton ``iterations`` per point and ``stage_iterations`` (n, stages)."""
+class SawSweep(SawMotion):
+    """:class:`SawMotion` at the times ``t`` (s) of the motor profile, with the motor's ``omega2``,
+    ``alpha2``, the Newton ``iterations`` per point, ``stage_iterations`` (n, stages) and the ``method``.
 
-    t: np.ndarray
-    theta2: np.ndarray
-    omega2: np.ndarray
-    alpha2: np.ndarray
-    r1: np.ndarray
-    theta1: np.ndarray
-    theta3: np.ndarray
-    v_r: np.ndarray
-    omega1: np.ndarray
-    omega3: np.ndarray
-    a_r: np.ndarray
-    alpha1: np.ndarray
-    alpha3: np.ndarray
-    iterations: np.ndarray
-    stage_iterations: np.ndarray
-    method: str
+    >>> result = sweep(5, method="analytic")
+    >>> result.x.shape, result.theta2.shape, list(result.position)
+    ((5, 9), (5,), ['r1', 'theta1', 'theta3'])
+    """
 
-    @property
-    def x(self) -> np.ndarray:
-        """The nine unknowns as one (n, 9) array, columns ordered as :data:`UNKNOWNS`.
-
-        >>> sweep(5, method="analytic").x.shape
-        (5, 9)
-        """
-        return np.stack([getattr(self, name) for name in UNKNOWNS], axis=-1)
+    t: np.ndarray | None = None
+    omega2: np.ndarray | None = None
+    alpha2: np.ndarray | None = None
+    stage_iterations: np.ndarray | None = None
+    method: str = "analytic"
 
 
 def sweep(n: int = 1000, method: str = "simultaneous", *, tol: float = 1e-6, x0=None, saw: Saw = COURSE_SAW,
@@ -514,6 +524,5 @@ def sweep(n: int = 1000, method: str = "simultaneous", *, tol: float = 1e-6, x0=
             solution = solve(theta2[k], omega2[k], alpha2[k], seed, tol, saw=saw, variant=variant, **options)
             values[k] = seed = solution.x
             stage_iterations[k] = [stage.iterations for stage in solution.stages.values()]
-    return SawSweep(t=t, theta2=theta2, omega2=omega2, alpha2=alpha2,
-                    **dict(zip(UNKNOWNS, values.T, strict=True)), iterations=stage_iterations.sum(axis=1),
-                    stage_iterations=stage_iterations, method=method)
+    return _saw_motion(saw, values, theta2, SawSweep, iterations=stage_iterations.sum(axis=1), t=t,
+                       omega2=omega2, alpha2=alpha2, stage_iterations=stage_iterations, method=method)

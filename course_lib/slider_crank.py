@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cache, cached_property
+from types import MappingProxyType
 
 import numpy as np
 
@@ -24,6 +25,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
+from .motion import Motion
 from .planar import Unpacks
 
 __all__ = ["OffsetSliderCrank", "SliderCrankMotion", "BRANCHES"]
@@ -46,21 +48,27 @@ def _declaration():
     points = {"O2": sp.Matrix([0, 0]), "A": sp.Matrix([crank * sp.cos(theta2), crank * sp.sin(theta2)]),
               "C": sp.Matrix([x, offset])}
     return Mechanism([loop], [theta3, x], [theta2], {crank: 0.075, rod: 0.170, offset: 0.045},
-                     points=points, links={"crank": ("O2", "A"), "rod": ("A", "C")})
+                     points=points, links={"crank": ("O2", "A"), "rod": ("A", "C")}, ground=("O2",),
+                     sliders=("C",))
 
 
 @dataclass(frozen=True)
-class SliderCrankMotion(Unpacks):
-    """Rod angle θ3 (rad), slider position x (m), ω3 (rad/s), slider velocity v (m/s), α3 (rad/s²) and
-    slider acceleration a (m/s²); arrays broadcast from the inputs.  Unpacks in that order."""
+class SliderCrankMotion(Unpacks, Motion):
+    """A :class:`~course_lib.mechanism.Motion` of :attr:`OffsetSliderCrank.mechanism` (position θ3, x;
+    their rates; input θ2) that also names its values: rod angle θ3 (rad), slider position x (m), ω3
+    (rad/s), slider velocity v (m/s), α3 (rad/s²) and slider acceleration a (m/s²), broadcast from the
+    inputs.  Unpacks in that order.
 
-    theta3: np.ndarray
-    x: np.ndarray
-    omega3: np.ndarray
-    v: np.ndarray
-    alpha3: np.ndarray
-    a: np.ndarray
+    >>> motion = OffsetSliderCrank(0.05, 0.2).solve([0.0, np.pi / 2], omega2=1.0)
+    >>> np.array(motion).shape, motion.v.tolist() == motion.velocity["x"].tolist()
+    ((6, 2), True)
+    """
+
     _values = ("theta3", "x", "omega3", "v", "alpha3", "a")
+    _names = MappingProxyType({"theta3": ("position", "theta3"), "x": ("position", "x"),
+                               "omega3": ("velocity", "theta3"), "v": ("velocity", "x"),
+                               "alpha3": ("acceleration", "theta3"), "a": ("acceleration", "x"),
+                               "theta2": ("inputs", "theta2")})
 
 
 @dataclass(frozen=True)
@@ -93,17 +101,14 @@ class OffsetSliderCrank:
         return _declaration().with_parameters({"crank": self.crank, "rod": self.rod, "offset": self.offset})
 
     def motion(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "right", *, on_failure: str | None = None):
-        """:meth:`solve` as a :class:`~course_lib.mechanism.Motion` of :attr:`mechanism` (position θ3, x
-        and their rates; input θ2), to draw, animate or explore like any declaration's.
+        """:meth:`solve` under the name the declarations use: its :class:`SliderCrankMotion` is a
+        :class:`~course_lib.mechanism.Motion` of :attr:`mechanism`, to draw, animate or explore.
 
         >>> motion = OffsetSliderCrank(0.05, 0.2).motion([0.0, np.pi / 2], omega2=1.0)
         >>> np.round(motion.velocity["x"], 6).tolist(), motion.singular.tolist()
         ([0.0, -0.05], [False, False])
         """
-        solved = self.solve(theta2, omega2, alpha2, branch=branch, on_failure=on_failure)
-        return self.mechanism.motion_of(
-            {"theta3": solved.theta3, "x": solved.x}, {"theta2": theta2},
-            {"theta3": solved.omega3, "x": solved.v}, {"theta3": solved.alpha3, "x": solved.a})
+        return self.solve(theta2, omega2, alpha2, branch=branch, on_failure=on_failure)
 
     def joints(self, theta2, branch: str = "right") -> np.ndarray:
         """O2, A and C (m), shape (..., 3, 2): the declaration's points at the solved position.
@@ -111,9 +116,7 @@ class OffsetSliderCrank:
         >>> OffsetSliderCrank(0.05, 0.2).joints(np.pi / 2).round(6).tolist()
         [[0.0, 0.0], [0.0, 0.05], [0.193649, 0.0]]
         """
-        solved = self.solve(theta2, branch=branch)
-        points = self.mechanism.joints(self.mechanism.motion_of(
-            {"theta3": solved.theta3, "x": solved.x}, {"theta2": theta2}, singular=False))
+        points = self.mechanism.joints(self.solve(theta2, branch=branch))
         return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
 
     def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "right", *,
@@ -155,4 +158,7 @@ class OffsetSliderCrank:
                                         "(cos(theta3) = 0): the velocity equations are singular there",
                                         x=first)
         (omega3, v), (alpha3, a) = np.moveaxis(velocity, -1, 0), np.moveaxis(acceleration, -1, 0)
-        return SliderCrankMotion(theta3=theta3, x=x, omega3=omega3, v=v, alpha3=alpha3, a=a)
+        return self.mechanism.motion_of({"theta3": theta3, "x": x}, {"theta2": theta2},
+                                        {"theta3": omega3, "x": v}, {"theta3": alpha3, "x": a},
+                                        converged=~unreachable, singular=perpendicular,
+                                        kind=SliderCrankMotion)

@@ -37,7 +37,7 @@ from .fourbar import BRANCHES, FourBar
 from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _ground_symbol, _motion_background, _Quantizer
 
 __all__ = ["Explorer", "ExplorerSpec", "ExplorerStage", "Readout", "build_explorer", "fourbar_explorer",
-           "saw_explorer", "fivebar_explorer", "mechanism_explorer"]
+           "saw_explorer", "fivebar_explorer", "mechanism_explorer", "explore"]
 
 _STYLE = {"description_width": "120px"}  # shared by every slider and toggle, so the columns line up
 _ERROR_COLOR = "#b00020"
@@ -855,7 +855,8 @@ def mechanism_explorer(
     ``motion``, a sweep of the input solved by ``mechanism.solve``, sets the slider's range (degrees for
     an input named "theta…"), the limits and the ``trace`` paths, and seeds each solve from its nearest
     instant (the sweep's assembly).  ``ground`` points get the fixed-pivot symbol, ``blocks`` a slider
-    block, ``styles`` go by link name ("link 1", …); ``rates`` (input → rate) go to each solve, so
+    block, ``styles`` go by link name ("link 1", …): each, when not given, the declaration's own (its
+    ``ground``, ``sliders``, ``styles``, and its ``plates``); ``rates`` (input → rate) go to each solve, so
     ``readout(instant) -> lines`` can show velocities; by default each unknown is listed.
 
     >>> import sympy as sp
@@ -882,6 +883,8 @@ def mechanism_explorer(
     if not isinstance(mechanism, Mechanism):
         raise InvalidGeometryError(f"mechanism must be a course_lib Mechanism or a machine with one "
                                    f"(its .mechanism); got {mechanism!r}")
+    ground, blocks = ground or mechanism.ground, blocks or mechanism.sliders
+    styles = styles or mechanism.styles
     if not isinstance(motion, Motion) or np.ndim(next(iter(motion.inputs.values()))) != 1:
         raise InvalidGeometryError(f"motion must be a sweep solved by mechanism.solve (one input array); "
                                    f"got {type(motion).__name__}")
@@ -937,4 +940,9 @@ def mechanism_explorer(
                                    [f"{unknown} = {value:.4g}" for unknown, value in now.position.items()]))
 
     return build_explorer(ExplorerSpec(title, controls, (width, height), panels,
-                                       {"links": mechanism.links, "blocks": blocks, "styles": styles}, draw))
+                                       {"links": mechanism.links, "blocks": blocks, "styles": styles,
+                                        "plates": mechanism.plates}, draw))
+
+
+#: The name the declarations' vocabulary uses: ``explore(mechanism, motion)``, as ``draw`` and ``animate``.
+explore = mechanism_explorer

@@ -1,0 +1,77 @@
+"""What solving a mechanism gives: :class:`Motion`, the one result of every declaration and machine, and
+the one singularity rule's thresholds.  Light on purpose (numpy only), so a machine's result type can be
+imported without sympy.
+
+The rule: J is singular where the smallest singular value of J̃ — J with each row and column divided by
+its typical size at the declaration's generic point — is below ``SINGULAR``; near one below
+``NEAR_SINGULAR`` (see :meth:`course_lib.mechanism.Mechanism.smallest_singular_value`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .newton import NewtonResult
+
+__all__ = ["Motion", "SINGULAR", "NEAR_SINGULAR"]
+
+#: J is singular where σ_min(J̃) < SINGULAR (J̃: rows and columns scaled by their typical sizes).
+SINGULAR = 1e-6
+#: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
+NEAR_SINGULAR = 1e-3
+
+
+@dataclass(frozen=True)
+class Motion:
+    """What :meth:`~course_lib.mechanism.Mechanism.solve` found, shaped like the broadcast inputs (Python
+    numbers for scalars); every machine's solve returns one too (``FourBar.solve`` a
+    :class:`~course_lib.fourbar.FourBarSolution`, …), which also names its values as the course does
+    (``solution.theta4`` is ``solution.position["theta4"]``, ``solution.omega4`` its velocity).
+
+    position, velocity, acceleration : unknown's name → q, q̇, q̈ (SI); the rates None unless asked.
+    converged, singular : masks, True where the position was found / J is singular (see ``SINGULAR``).
+    iterations : Newton updates per instant (0 where the closed form alone gave it).
+    inputs : input's name → its broadcast values.  newton : one instant's ``NewtonResult``; None for a sweep.
+    near_singular : True where σ_min(J̃) < NEAR_SINGULAR (rates large and sensitive).  message : the toggles,
+    limits and change points met, in words ("" when none).  assembly : each closed-form block's first
+    unknown → its root σ (±1) per instant; None where Newton alone solved.
+    """
+
+    position: Mapping[str, float | np.ndarray]
+    velocity: Mapping[str, float | np.ndarray] | None
+    acceleration: Mapping[str, float | np.ndarray] | None
+    converged: bool | np.ndarray
+    singular: bool | np.ndarray
+    iterations: int | np.ndarray
+    inputs: Mapping[str, float | np.ndarray]
+    newton: NewtonResult | None = None
+    near_singular: bool | np.ndarray = False
+    message: str = ""
+    assembly: Mapping[str, int | np.ndarray] | None = None
+    #: A machine's own names for values: attribute → (part, key), e.g. ``"omega4": ("velocity", "theta4")``.
+    _names: ClassVar[Mapping[str, tuple[str, str]]] = MappingProxyType({})
+
+    def __getattr__(self, name: str):
+        """A value by the machine's own name (``solution.theta4``, ``solution.omega4``): see ``_names``."""
+        where = type(self)._names.get(name) if not name.startswith("__") else None
+        if where is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        part = object.__getattribute__(self, where[0])
+        return None if part is None else part[where[1]]
+
+    def __array__(self, dtype=None, copy=None) -> np.ndarray:
+        """The position as one array, (unknowns, ...) in the declared order; a machine's result converts
+        to its own values instead (``np.array(solution)``).
+
+        >>> motion = Motion(position={"theta3": [0.1, 0.2], "theta4": 1.5}, velocity=None, acceleration=None,
+        ...                 converged=True, singular=False, iterations=0, inputs={"theta2": [0.0, 1.0]})
+        >>> np.array(motion).tolist()
+        [[0.1, 0.2], [1.5, 1.5]]
+        """
+        return np.array(np.broadcast_arrays(*(np.asarray(v) for v in self.position.values())), dtype=dtype)

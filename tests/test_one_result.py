@@ -1,0 +1,141 @@
+"""One result and one drawing vocabulary: every machine's solve returns a ``Motion`` of its declaration
+(values by the course's names as well as by the declaration's), and the declaration names its ground
+pivots, sliders, plates and styles, so ``draw``, ``animate`` and ``explore`` need only the machine and a
+motion.  References are independent: circle intersections, the law of cosines, finite differences."""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib
+import numpy as np
+import pytest
+import sympy as sp
+
+from course_lib.errors import CourseLibError
+from course_lib.fivebar import FiveBar
+from course_lib.fourbar import FourBar
+from course_lib.mechanism import Mechanism
+from course_lib.motion import Motion
+from course_lib.plotting import animate, draw
+from course_lib.saw import Saw, solve_consecutive, solve_simultaneous, sweep
+from course_lib.slider_crank import OffsetSliderCrank
+from course_lib.widgets import explore
+
+matplotlib.use("Agg")
+
+WIPER = FourBar(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20)
+ROBOT = FiveBar(l1=0.10, l2=0.15, l3=0.15, l4=0.10, l5=0.08)
+SAW = Saw()
+SLIDER = OffsetSliderCrank(crank=0.05, rod=0.20, offset=0.01)
+
+RESULTS = {
+    "four-bar": lambda: WIPER.solve(np.radians([0.0, 60.0, 200.0]), omega2=10.0),
+    "slider-crank": lambda: SLIDER.solve(np.radians([0.0, 60.0, 200.0]), omega2=10.0),
+    "saw closed form": lambda: SAW.motion(np.radians([0.0, 60.0, 200.0]), omega2=6.0),
+    "saw consecutive": lambda: solve_consecutive(0.3, 6.0, 0.0),
+    "saw simultaneous": lambda: solve_simultaneous(0.3, 6.0, 0.0),
+    "saw sweep": lambda: sweep(20, method="batched"),
+    "five-bar forward": lambda: ROBOT.forward(np.radians([50.0, 60.0]), np.radians([115.0, 120.0])),
+    "five-bar motion": lambda: ROBOT.motion(np.radians(50.0), np.radians(115.0), omega1=1.0),
+    "five-bar inverse": lambda: ROBOT.inverse([0.03, 0.0], [0.17, 0.2], modes=(-1, 1)),
+}
+
+
+@pytest.mark.parametrize("name", RESULTS)
+def test_every_machine_solve_returns_a_motion_whose_course_names_are_its_values(name):
+    result = RESULTS[name]()
+    assert isinstance(result, Motion)
+    parts = {"position": result.position, "inputs": result.inputs, "velocity": result.velocity or {},
+             "acceleration": result.acceleration or {}}
+    for attribute, (part, key) in type(result)._names.items():
+        assert np.array_equal(getattr(result, attribute), parts[part][key], equal_nan=True), attribute
+    values = list(result)  # unpacks as the course's values, and converts to one array of them
+    assert np.array(result).shape == (len(values), *np.shape(values[0]))
+    assert np.all(result.converged) and not np.any(result.singular)
+
+
+def test_machine_names_that_are_not_values_raise_attribute_error():
+    with pytest.raises(AttributeError, match="theta9"):
+        _ = WIPER.solve(0.3).theta9
+
+
+def test_a_four_bar_solution_is_the_loop_closed_by_circle_intersection():
+    theta2 = np.radians(60.0)
+    solution = WIPER.solve(theta2, branch="open")
+    A = WIPER.l2 * np.array([math.cos(theta2), math.sin(theta2)])
+    O4 = np.array([WIPER.l1, 0.0])
+    B = WIPER.mechanism.joints(solution)["B"]  # the declaration's point at the solution
+    assert abs(np.linalg.norm(B - A) - WIPER.l3) < 1e-12 and abs(np.linalg.norm(B - O4) - WIPER.l4) < 1e-12
+
+
+def test_near_singular_marks_the_four_bar_close_to_its_toggle_and_nowhere_else():
+    # a triple rocker: θ2 stops where coupler and rocker are collinear, |O2B| = l3 + l4 (law of cosines)
+    triple = FourBar(crank=0.15, coupler=0.10, rocker=0.12, ground=0.20)
+    reach = triple.l3 + triple.l4
+    limit = math.acos((triple.l2**2 + triple.l1**2 - reach**2) / (2 * triple.l2 * triple.l1))
+    near = triple.solve([limit - 1e-9, limit - 0.3], on_failure="nan").near_singular
+    assert near.tolist() == [True, False]
+
+
+def test_an_inverse_result_draws_the_robot_with_its_pen_on_the_target():
+    target = (0.03, 0.17)
+    result = ROBOT.inverse(*target, modes=(-1, 1))
+    joints = ROBOT.mechanism.joints(result)
+    assert np.allclose(joints["P3"], target, atol=1e-15)
+    assert abs(np.linalg.norm(joints["P3"] - joints["P2"]) - ROBOT.l2) < 1e-12
+    assert abs(np.linalg.norm(joints["P3"] - joints["P4"]) - ROBOT.l3) < 1e-12
+    ax = draw(ROBOT, result)
+    assert {line.get_gid() for line in ax.lines} >= {"l1", "l2", "l3", "l4", "l5"}
+
+
+def test_an_inverse_result_is_singular_where_a_leg_is_stretched():
+    # at (0, h) both legs reach straight out: |P1P3| = l1 + l2, where ∂(loops)/∂θ loses rank
+    h = math.sqrt((ROBOT.l1 + ROBOT.l2) ** 2 - (ROBOT.l5 / 2) ** 2)
+    result = ROBOT.inverse([0.0, 0.0], [h - 1e-9, 0.15])
+    assert result.near_singular.tolist() == [True, False]
+
+
+def test_the_declaration_names_its_ground_and_sliders_and_the_drawing_uses_them():
+    assert WIPER.mechanism.ground == ("O2", "O4") and ROBOT.mechanism.ground == ("P1", "P5")
+    assert SAW.mechanism.sliders == ("C",) and SLIDER.mechanism.sliders == ("C",)
+    ax = draw(SAW, SAW.motion(0.3))
+    blocks = [line for line in ax.lines if line.get_marker() == "s"]
+    assert len(blocks) == 1
+    assert np.allclose(blocks[0].get_xydata(), SAW.mechanism.joints(SAW.motion(0.3))["C"])
+    # the ground symbols: one hatched triangle per declared pivot, its apex on the pivot
+    apexes = [patch.get_xy()[0] for patch in ax.patches if patch.get_hatch() == "///"]
+    assert np.allclose(apexes, [[0.0, 0.0]])
+    hatched = [patch.get_xy()[0] for patch in draw(WIPER, WIPER.solve(0.3)).patches if patch.get_hatch()]
+    assert np.allclose(hatched, [[0.0, 0.0], [WIPER.l1, 0.0]])
+
+
+def test_plates_are_shaded_polygons_on_their_corners():
+    th, x = sp.symbols("theta x")
+    A = sp.Matrix([sp.cos(th), sp.sin(th)])
+    crank = Mechanism([x - sp.cos(th)], [x], [th], points={"O": sp.zeros(2, 1), "A": A,
+                      "B": sp.Matrix([x, 0]), "P": A + sp.Matrix([0, 0.5])},
+                      links={"crank": ("O", "A"), "rod": ("A", "B")}, ground=["O"], sliders=["B"],
+                      plates={"coupler": ("A", "B", "P")}, styles={"rod": {"color": "black"}})
+    motion = crank.solve({th: [0.0, 1.0]}, guess={x: 1.0})
+    ax = draw(crank, motion, frame=1)
+    (plate,) = [artist for artist in ax.patches + ax.collections + ax.lines
+                if getattr(artist, "get_xy", None) and len(np.asarray(artist.get_xy())) >= 3
+                and artist.get_visible() and artist.get_alpha() == 0.35]
+    corners = np.asarray(plate.get_xy())[:3]
+    assert np.allclose(corners, [[math.cos(1), math.sin(1)], [math.cos(1), 0.0],
+                                 [math.cos(1), math.sin(1) + 0.5]])
+    assert [line.get_color() for line in ax.lines if line.get_gid() == "rod"] == ["black"]
+    assert animate(crank, motion).frame_count == 2
+    assert explore(crank, motion).update(theta_deg=30.0).status == "ok"
+
+
+@pytest.mark.parametrize("argument, value", [
+    ("ground", ["Q"]), ("sliders", [3]), ("plates", {"p": ("O", "A")}), ("styles", {"no such": {}}),
+    ("styles", {"crank": 3}),
+])
+def test_a_bad_drawing_declaration_is_refused_by_name(argument, value):
+    th, x = sp.symbols("theta x")
+    with pytest.raises(CourseLibError, match=argument):
+        Mechanism([x - sp.cos(th)], [x], [th], points={"O": sp.zeros(2, 1), "A": sp.Matrix([x, 0])},
+                  links={"crank": ("O", "A")}, **{argument: value})

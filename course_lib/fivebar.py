@@ -283,7 +283,7 @@ class FiveBar:
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         motion = self.mechanism.motion_of({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
-                                          converged=True, singular=False)
+                                          converged=True, singular=False, near_singular=False)
         points = self.mechanism.joints(motion)
         return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
 
@@ -575,20 +575,23 @@ class FiveBar:
         return ~(far1 | far4 | free), theta1, theta4, *self._measures(theta1, theta4, X, Y)
 
     def draw(self, theta1: float, theta4: float, x3: float, y3: float, ax=None, title: str | None = None,
-             **style):
-        """Draw the robot as the course does (``course_lib.plotting.draw_linkage``); returns the axes.
+             **options):
+        """Draw one configuration, its joints P1 … P5 labelled 1 … 5; returns the axes.  The older spelling
+        of ``course_lib.plotting.draw(robot, result)`` (a :class:`ForwardResult` or :class:`InverseResult`
+        draws directly), which takes the same ``options``.
 
         >>> import matplotlib; matplotlib.use("Agg")
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> ax = robot.draw(1.2, 1.9, *robot.forward(1.2, 1.9), title="arms up")
-        >>> [text.get_text() for text in ax.texts][:5]
+        >>> [line.get_gid() for line in ax.lines][:5]
         ['l1', 'l2', 'l3', 'l4', 'l5']
         """
-        from .plotting import draw_linkage
+        from .plotting import draw
 
-        points = self.joints(theta1, theta4, x3, y3)
-        if points.shape != (5, 2):
-            raise InvalidGeometryError(f"draw takes one configuration (scalars); got joints of shape "
-                                       f"{points.shape}")
-        links = [(0, 1, "l1"), (1, 2, "l2"), (2, 3, "l3"), (3, 4, "l4"), (4, 0, "l5")]
-        return draw_linkage(points, links, ax, ground=(0, 4), title=title, **style)
+        theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
+        if theta1.shape != ():
+            raise InvalidGeometryError(f"draw takes one configuration (scalars); got shape {theta1.shape}")
+        motion = self.mechanism.motion_of({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
+                                          converged=True, singular=False, near_singular=False)
+        options.setdefault("labels", {f"P{k}": str(k) for k in range(1, 6)})
+        return draw(self, motion, ax, title=title, **options)

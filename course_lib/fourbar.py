@@ -54,8 +54,9 @@ def _finite(name: str, value, unit: str):
 
 
 @cache
-def _declaration():
-    """The loop R2 + R3 − R4 − R1 = 0 on the core: unknowns θ3, θ4, input θ2, parameters l1 … l4."""
+def _declaration(coupler: bool = False):
+    """The loop R2 + R3 − R4 − R1 = 0 on the core: unknowns θ3, θ4, input θ2, parameters l1 … l4; with
+    ``coupler``, also the coupler point P = A + p·(cos(θ3 + δ), sin(θ3 + δ)) and the plate A, B, P."""
     import sympy as sp
 
     from .mechanism import Mechanism
@@ -67,8 +68,14 @@ def _declaration():
     loop = A + sp.Matrix([l3 * sp.cos(theta3), l3 * sp.sin(theta3)]) - B
     points = {"O2": sp.Matrix([0, 0]), "A": A, "B": B, "O4": sp.Matrix([l1, 0])}
     links = {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "ground": ("O4", "O2")}
-    return Mechanism([loop], [theta3, theta4], [theta2], {l1: 0.20, l2: 0.06, l3: 0.18, l4: 0.12},
-                     points=points, links=links, ground=("O2", "O4"))
+    parameters, plates = {l1: 0.20, l2: 0.06, l3: 0.18, l4: 0.12}, {}
+    if coupler:
+        p, delta = sp.symbols("p delta")
+        points["P"] = A + p * sp.Matrix([sp.cos(theta3 + delta), sp.sin(theta3 + delta)])
+        parameters |= {p: 0.09, delta: 0.0}
+        plates = {"coupler": ("A", "B", "P")}
+    return Mechanism([loop], [theta3, theta4], [theta2], parameters, points=points, links=links,
+                     ground=("O2", "O4"), plates=plates)
 
 
 @dataclass(frozen=True)
@@ -516,28 +523,36 @@ class FourBar:
         mu = np.minimum(joint_angle, np.pi - joint_angle) if acute else joint_angle
         return scalar_or_array(mu)
 
+    def with_coupler_point(self, p: float, delta: float):
+        """:attr:`mechanism` with the coupler point P = A + p·(cos(θ3 + δ), sin(θ3 + δ)) (p in m, δ in rad)
+        and the coupler plate A, B, P: the same loop, so a solution draws with P on it
+        (``draw(wiper.with_coupler_point(p, delta), wiper.solve(theta2))``).
+
+        >>> plate = FourBar(1.0, 1.0, 1.0, 1.0).with_coupler_point(p=0.5, delta=0.0)
+        >>> plate.plates["coupler"], plate.joints(FourBar(1.0, 1.0, 1.0, 1.0).solve(np.pi / 2))["P"].tolist()
+        (('A', 'B', 'P'), [0.5, 1.0])
+        """
+        p = require_positive("p", p, allow_zero=True)
+        delta = float(require_finite("delta", delta, "rad"))
+        return _declaration(coupler=True).with_parameters(
+            {"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4, "p": p, "delta": delta})
+
     def coupler_point(self, theta2, p: float, delta: float, omega2=0.0, alpha2=0.0, branch: str = "open",
                       on_unreachable: str = UNSET, *, on_failure: str | None = None
                       ) -> CouplerPointMotion:
-        """Motion of the coupler point P = A + r, r = p(cos(θ3 + δ), sin(θ3 + δ)) (p in m, δ in rad):
-        V_P = ω2 k̂×R2 + ω3 k̂×r, A_P = α2 k̂×R2 − ω2² R2 + α3 k̂×r − ω3² r.
+        """Motion of the coupler point P of :meth:`with_coupler_point`: its declaration differentiated by the core
+        (:meth:`~course_lib.mechanism.Mechanism.point_motion`), which is the course's V_P = ω2 k̂×R2 +
+        ω3 k̂×r and A_P = α2 k̂×R2 − ω2² R2 + α3 k̂×r − ω3² r with r = P − A.
 
         >>> motion = FourBar(1.0, 1.0, 1.0, 1.0).coupler_point(np.pi / 2, p=0.5, delta=0.0, omega2=1.0)
         >>> motion.position.round(12).tolist(), motion.velocity.round(12).tolist()
         ([0.5, 1.0], [-1.0, 0.0])
         """
-        p = require_positive("p", p, allow_zero=True)
-        delta = float(require_finite("delta", delta, "rad"))
+        plate = self.with_coupler_point(p, delta)
         policy = failure_policy(on_failure, on_unreachable=on_unreachable)
         solution = self.solve(theta2, omega2, alpha2, branch=branch, on_failure=policy)
-        columns = np.broadcast_arrays(*(np.asarray(v, float) for v in (theta2, omega2, alpha2)),
-                                      solution.theta3, solution.omega3, solution.alpha3)
-        theta2, omega2, alpha2, theta3, omega3, alpha3 = (np.asarray(a, float)[..., None] for a in columns)
-        R2 = self.l2 * np.concatenate([np.cos(theta2), np.sin(theta2)], axis=-1)
-        r = p * np.concatenate([np.cos(theta3 + delta), np.sin(theta3 + delta)], axis=-1)
-        position = R2 + r
-        velocity = omega2 * cross_k(R2) + omega3 * cross_k(r)
-        acceleration = alpha2 * cross_k(R2) - omega2**2 * R2 + alpha3 * cross_k(r) - omega3**2 * r
+        position, velocity, acceleration = plate.point_motion(
+            solution, rates={"theta2": omega2}, accelerations={"theta2": alpha2})["P"]
         return CouplerPointMotion(position=position, velocity=velocity, acceleration=acceleration)
 
     def grashof(self) -> GrashofResult:

@@ -375,11 +375,15 @@ def test_workspace_mask_is_the_intersection_of_two_annuli():
     assert 0.3 < expected.mean() < 0.5
 
 
-def test_draw_labels_links_and_joints():
+def test_draw_names_the_links_and_labels_the_joints_where_they_are():
     theta1, theta4 = 1.2, 1.9
-    ax = ROBOT.draw(theta1, theta4, *ROBOT.forward(theta1, theta4), title="arms up")
-    texts = [t.get_text() for t in ax.texts]
-    assert texts[:5] == ["l1", "l2", "l3", "l4", "l5"] and texts[5:] == ["1", "2", "3", "4", "5"]
+    end = ROBOT.forward(theta1, theta4)
+    ax = ROBOT.draw(theta1, theta4, *end, title="arms up")
+    lines = {line.get_gid(): line.get_xydata() for line in ax.lines if line.get_gid()}
+    assert list(lines) == ["l1", "l2", "l3", "l4", "l5"]
+    P2 = (0.04 + 0.10 * np.cos(theta1), 0.10 * np.sin(theta1))  # l5 / 2 + l1 (cos θ1, sin θ1)
+    assert np.allclose(lines["l2"], [P2, (end.x3, end.y3)], atol=1e-15)
+    assert [t.get_text() for t in ax.texts] == ["1", "2", "3", "4", "5"]
     assert ax.get_title() == "arms up"
     with pytest.raises(InvalidGeometryError, match="one configuration"):
         ROBOT.draw(np.array([1.0, 1.1]), theta4, 0.0, 0.2)

@@ -27,7 +27,7 @@ from .errors import (
     require_positive,
 )
 from .motion import NEAR_SINGULAR, SINGULAR, Motion
-from .planar import Unpacks, cross_k, scalar_or_array, wrap_angle
+from .planar import Unpacks, scalar_or_array, wrap_angle
 
 __all__ = ["BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRange", "CouplerPointMotion"]
 
@@ -540,9 +540,9 @@ class FourBar:
     def coupler_point(self, theta2, p: float, delta: float, omega2=0.0, alpha2=0.0, branch: str = "open",
                       on_unreachable: str = UNSET, *, on_failure: str | None = None
                       ) -> CouplerPointMotion:
-        """Motion of the coupler point P of :meth:`with_coupler_point`: its declaration differentiated by the core
-        (:meth:`~course_lib.mechanism.Mechanism.point_motion`), which is the course's V_P = ω2 k̂×R2 +
-        ω3 k̂×r and A_P = α2 k̂×R2 − ω2² R2 + α3 k̂×r − ω3² r with r = P − A.
+        """Motion of the coupler point P of :meth:`with_coupler_point`: its declaration differentiated by the
+        core (:meth:`~course_lib.mechanism.Mechanism.point_motion`), which is the course's V_P = ω2 k̂×R2
+        + ω3 k̂×r and A_P = α2 k̂×R2 − ω2² R2 + α3 k̂×r − ω3² r with r = P − A.
 
         >>> motion = FourBar(1.0, 1.0, 1.0, 1.0).coupler_point(np.pi / 2, p=0.5, delta=0.0, omega2=1.0)
         >>> motion.position.round(12).tolist(), motion.velocity.round(12).tolist()

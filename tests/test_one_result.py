@@ -139,3 +139,19 @@ def test_a_bad_drawing_declaration_is_refused_by_name(argument, value):
     with pytest.raises(CourseLibError, match=argument):
         Mechanism([x - sp.cos(th)], [x], [th], points={"O": sp.zeros(2, 1), "A": sp.Matrix([x, 0])},
                   links={"crank": ("O", "A")}, **{argument: value})
+
+
+def test_the_readme_example_declares_solves_and_draws_as_the_wiper_closes():
+    import pathlib
+    import re
+
+    text = (pathlib.Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+    (block,) = re.findall(r"```python\n(.*?)```", text, re.S)
+    names: dict = {}
+    exec(compile(block, "README.md", "exec"), names)  # noqa: S102 - the README's own example
+    motion, angles = names["motion"], np.radians(np.arange(0, 360, 2))
+    O4 = np.array([0.20, 0.0])
+    A = 0.06 * np.stack([np.cos(angles), np.sin(angles)], axis=-1)
+    B = names["wiper"].joints(motion)["B"]
+    assert np.allclose(np.linalg.norm(B - A, axis=-1), 0.18, atol=1e-12)  # the coupler's length
+    assert np.allclose(np.linalg.norm(B - O4, axis=-1), 0.12, atol=1e-12)  # the rocker's length

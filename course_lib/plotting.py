@@ -35,8 +35,8 @@ __all__ = ["draw", "animate", "draw_linkage", "LinkageArtist", "animate_linkage"
 
 #: One colour per link, in the order the links are given.
 LINK_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown")
-#: The shade of a rigid plate (a coupler with its point P).
-PLATE_COLOR = "tab:gray"
+#: The shade of a rigid plate (a coupler with its point P): opaque, so a still's palette holds it exactly.
+PLATE_COLOR = "#dcdcdc"
 
 
 def _ground_symbol(ax: Axes, point: np.ndarray, size: float) -> None:
@@ -192,16 +192,19 @@ class LinkageArtist:
         if self.blocks:
             (self.lines["blocks"],) = ax.plot([], [], "s", ms=14, mfc="0.85", mec="black", zorder=3,
                                                animated=animated)
-        self.texts = {key: ax.text(0, 0, str(text), fontsize=9, animated=animated)
+        self.texts = {key: ax.text(0, 0, str(text), fontsize=9, animated=animated, zorder=5)
                       for key, text in self.labels.items()}
         self.plates: dict[str, tuple] = {}
+        if plates is not None and not isinstance(plates, Mapping):
+            raise InvalidGeometryError(f"plates must map names to three or more point keys; got {plates!r}")
         for name, corners in dict(plates or {}).items():
             if isinstance(corners, str) or not isinstance(corners, Sequence) or len(corners) < 3:
                 raise InvalidGeometryError(f"plates[{name!r}] must be three or more point keys; "
                                            f"got {corners!r}")
             self.plates[str(name)] = tuple(corners)
-            (self.lines[f"plate {name}"],) = ax.fill([], [], color=PLATE_COLOR, alpha=0.35, lw=0, zorder=1,
-                                                     animated=animated)
+            self._ends += [key for key in corners if key not in self._ends]  # a plate's corner is a joint too
+            (self.lines[f"plate {name}"],) = ax.fill([], [], color=PLATE_COLOR, lw=0, zorder=1.5,
+                                                     animated=animated, gid=f"plate {name}")
 
     @property
     def artists(self) -> dict[str, object]:

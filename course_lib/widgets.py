@@ -534,7 +534,8 @@ def fourbar_explorer(
         try:
             solution = four.solve(theta2, branch=branch)
             mu = four.transmission_angle(theta2, branch=branch)
-            point = four.coupler_point(theta2, p, delta, branch=branch).position
+            joints = four.with_coupler_point(p, delta).joints(solution)  # O2, A, B, O4 and P, as declared
+            point = joints["P"]
             finite = np.isfinite(np.hstack([solution.theta3, solution.theta4, mu, point])).all()
             failure = None if finite else "the closed form returns no number here"
         except CourseLibError as err:
@@ -557,21 +558,19 @@ def fourbar_explorer(
                 why + " (the dashed circles about A and O4 do not meet).",
                 "Move θ2 back into the input range, or change the lengths.", *lines, says),
                 circles=(("reach_A", A, l3), ("reach_O4", O4, l4)))
-        B = O4 + l4 * np.array([np.cos(solution.theta4), np.sin(solution.theta4)])
         warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
-        return stage.solved({"O2": O2, "A": A, "B": B, "O4": O4, "P": point}, (
+        return stage.solved(joints, (
             f"θ2 = {np.degrees(theta2):.1f}°  →  θ3 = {np.degrees(solution.theta3):.2f}°, "
             f"θ4 = {np.degrees(solution.theta4):.2f}°  ({branch} branch)",
             f"transmission angle μ = {np.degrees(mu):.2f}°{warning}",
             f"coupler point P = ({point[0]:.4f}, {point[1]:.4f}) m", *lines),
             point_p=([point[0]], [point[1]]), mu_cursor=([np.degrees(theta2)], [np.degrees(mu)]))
 
-    plate = {"color": LINK_COLORS[1], "lw": 1, "alpha": 0.6}
+    declared = FourBar(crank, coupler, rocker, ground).with_coupler_point(0.0, 0.0)  # its names: links, plate
     return build_explorer(ExplorerSpec(
-        "four-bar", controls, (8.6, 3.8), panels, {
-            "links": {"crank": ("O2", "A"), "coupler": ("A", "B"), "rocker": ("B", "O4"), "plate": ("A", "P"),
-                      "plate PB": ("P", "B")},
-            "styles": {"plate": plate, "plate PB": plate}, "labels": {"A": "A", "B": "B", "P": "P"}},
+        "four-bar", controls, (8.6, 3.8), panels, {  # the ground link is drawn dashed, as its lengths change
+            "links": {name: ends for name, ends in declared.links.named().items() if name != "ground"},
+            "plates": declared.plates, "labels": {"A": "A", "B": "B", "P": "P"}},
         draw, (*named, "branch", "p", "delta_deg"),
         ("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4", "label_O2", "label_O4")))
 
@@ -597,7 +596,7 @@ def saw_explorer(
     ('ok', True)
     """
     from .profile import first_turn_time, motor_profile
-    from .saw import COURSE_SAW, analytic, joint_positions
+    from .saw import COURSE_SAW, analytic
 
     count = _plain_number(frames)
     if count is None or not 2 <= count <= 10_000 or count != int(count):
@@ -663,12 +662,12 @@ def saw_explorer(
         t, artists = float(state["t"]), stage.artists
         try:
             theta2, omega2, alpha2 = (float(v) for v in motor_profile(t))
-            values = analytic(theta2, omega2, alpha2, saw=COURSE_SAW)
-            joints = joint_positions(theta2, saw=COURSE_SAW)
+            motion = COURSE_SAW.motion(theta2, omega2, alpha2)
         except CourseLibError as err:
             artists["profile_points"].set_visible(False)
             return stage.failed({}, f"no assembly at t = {t:.3f} s", "unreachable",
                                 (f"t = {t:.3f} s: the saw cannot be solved here.", f"course_lib says: {err}"))
+        values = motion.x
         artists["title"].set_text(f"t = {t:.3f} s")
         artists["profile_cursor"].set_xdata([t, t])
         for k, (key, _label) in enumerate(_SAW_PANELS):
@@ -678,7 +677,7 @@ def saw_explorer(
                  if t < turn else "steady speed")
         shown = [label.replace(" (", f" = {_num(value, 5)} ")[:-1]  # "r1 (m)" → "r1 = -0.09967 m"
                  for (_, label), value in zip(_SAW_PANELS, values, strict=True)]
-        return stage.solved(dict(zip(("O2", "A", "C"), joints, strict=True)), (
+        return stage.solved(COURSE_SAW.mechanism.joints(motion), (
             f"t = {t:.3f} s ({phase}; first turn ends at T = {turn:.4f} s)",
             f"motor: θ2 = {_num(theta2, 4)} rad ({np.degrees(theta2):.1f}°), ω2 = {_num(omega2, 4)} rad/s, "
             f"α2 = {_num(alpha2, 4)} rad/s²",
@@ -688,7 +687,9 @@ def saw_explorer(
 
     explorer = build_explorer(ExplorerSpec(
         "power saw", {"t": time_slider}, (8.6, 6.6), panels, {
-            "links": {"r1": ("O2", "C"), "crank": ("O2", "A"), "rod": ("A", "C")}, "blocks": ["C"],
+            # the declaration's links and slider, and the vector r1 to the slider pin C
+            "links": {"r1": ("O2", "C"), **COURSE_SAW.mechanism.links.named()},
+            "blocks": COURSE_SAW.mechanism.sliders,
             "styles": {"r1": {"color": "tab:purple", "lw": 1.2, "linestyle": "--"},
                        "crank": {"color": LINK_COLORS[0]}, "rod": {"color": LINK_COLORS[1]}}},
         draw, extra=(play,)))
@@ -757,10 +758,6 @@ def fivebar_explorer(
 
     curves: dict[tuple[int, int], np.ndarray] = {}  # singularity curve per working mode, computed once
 
-    def pins(theta1, theta4):  # P2 and P4, the crank pins
-        return (P1 + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)]),
-                P5 + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)]))
-
     def draw(stage, state, geometry_changed: bool) -> Readout:
         """Forward or inverse kinematics of the state and the artists moved."""
         artists = stage.artists
@@ -785,10 +782,12 @@ def fivebar_explorer(
         try:
             if inverse:
                 x3, y3 = float(state["x3"]), float(state["y3"])
-                theta1, theta4 = robot.inverse(x3, y3, modes=modes)
+                result = robot.inverse(x3, y3, modes=modes)
+                theta1, theta4 = result
             else:
                 theta1, theta4 = (np.radians(float(state[key])) for key in ("theta1_deg", "theta4_deg"))
-                x3, y3 = robot.forward(theta1, theta4, mode=int(state["sigma"]))
+                result = robot.forward(theta1, theta4, mode=int(state["sigma"]))
+                x3, y3 = result
         except CourseLibError as err:  # explain it, and draw the reach circles that fail to meet
             says = f"course_lib says: {err}"
             if inverse:
@@ -805,7 +804,8 @@ def fivebar_explorer(
                 return stage.failed({"P1": P1, "P5": P5},
                                     f"P3 = ({P3[0]:.3f}, {P3[1]:.3f}) m is out of reach", "unreachable",
                                     (*lines, "Bring the target back into the shaded workspace.", says))
-            P2, P4 = pins(theta1, theta4)
+            pins = robot.mechanism.joints(robot.forward(theta1, theta4, on_failure="nan"))  # P3 unknown: NaN
+            P2, P4 = pins["P2"], pins["P4"]
             distance, l2, l3 = float(np.hypot(*(P2 - P4))), robot.l2, robot.l3
             why = (f"|P2P4| = {distance:.4f} m > l2 + l3 = {l2 + l3:.4f} m" if distance > l2 + l3
                    else f"|P2P4| = {distance:.4f} m < |l2 − l3| = {abs(l2 - l3):.4f} m")
@@ -820,7 +820,6 @@ def fivebar_explorer(
             return stage.failed({"P1": P1, "P5": P5}, "no position here", "singular", (
                 "The robot's position is undefined for these inputs (the closed form returns no number).",
                 "Move a slider a little."))
-        P2, P4 = pins(theta1, theta4)
         measures = robot.singularity_measures(theta1, theta4, x3, y3)
         parallel = float(measures.parallel)
         serial = min(abs(float(measures.serial_leg1)), abs(float(measures.serial_leg4)))
@@ -829,7 +828,7 @@ def fivebar_explorer(
                 f"θ4 = {_num(np.degrees(theta4), 2)}°" if inverse
                 else f"forward, σ = {int(state['sigma']):+d}: θ1 = {np.degrees(theta1):.1f}°, "
                 f"θ4 = {np.degrees(theta4):.1f}°  →  P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m")
-        return stage.solved({"P1": P1, "P2": P2, "P3": np.array([x3, y3]), "P4": P4, "P5": P5}, (
+        return stage.solved(robot.mechanism.joints(result), (
             head,
             f"singularity measures (0 = singular): leg 1 {_num(measures.serial_leg1, 3)}, "
             f"leg 4 {_num(measures.serial_leg4, 3)}, parallel {_num(parallel, 3)}",
@@ -839,8 +838,9 @@ def fivebar_explorer(
 
     return build_explorer(ExplorerSpec(
         "five-bar", controls, (6.2, 5.0), panels, {
-            "links": {"leg1_crank": ("P1", "P2"), "leg1_distal": ("P2", "P3"), "leg4_distal": ("P4", "P3"),
-                      "leg4_crank": ("P5", "P4")}, "labels": {"P3": "P3"}, "label_offset": 0.03 * limit},
+            # the declaration's links but the base l5, drawn with the workspace
+            "links": {name: ends for name, ends in robot.mechanism.links.named().items() if name != "l5"},
+            "labels": {"P3": "P3"}, "label_offset": 0.03 * limit},
         draw, ("mode", "sigma1", "sigma2"), ("singularity",)))
 
 

@@ -21,8 +21,8 @@ from execute_notebooks import KERNELSPEC, normalize, read  # noqa: E402
 
 NOTEBOOKS = sorted((ROOT / "notebooks").rglob("*.ipynb"))
 STUDENT_COPIES = sorted((ROOT / "notebooks" / "exercises").glob("*.ipynb"))
-EXPLORER_CALL = re.compile(r"\b\w+_explorer\(")
-ANIMATION_CALL = re.compile(r"\b(?:animation_html|animate_linkage)\(")
+EXPLORER_CALL = re.compile(r"\b(?:\w+_explorer|explore)\(")
+ANIMATION_CALL = re.compile(r"\b(?:animation_html|animate_linkage|animate)\(")
 PNG = b"\x89PNG\r\n\x1a\n"
 
 

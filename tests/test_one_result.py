@@ -119,13 +119,13 @@ def test_plates_are_shaded_polygons_on_their_corners():
                       plates={"coupler": ("A", "B", "P")}, styles={"rod": {"color": "black"}})
     motion = crank.solve({th: [0.0, 1.0]}, guess={x: 1.0})
     ax = draw(crank, motion, frame=1)
-    (plate,) = [artist for artist in ax.patches + ax.collections + ax.lines
-                if getattr(artist, "get_xy", None) and len(np.asarray(artist.get_xy())) >= 3
-                and artist.get_visible() and artist.get_alpha() == 0.35]
+    (plate,) = [patch for patch in ax.patches if patch.get_gid() == "plate coupler"]
     corners = np.asarray(plate.get_xy())[:3]
     assert np.allclose(corners, [[math.cos(1), math.sin(1)], [math.cos(1), 0.0],
                                  [math.cos(1), math.sin(1) + 0.5]])
     assert [line.get_color() for line in ax.lines if line.get_gid() == "rod"] == ["black"]
+    joints = [line for line in ax.lines if line.get_marker() == "o"][0].get_xydata()
+    assert np.allclose(joints[-1], [math.cos(1), math.sin(1) + 0.5])  # P, a corner of the plate only
     assert animate(crank, motion).frame_count == 2
     assert explore(crank, motion).update(theta_deg=30.0).status == "ok"
 

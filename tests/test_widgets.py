@@ -265,7 +265,7 @@ def test_fivebar_forward_matchescircle_intersections():
             assert explorer.update(theta1_deg=theta1_deg, theta4_deg=theta4_deg, sigma=sigma).status == "ok"
             x, y = _xy(explorer.artists["end_effector"])
             np.testing.assert_allclose([x[0], y[0]], expected, atol=1e-12)
-            x, y = _xy(explorer.artists["leg1_distal"])
+            x, y = _xy(explorer.artists["l2"])
             np.testing.assert_allclose([x[0], y[0]], P2, atol=1e-12)
             shown = [f"{round(value, 4) + 0.0:.4f}" for value in expected]
             assert f"P3 = ({shown[0]}, {shown[1]}) m" in explorer.message
@@ -282,10 +282,10 @@ def test_fivebar_inverse_working_modes_close_the_legs():
         for sigma2 in (1, -1):
             readout = explorer.update(x3=target[0], y3=target[1], sigma1=sigma1, sigma2=sigma2)
             assert readout.status == "ok"
-            x, y = _xy(explorer.artists["leg1_distal"])
+            x, y = _xy(explorer.artists["l2"])
             P2, P3 = np.array([x[0], y[0]]), np.array([x[1], y[1]])
-            x, y = _xy(explorer.artists["leg4_distal"])
-            P4 = np.array([x[0], y[0]])
+            x, y = _xy(explorer.artists["l3"])  # l3 is declared P3 → P4
+            P4 = np.array([x[1], y[1]])
             np.testing.assert_allclose(P3, target, atol=1e-15)
             # P2 is one of the two independent circle intersections, and the legs close
             candidates = circle_intersections(P1, L1, target, L2)

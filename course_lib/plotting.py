@@ -291,7 +291,7 @@ def _declared(links, points, options: dict):
 
 
 def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (), blocks: Sequence = (),
-                    labels: Mapping | None = None, styles: Mapping[str, Mapping] | None = None,
+                    labels: Mapping | bool | None = None, styles: Mapping[str, Mapping] | None = None,
                     plates: Mapping[str, Sequence] | None = None,
                     caption: Callable[[int], str] | None = None,
                     background: Callable[[Axes], object] | None = None, title: str | None = None,
@@ -340,6 +340,11 @@ animate = animate_linkage
 def _stage(ax, links, paths, trace, labels, *, ground, blocks, plates, styles) -> LinkageArtist:
     """The linkage's artist on ``ax``, its links checked against the points, the ground and the traces
     drawn, and the axes fitted to the whole motion."""
+    if labels is True:  # every point by its own name
+        labels = {key: str(key) for key in paths}
+    elif labels is not None and not isinstance(labels, Mapping):
+        raise InvalidArgumentError(f"labels must map point keys to texts, or be True (their names); "
+                                   f"got {labels!r}")
     artist = LinkageArtist(ax, links, styles=styles, blocks=blocks, labels=labels, plates=plates)
     for kind, parts in (("links", artist.links), ("plates", artist.plates)):
         for name, ends in parts.items():
@@ -353,7 +358,7 @@ def _stage(ax, links, paths, trace, labels, *, ground, blocks, plates, styles) -
 
 
 def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Sequence = (),
-         trace: Sequence = (), blocks: Sequence = (), labels: Mapping | None = None,
+         trace: Sequence = (), blocks: Sequence = (), labels: Mapping | bool | None = None,
          styles: Mapping[str, Mapping] | None = None, plates: Mapping[str, Sequence] | None = None,
          title: str | None = None,
          size: tuple[float, float] = (4.2, 3.0)) -> Axes:
@@ -361,7 +366,9 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
     :class:`LinkageArtist`, in the vocabulary of :func:`animate_linkage`) at ``points`` — key → (x, y),
     or a sweep (key → (frames, 2), or (frames, P, 2)) at its ``frame``, whose ``trace`` points get their
     dotted path.  ``links`` may be a declaration (a ``Mechanism``, or a machine such as ``FourBar``) and
-    ``points`` a ``Motion`` of it: ``draw(wiper, wiper.motion(0.7))``.
+    ``points`` a ``Motion`` of it: ``draw(wiper, wiper.solve(0.7))``, with the declaration's ground
+    pivots, sliders, plates and styles unless given.  ``labels``: point key → text, or True for every
+    point's own name.  Each link's line carries its name as ``gid``.
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> ax = draw({"crank": ("O", "A")}, {"O": (0, 0), "A": (0.03, 0.04)}, ground=["O"], title="one")

@@ -155,3 +155,13 @@ def test_the_readme_example_declares_solves_and_draws_as_the_wiper_closes():
     B = names["wiper"].joints(motion)["B"]
     assert np.allclose(np.linalg.norm(B - A, axis=-1), 0.18, atol=1e-12)  # the coupler's length
     assert np.allclose(np.linalg.norm(B - O4, axis=-1), 0.12, atol=1e-12)  # the rocker's length
+
+
+def test_labels_true_names_every_point_where_it_is():
+    ax = draw(WIPER, WIPER.solve(np.radians(60.0)), labels=True)
+    placed = {text.get_text(): np.array(text.get_position()) for text in ax.texts}
+    assert sorted(placed) == ["A", "B", "O2", "O4"]
+    A = 0.06 * np.array([math.cos(math.radians(60.0)), math.sin(math.radians(60.0))])
+    assert np.linalg.norm(placed["A"] - A) < 0.02  # beside its point, offset by a few per cent of the span
+    with pytest.raises(CourseLibError, match="labels"):
+        draw(WIPER, WIPER.solve(0.3), labels="yes")

@@ -267,7 +267,7 @@ class FiveBar:
             raise SingularJacobianError("parallel (type-2) singularity: the distal links l2, l3 are aligned; "
                                         "the end-effector velocity is undefined there",
                                         condition_number=np.inf)
-        return self.mechanism.motion_of(
+        return self.mechanism._motion(
             {"x3": end.x3, "y3": end.y3}, {"theta1": p[..., 2], "theta4": p[..., 3]},
             {"x3": velocity[..., 0], "y3": velocity[..., 1]},
             {"x3": acceleration[..., 0], "y3": acceleration[..., 1]},
@@ -282,7 +282,7 @@ class FiveBar:
         [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
-        motion = self.mechanism.motion_of({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
+        motion = self.mechanism._motion({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
                                           converged=True, singular=False, near_singular=False)
         points = self.mechanism.joints(motion)
         return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
@@ -362,7 +362,7 @@ class FiveBar:
         unknown = np.where(bad, np.nan, (-B + tau * root) / (2 * A))
         other = g * unknown + f
         x3, y3 = np.where(course, other, unknown), np.where(course, unknown, other)
-        return self.mechanism.motion_of({"x3": x3, "y3": y3}, inputs, converged=~bad, kind=ForwardResult,
+        return self.mechanism._motion({"x3": x3, "y3": y3}, inputs, converged=~bad, kind=ForwardResult,
                                         mode=sigma)
 
     def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:
@@ -410,7 +410,7 @@ class FiveBar:
         report_unreachable(free, inputs, "a crank angle is undetermined (P3 on a base pivot)", on_unreachable)
         reachable = np.logical_or(far1, far4, out=np.asarray(far1))
         reachable = np.logical_not(np.logical_or(reachable, free, out=reachable), out=reachable)
-        return self._cores["inverse"].motion_of({"theta1": theta1, "theta4": theta4}, {"x3": X, "y3": Y},
+        return self._cores["inverse"]._motion({"theta1": theta1, "theta4": theta4}, {"x3": X, "y3": Y},
                                                 converged=reachable, kind=InverseResult, modes=sigmas)
 
     def _inverse_points(self, X, Y, sigmas: tuple[int, int]):
@@ -591,7 +591,7 @@ class FiveBar:
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         if theta1.shape != ():
             raise InvalidGeometryError(f"draw takes one configuration (scalars); got shape {theta1.shape}")
-        motion = self.mechanism.motion_of({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
+        motion = self.mechanism._motion({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
                                           converged=True, singular=False, near_singular=False)
         options.setdefault("labels", {f"P{k}": str(k) for k in range(1, 6)})
         return draw(self, motion, ax, title=title, **options)

@@ -447,7 +447,7 @@ class FourBar:
                 f"the loop Jacobian is singular at theta2={at[0]:.6g} (coupler and rocker "
                 f"collinear: a toggle position), so omega3, omega4 are undefined for "
                 f"omega2={at[1]:.6g}, alpha2={at[2]:.6g}{count}", x=float(at[0]))
-        return self.mechanism.motion_of(
+        return self.mechanism._motion(
             {"theta3": values[0], "theta4": values[1]}, {"theta2": theta2},
             {"theta3": values[2], "theta4": values[3]}, {"theta3": values[4], "theta4": values[5]},
             converged=~np.isnan(values[0]), singular=singular, near_singular=near, kind=FourBarSolution,

@@ -51,7 +51,7 @@ from .errors import (
     require_choice,
     require_finite,
 )
-from .motion import NEAR_SINGULAR, SINGULAR, Motion
+from .motion import NEAR_SINGULAR, SINGULAR, Deferred, Motion
 from .newton import (
     BatchNewtonResult,
     LinearStack,
@@ -860,37 +860,64 @@ class Mechanism:
                 named |= {f"{rates_name}[{k}]": rates[k] for k in unknowns}
         arrays = dict(zip(named, require_broadcast(**{k: require_finite(k, v, allow_nan=True)
                                                          for k, v in named.items()}), strict=True))
-        shape = next(iter(arrays.values())).shape
+
+        def part(prefix, names, given):
+            return None if given is None else {k: arrays[f"{prefix}[{k}]"] for k in names}
+
+        return self._motion(
+            part("position", unknowns, position), part("inputs", inputs_named, inputs),
+            part("velocity", unknowns, velocity), part("acceleration", unknowns, acceleration),
+            converged=converged, singular=singular, near_singular=near_singular, message=message,
+            assembly=assembly, iterations=iterations, newton=newton, kind=kind, **extra)
+
+    def _motion(self, position, inputs, velocity=None, acceleration=None, *, converged=None, singular=None,
+                near_singular=None, message="", assembly=None, iterations=0, newton=None, kind=Motion,
+                **extra) -> Motion:
+        """:meth:`motion_of` of values already checked (a machine's own, keyed by the declared names):
+        broadcast, shaped, and the singularity masks not given left to the core's rule, computed when
+        first read."""
+        values = [*position.values(), *inputs.values(), *(velocity or {}).values(),
+                  *(acceleration or {}).values()]
+        shape = np.broadcast_shapes(*(np.shape(v) for v in values))
+
+        def shaped(value):
+            return scalar_or_array(_broadcast(value, shape))
+
+        def by_name(values):
+            return None if values is None else MappingProxyType({k: shaped(v) for k, v in values.items()})
+
         if converged is None:
-            given_converged = np.logical_and.reduce([np.isfinite(arrays[f"position[{k}]"]) for k in unknowns])
-        else:
-            given_converged = _broadcast(np.asarray(converged, bool), shape)
-        if singular is None or near_singular is None:  # the core's rule where the position was found
-            q = np.stack([arrays[f"position[{k}]"] for k in unknowns], axis=-1).reshape(-1, len(unknowns))
-            u = np.stack([arrays[f"inputs[{k}]"] for k in inputs_named], axis=-1)
-            u = u.reshape(-1, len(inputs_named))
-            with np.errstate(all="ignore"):
-                smallest = self._smallest(self._J(np.where(np.isfinite(q), q, 0.0), u)).reshape(shape)
-        if near_singular is None:
-            near_singular = given_converged & ~(smallest >= NEAR_SINGULAR)
+            converged = np.logical_and.reduce([np.isfinite(v) for v in position.values()])
+        converged = shaped(np.asarray(converged, bool))
+        found = {}
+
+        def smallest():  # the core's σ_min(J̃), once, for whichever mask is read first
+            if not found:
+                found["smallest"] = self._smallest_where(position, inputs, shape)
+            return found["smallest"]
+
         if singular is None:
-            singular = given_converged & ~(smallest >= SINGULAR)
-
-        def shaped(values):
-            return scalar_or_array(np.asarray(values).reshape(shape))
-
-        def by_name(prefix, names):
-            return MappingProxyType({k: shaped(arrays[f"{prefix}[{k}]"]) for k in names})
-
-        return kind(position=by_name("position", unknowns),
-                    velocity=None if velocity is None else by_name("velocity", unknowns),
-                    acceleration=None if acceleration is None else by_name("acceleration", unknowns),
-                    converged=shaped(given_converged),
-                    singular=shaped(_broadcast(np.asarray(singular, bool), shape)),
-                    iterations=shaped(np.broadcast_to(iterations, shape)), newton=newton,
-                    inputs=by_name("inputs", inputs_named),
-                    near_singular=shaped(_broadcast(np.asarray(near_singular, bool), shape)), message=message,
+            singular = Deferred(lambda: shaped(np.asarray(converged) & ~(smallest() >= SINGULAR)))
+        else:
+            singular = shaped(np.asarray(singular, bool))
+        if near_singular is None:
+            near_singular = Deferred(lambda: shaped(np.asarray(converged) & ~(smallest() >= NEAR_SINGULAR)))
+        else:
+            near_singular = shaped(np.asarray(near_singular, bool))
+        return kind(position=by_name(position), velocity=by_name(velocity),
+                    acceleration=by_name(acceleration),
+                    converged=converged, singular=singular, iterations=shaped(np.asarray(iterations)),
+                    newton=newton, inputs=by_name(inputs), near_singular=near_singular, message=message,
                     assembly=None if assembly is None else MappingProxyType(dict(assembly)), **extra)
+
+    def _smallest_where(self, position, inputs, shape) -> np.ndarray:
+        """σ_min(J̃) (shape ``shape``) at the declared values by name (unknowns not finite taken as 0)."""
+        q = np.stack(np.broadcast_arrays(*(np.broadcast_to(position[s.name], shape) for s in self.unknowns)),
+                     axis=-1).reshape(-1, len(self.unknowns))
+        u = np.stack(np.broadcast_arrays(*(np.broadcast_to(inputs[s.name], shape) for s in self.inputs)),
+                     axis=-1).reshape(-1, len(self.inputs))
+        with np.errstate(all="ignore"):
+            return self._smallest(self._J(np.where(np.isfinite(q), q, 0.0), u)).reshape(shape)
 
     def _smallest(self, J: np.ndarray) -> np.ndarray:
         """σ_min(J̃) of a stack J (..., n, n): exact for n ≤ 2, else exact where a bound cannot settle it."""

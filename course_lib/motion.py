@@ -19,12 +19,29 @@ import numpy as np
 if TYPE_CHECKING:
     from .newton import NewtonResult
 
-__all__ = ["Motion", "SINGULAR", "NEAR_SINGULAR"]
+__all__ = ["Motion", "Deferred", "SINGULAR", "NEAR_SINGULAR"]
 
 #: J is singular where σ_min(J̃) < SINGULAR (J̃: rows and columns scaled by their typical sizes).
 SINGULAR = 1e-6
 #: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
 NEAR_SINGULAR = 1e-3
+
+
+class Deferred:
+    """A value computed when first read: a :class:`Motion` field given as ``Deferred(function)`` (a
+    machine's ``singular`` and ``near_singular``, which only some callers read) is replaced by
+    ``function()`` the first time it is asked for.
+
+    >>> motion = Motion(position={"x": 1.0}, velocity=None, acceleration=None, converged=True,
+    ...                 singular=Deferred(lambda: False), iterations=0, inputs={"s": 0.0})
+    >>> motion.singular
+    False
+    """
+
+    __slots__ = ("function",)
+
+    def __init__(self, function):
+        self.function = function
 
 
 @dataclass(frozen=True)
@@ -56,6 +73,13 @@ class Motion:
     assembly: Mapping[str, int | np.ndarray] | None = None
     #: A machine's own names for values: attribute → (part, key), e.g. ``"omega4": ("velocity", "theta4")``.
     _names: ClassVar[Mapping[str, tuple[str, str]]] = MappingProxyType({})
+
+    def __getattribute__(self, name: str):
+        value = object.__getattribute__(self, name)
+        if type(value) is Deferred:  # computed once, when first read
+            value = value.function()
+            object.__setattr__(self, name, value)
+        return value
 
     def __getattr__(self, name: str):
         """A value by the machine's own name (``solution.theta4``, ``solution.omega4``): see ``_names``."""

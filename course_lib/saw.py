@@ -378,7 +378,7 @@ def _saw_motion(saw: Saw, values: np.ndarray, theta2, kind: type[SawMotion] = Sa
     """The nine values (..., 9) at the crank angles ``theta2`` as a ``kind`` of :class:`SawMotion`."""
     columns = [dict(zip(UNKNOWNS[:3], np.moveaxis(values[..., k:k + 3], -1, 0), strict=True))
                for k in (0, 3, 6)]
-    return saw.mechanism.motion_of(columns[0], {"theta2": theta2}, *columns[1:], kind=kind, **extra)
+    return saw.mechanism._motion(columns[0], {"theta2": theta2}, *columns[1:], kind=kind, **extra)
 
 
 def solve_consecutive(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, x0=None, tol: float = 1e-6,
@@ -462,7 +462,7 @@ def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
     theta2 = require_finite("theta2", theta2, unit="rad")
     saw = _checked_saw(saw)
     position = analytic(theta2, saw=saw)[..., :3]
-    motion = saw.mechanism.motion_of(dict(zip(("r1", "theta1", "theta3"), np.moveaxis(position, -1, 0),
+    motion = saw.mechanism._motion(dict(zip(("r1", "theta1", "theta3"), np.moveaxis(position, -1, 0),
                                               strict=True)), {"theta2": theta2}, singular=False)
     return np.stack(np.broadcast_arrays(*saw.mechanism.joints(motion).values()), axis=-2)
 

@@ -158,7 +158,7 @@ class OffsetSliderCrank:
                                         "(cos(theta3) = 0): the velocity equations are singular there",
                                         x=first)
         (omega3, v), (alpha3, a) = np.moveaxis(velocity, -1, 0), np.moveaxis(acceleration, -1, 0)
-        return self.mechanism.motion_of({"theta3": theta3, "x": x}, {"theta2": theta2},
+        return self.mechanism._motion({"theta3": theta3, "x": x}, {"theta2": theta2},
                                         {"theta3": omega3, "x": v}, {"theta3": alpha3, "x": a},
                                         converged=~unreachable, singular=perpendicular,
                                         kind=SliderCrankMotion)

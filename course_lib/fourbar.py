@@ -241,7 +241,7 @@ class FourBar:
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
         cos2, sin2 = np.cos(theta2), np.sin(theta2)
-        # the numbers of _solve_one (a − b as −b + a), chains updated in place by numpy
+        # chains updated in place by numpy
         A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
         B = -4 * l2 * l4 * sin2
         C = -2 * (l1 * l2 + l2 * l4) * cos2 + 2 * l1 * l4 + k3
@@ -328,50 +328,6 @@ class FourBar:
         pairs = {"theta2": trig[:2], "theta3": trig[2:4], "theta4": trig[4:]}
         return self._unit_mechanism.rates(q, u, u_rate, u_acceleration, trig=pairs, singular=toggle)
 
-    def _solve_one(self, theta2: float, omega2: float, alpha2: float, branch: str):
-        """:meth:`_solve_blocks` for one instant in Python numbers, operation for operation (same bits)."""
-        l1, l2, l3, l4 = self._unit_lengths()
-        k3 = l2**2 - l3**2 + l4**2 + l1**2
-        cos2, sin2 = float(np.cos(theta2)), float(np.sin(theta2))
-        A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
-        B = -4 * l2 * l4 * sin2
-        C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
-        square = B * B
-        discriminant = square - 4 * A * C
-        unreachable = discriminant < -DISCRIMINANT_TOL * ((A - C) * (A - C) + square)
-        undetermined = False
-        if abs(l3 - l4) < COINCIDENT:
-            distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
-            undetermined = bool(distance_AO4 < COINCIDENT)
-            unreachable = unreachable and not undetermined
-        root = math.nan if unreachable or undetermined else math.sqrt(max(discriminant, 0.0))
-        minus_B = -B
-        y1, x2 = (minus_B - root, minus_B + root) if branch == "open" else (minus_B + root, minus_B - root)
-        x1, y2 = 2 * A, 2 * C
-        y, x = (y1, x1) if abs(y1) + abs(x1) >= abs(y2) + abs(x2) else (y2, x2)
-        xx, yy = x * x, y * y
-        norm = xx + yy
-        cos4, sin4 = ((xx - yy) / norm, 2 * x * y / norm) if norm != 0 else (math.nan, math.nan)  # as 0/0
-        theta4 = float(np.arctan2(sin4, cos4))
-        coupler_x = l4 * cos4 + l1 - l2 * cos2
-        coupler_y = l4 * sin4 - l2 * sin2
-        theta3 = float(np.arctan2(coupler_y, coupler_x))
-        cos3, sin3 = coupler_x / l3, coupler_y / l3
-        trig = (cos2, sin2, cos3, sin3, cos4, sin4)
-        moving = omega2 != 0 or alpha2 != 0
-        singular = False
-        if not moving:  # at rest: no rates to solve for
-            rates = [math.nan if math.isnan(cos3) else 0.0] * 4
-        else:  # the core's rule decides the toggle (NaN rates there)
-            q_rate, q_acc, toggle = self._core_rates(np.array([[theta3, theta4]]), np.array([[theta2]]),
-                                                     np.array([[omega2]]), np.array([[alpha2]]),
-                                                     [np.array([v]) for v in trig], None)
-            singular = bool(toggle[0]) and not (unreachable or undetermined or math.isnan(cos3))
-            rates = [*q_rate[0].tolist(), *q_acc[0].tolist()]
-        near = discriminant < self._free_levels[1] and bool(self._near(theta2, theta3, theta4))
-        return [theta3, theta4, *rates], unreachable, singular or undetermined, near, \
-            0 if undetermined else None
-
     def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, smallest: float,
                      moving_any: bool, omegas: np.ndarray, alphas: np.ndarray, singular: np.ndarray) -> None:
         """(ω3, ω4), (α3, α4) of a block into ``omegas``, ``alphas``; NaN at a toggle while moving, at bad.
@@ -421,14 +377,9 @@ class FourBar:
         except ValueError:
             require_broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)  # raises, naming the shapes
             raise
-        if shape:
-            values, unreachable, singular, near, first_undetermined = self._solve_blocks(
-                theta2, omega2, alpha2, shape, branch)
-            any_unreachable, any_singular = unreachable.any(), singular.any()
-        else:  # one instant: Python numbers throughout
-            values, unreachable, singular, near, first_undetermined = self._solve_one(
-                float(theta2), float(omega2), float(alpha2), branch)
-            any_unreachable, any_singular = unreachable, singular
+        values, unreachable, singular, near, first_undetermined = self._solve_blocks(
+            theta2, omega2, alpha2, shape, branch)
+        any_unreachable, any_singular = unreachable.any(), singular.any()
         if any_unreachable:
             what = f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle " \
                 "quadratic)"
@@ -451,7 +402,7 @@ class FourBar:
             {"theta3": values[0], "theta4": values[1]}, {"theta2": theta2},
             {"theta3": values[2], "theta4": values[3]}, {"theta3": values[4], "theta4": values[5]},
             converged=~np.isnan(values[0]), singular=singular, near_singular=near, kind=FourBarSolution,
-            unreachable=unreachable, branch=branch)
+            unreachable=scalar_or_array(unreachable), branch=branch)
 
     def _solve_blocks(self, theta2, omega2, alpha2, shape, branch: str):
         """The six values, unreachable, singular and the flat index of the first undetermined position."""

@@ -232,70 +232,36 @@ class FourBar:
         longest = max(self.l1, self.l2, self.l3, self.l4)
         return self.l1 / longest, self.l2 / longest, self.l3 / longest, self.l4 / longest
 
-    def _block_positions(self, theta2: np.ndarray, branch: str, theta3: np.ndarray, theta4: np.ndarray,
-                         unreachable: np.ndarray):
-        """θ3, θ4 and the unreachable mask of a block into the arrays given; returns the undetermined and NaN
-        masks (or None), (cos, sin) of θ2, θ3, θ4 and the block's smallest discriminant (see
-        :attr:`_free_levels`).  Norton's A, B, C
-        times 2·l2·l4 (the same roots, no ratio of lengths that could overflow)."""
+    def _positions(self, theta2: np.ndarray, branch: str):
+        """θ3, θ4, the unreachable and undetermined masks, (cos, sin) of θ2, θ3, θ4 and the discriminant
+        for crank angles θ2 (1-D).  Norton's A, B, C times 2·l2·l4 (the same roots, no ratio of lengths
+        that could overflow)."""
         l1, l2, l3, l4 = self._unit_lengths()
         k3 = l2**2 - l3**2 + l4**2 + l1**2
         cos2, sin2 = np.cos(theta2), np.sin(theta2)
-        # the numbers of _solve_one (a − b as −b + a), chains updated in place by numpy
         A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
         B = -4 * l2 * l4 * sin2
-        C = -2 * (l1 * l2 + l2 * l4) * cos2 + 2 * l1 * l4 + k3
-        square = B * B
-        discriminant = -4 * A * C + square  # B² − 4AC, never −0
-        smallest = discriminant.min()
-        clean = smallest >= 0  # the usual case: every loop closes
-        if clean:
-            unreachable[...] = False
-        else:  # the scale: B² + (A − C)² = 16 l4² |AO4|²
-            np.less(discriminant, -DISCRIMINANT_TOL * ((A - C) * (A - C) + square), out=unreachable)
-            np.maximum(discriminant, 0.0, out=discriminant)
-        bad, undetermined = unreachable, None
+        C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
+        discriminant = B * B - 4 * A * C
+        # B² + (A − C)² = 16 l4² |AO4|²: below −(tolerance)·that the loop cannot close, above it is rounding
+        unreachable = discriminant < -DISCRIMINANT_TOL * ((A - C) * (A - C) + B * B)
+        undetermined = np.zeros(theta2.shape, bool)
         if abs(l3 - l4) < COINCIDENT:  # A on O4 with coupler = rocker: B anywhere on a circle
             distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
             undetermined = distance_AO4 < COINCIDENT
             unreachable &= ~undetermined
-            bad, clean = unreachable | undetermined, False
-        bad = None if clean or not bad.any() else bad
-        if bad is not None:
-            discriminant[bad] = np.nan
-        root = np.sqrt(discriminant, out=discriminant)
+        root = np.sqrt(np.where(unreachable | undetermined, np.nan, np.maximum(discriminant, 0.0)))
         # t = y/x with (y, x) = (−B ± √Δ, 2A) or, the same root, (2C, −B ∓ √Δ): take the larger pair
-        minus_B, work = np.negative(B, out=B), np.empty_like(B)
-        if branch == "open":  # Norton's minus sign
-            y1 = minus_B - root
-            x2 = np.add(minus_B, root, out=root)
-        else:
-            y1 = minus_B + root
-            x2 = np.subtract(minus_B, root, out=root)
-        x1, y2 = np.multiply(A, 2, out=A), np.multiply(C, 2, out=C)
-        size1, size2 = np.abs(y1, out=square), np.abs(y2, out=minus_B)
-        size1 += np.abs(x1, out=work)
-        size2 += np.abs(x2, out=work)
-        y, x, first = y2, x2, size1 >= size2  # the larger pair, in place
-        np.copyto(y, y1, where=first)
-        np.copyto(x, x1, where=first)
-        xx, yy = np.multiply(x, x, out=size1), np.multiply(y, y, out=size2)
-        norm = np.add(xx, yy, out=work)  # θ4 = 2·atan2(y, x), by the double-angle formulas
-        cos4 = np.subtract(xx, yy, out=xx)
-        cos4 /= norm
-        sin4 = np.multiply(x, 2, out=x)
-        sin4 *= y
-        sin4 /= norm
-        np.arctan2(sin4, cos4, out=theta4)
-        coupler_x = np.multiply(cos4, l4, out=y1)  # R3 = B − A, of length l3
-        coupler_x += l1
-        coupler_x -= np.multiply(cos2, l2, out=yy)
-        coupler_y = np.multiply(sin4, l4, out=x1)
-        coupler_y -= np.multiply(sin2, l2, out=yy)
-        np.arctan2(coupler_y, coupler_x, out=theta3)
-        coupler_x /= l3
-        coupler_y /= l3
-        return undetermined, bad, (cos2, sin2, coupler_x, coupler_y, cos4, sin4), smallest
+        root = -root if branch == "open" else root  # Norton's minus sign
+        y1, x1, y2, x2 = -B + root, 2 * A, 2 * C, -B - root
+        first = np.abs(y1) + np.abs(x1) >= np.abs(y2) + np.abs(x2)
+        y, x = np.where(first, y1, y2), np.where(first, x1, x2)
+        norm = x * x + y * y  # θ4 = 2·atan2(y, x), by the double-angle formulas
+        cos4, sin4 = (x * x - y * y) / norm, 2 * x * y / norm
+        coupler_x, coupler_y = l4 * cos4 + l1 - l2 * cos2, l4 * sin4 - l2 * sin2  # R3 = B − A, of length l3
+        theta3, theta4 = np.arctan2(coupler_y, coupler_x), np.arctan2(sin4, cos4)
+        return theta3, theta4, unreachable, undetermined, (cos2, sin2, coupler_x / l3, coupler_y / l3, cos4,
+                                                             sin4), discriminant
 
     @cached_property
     def _free_levels(self) -> tuple[float, float]:
@@ -328,77 +294,26 @@ class FourBar:
         pairs = {"theta2": trig[:2], "theta3": trig[2:4], "theta4": trig[4:]}
         return self._unit_mechanism.rates(q, u, u_rate, u_acceleration, trig=pairs, singular=toggle)
 
-    def _solve_one(self, theta2: float, omega2: float, alpha2: float, branch: str):
-        """:meth:`_solve_blocks` for one instant in Python numbers, operation for operation (same bits)."""
-        l1, l2, l3, l4 = self._unit_lengths()
-        k3 = l2**2 - l3**2 + l4**2 + l1**2
-        cos2, sin2 = float(np.cos(theta2)), float(np.sin(theta2))
-        A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
-        B = -4 * l2 * l4 * sin2
-        C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
-        square = B * B
-        discriminant = square - 4 * A * C
-        unreachable = discriminant < -DISCRIMINANT_TOL * ((A - C) * (A - C) + square)
-        undetermined = False
-        if abs(l3 - l4) < COINCIDENT:
-            distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
-            undetermined = bool(distance_AO4 < COINCIDENT)
-            unreachable = unreachable and not undetermined
-        root = math.nan if unreachable or undetermined else math.sqrt(max(discriminant, 0.0))
-        minus_B = -B
-        y1, x2 = (minus_B - root, minus_B + root) if branch == "open" else (minus_B + root, minus_B - root)
-        x1, y2 = 2 * A, 2 * C
-        y, x = (y1, x1) if abs(y1) + abs(x1) >= abs(y2) + abs(x2) else (y2, x2)
-        xx, yy = x * x, y * y
-        norm = xx + yy
-        cos4, sin4 = ((xx - yy) / norm, 2 * x * y / norm) if norm != 0 else (math.nan, math.nan)  # as 0/0
-        theta4 = float(np.arctan2(sin4, cos4))
-        coupler_x = l4 * cos4 + l1 - l2 * cos2
-        coupler_y = l4 * sin4 - l2 * sin2
-        theta3 = float(np.arctan2(coupler_y, coupler_x))
-        cos3, sin3 = coupler_x / l3, coupler_y / l3
-        trig = (cos2, sin2, cos3, sin3, cos4, sin4)
-        moving = omega2 != 0 or alpha2 != 0
-        singular = False
-        if not moving:  # at rest: no rates to solve for
-            rates = [math.nan if math.isnan(cos3) else 0.0] * 4
-        else:  # the core's rule decides the toggle (NaN rates there)
-            q_rate, q_acc, toggle = self._core_rates(np.array([[theta3, theta4]]), np.array([[theta2]]),
-                                                     np.array([[omega2]]), np.array([[alpha2]]),
-                                                     [np.array([v]) for v in trig], None)
-            singular = bool(toggle[0]) and not (unreachable or undetermined or math.isnan(cos3))
-            rates = [*q_rate[0].tolist(), *q_acc[0].tolist()]
-        near = discriminant < self._free_levels[1] and bool(self._near(theta2, theta3, theta4))
-        return [theta3, theta4, *rates], unreachable, singular or undetermined, near, \
-            0 if undetermined else None
-
-    def _block_rates(self, theta2, omega2, alpha2, theta3, theta4, trig, bad, smallest: float,
-                     moving_any: bool, omegas: np.ndarray, alphas: np.ndarray, singular: np.ndarray) -> None:
-        """(ω3, ω4), (α3, α4) of a block into ``omegas``, ``alphas``; NaN at a toggle while moving, at bad.
-        The toggles are where the core's rule finds J singular (skipped where ``smallest``, the block's
-        smallest discriminant, proves there is none)."""
+    def _rates(self, theta2, omega2, alpha2, theta3, theta4, trig, smallest: float):
+        """(ω3, ω4), (α3, α4), each (n, 2), and the singular mask: NaN at a toggle while moving (where the
+        core's rule finds J singular; not tested where ``smallest``, the smallest discriminant, proves there
+        is none) and where the position is not found."""
         cos3 = trig[2]
-        if not moving_any:  # at rest: no rates to solve for, nothing singular
-            singular[...] = False
-            omegas[...] = alphas[...] = np.where(np.isnan(cos3), np.nan, 0.0)[:, None]  # NaN: no position
-            return
+        moving = np.logical_or(np.not_equal(omega2, 0), np.not_equal(alpha2, 0))
+        if not moving.any():  # at rest: no rates to solve for, nothing singular
+            rest = np.where(np.isnan(cos3), np.nan, 0.0)[:, None].repeat(2, axis=1)  # NaN: no position
+            return rest, rest.copy(), np.zeros(theta2.shape, bool)
         toggle_free = smallest >= self._free_levels[0]
-        rates = self._core_rates(
+        omegas, alphas, toggle = self._core_rates(
             np.stack([theta3, theta4], axis=-1), theta2[:, None], np.reshape(omega2, (-1, 1)),
             np.reshape(alpha2, (-1, 1)), trig, np.zeros(theta2.shape, bool) if toggle_free else None)
-        omegas[...], alphas[...] = rates[:2]
-        if toggle_free:
-            singular[...] = False
-        else:
-            toggle = rates[2] & ~np.isnan(cos3)  # the core's rule, where the loop closes
-            moving = np.logical_or(np.not_equal(omega2, 0), np.not_equal(alpha2, 0))  # numpy bool or array
-            np.logical_and(toggle, moving, out=singular)
-            if bad is not None:
-                singular &= ~bad
-        if not toggle_free and toggle.any():  # a toggle at rest: b = 0, so the rates are 0; moving: NaN
+        toggle = toggle & ~np.isnan(cos3)  # the core's rule, where the loop closes
+        singular = toggle & moving
+        if toggle.any():  # a toggle at rest: b = 0, so the rates are 0; moving: NaN
             at_rest = toggle & ~moving
             omegas[at_rest], alphas[at_rest] = 0.0, 0.0
             omegas[singular], alphas[singular] = np.nan, np.nan
+        return omegas, alphas, singular
 
     def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", on_unreachable: str = UNSET,
               *, on_failure: str | None = None) -> FourBarSolution:
@@ -421,14 +336,9 @@ class FourBar:
         except ValueError:
             require_broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)  # raises, naming the shapes
             raise
-        if shape:
-            values, unreachable, singular, near, first_undetermined = self._solve_blocks(
-                theta2, omega2, alpha2, shape, branch)
-            any_unreachable, any_singular = unreachable.any(), singular.any()
-        else:  # one instant: Python numbers throughout
-            values, unreachable, singular, near, first_undetermined = self._solve_one(
-                float(theta2), float(omega2), float(alpha2), branch)
-            any_unreachable, any_singular = unreachable, singular
+        values, unreachable, singular, near, first_undetermined = self._solve_blocks(
+            theta2, omega2, alpha2, shape, branch)
+        any_unreachable, any_singular = unreachable.any(), singular.any()
         if any_unreachable:
             what = f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle " \
                 "quadratic)"
@@ -451,38 +361,35 @@ class FourBar:
             {"theta3": values[0], "theta4": values[1]}, {"theta2": theta2},
             {"theta3": values[2], "theta4": values[3]}, {"theta3": values[4], "theta4": values[5]},
             converged=~np.isnan(values[0]), singular=singular, near_singular=near, kind=FourBarSolution,
-            unreachable=unreachable, branch=branch)
+            unreachable=scalar_or_array(unreachable), branch=branch)
 
     def _solve_blocks(self, theta2, omega2, alpha2, shape, branch: str):
-        """The six values, unreachable, singular and the flat index of the first undetermined position."""
+        """The six values, unreachable, singular, near (each of ``shape``) and the flat index of the first
+        undetermined position; solved ``BLOCK`` angles at a time, so the memory beyond the results stays
+        flat."""
         angles = np.broadcast_to(theta2, shape).ravel()
-        speed, acceleration = (float(v) if np.ndim(v) == 0 else np.broadcast_to(v, shape).ravel()
+        speed, acceleration = (v if np.ndim(v) == 0 else np.broadcast_to(v, shape).ravel()
                                for v in (omega2, alpha2))
         size = angles.size
-        moving_any = size > 0 and bool(np.any(omega2 != 0) or np.any(alpha2 != 0))
-        angles3, angles4 = np.empty(size), np.empty(size)
-        omegas, alphas = np.empty((size, 2)), np.empty((size, 2))  # (ω3, ω4) and (α3, α4), as the core's
-        unreachable, singular, near = np.empty(size, bool), np.empty(size, bool), np.zeros(size, bool)
-        first_undetermined = None
+        values = np.empty((6, size))  # θ3, θ4, ω3, ω4, α3, α4
+        unreachable, singular, near, undetermined = np.zeros((4, size), bool)
         with np.errstate(invalid="ignore", divide="ignore"):
             for start in range(0, size, BLOCK):
                 block = slice(start, start + BLOCK)
-                theta3, theta4 = angles3[block], angles4[block]
-                undetermined, bad, trig, smallest = self._block_positions(
-                    angles[block], branch, theta3, theta4, unreachable[block])
-                self._block_rates(
+                theta3, theta4, unreachable[block], undetermined[block], trig, discriminant = self._positions(
+                    angles[block], branch)
+                smallest = discriminant.min()
+                omegas, alphas, singular[block] = self._rates(
                     angles[block], speed if np.ndim(speed) == 0 else speed[block],
-                    acceleration if np.ndim(acceleration) == 0 else acceleration[block], theta3, theta4,
-                    trig, bad, smallest, moving_any, omegas[block], alphas[block], singular[block])
+                    acceleration if np.ndim(acceleration) == 0 else acceleration[block], theta3, theta4, trig,
+                    smallest)
+                values[:, block] = theta3, theta4, *omegas.T, *alphas.T
                 if smallest < self._free_levels[1]:
                     near[block] = self._near(angles[block], theta3, theta4)
-                if undetermined is not None and undetermined.any():
-                    singular[block] |= undetermined
-                    if first_undetermined is None:
-                        first_undetermined = start + int(np.flatnonzero(undetermined)[0])
-        values = [v.reshape(shape) for v in (angles3, angles4, *omegas.T, *alphas.T)]
-        return values, unreachable.reshape(shape), singular.reshape(shape), near.reshape(shape), \
-            first_undetermined
+        singular |= undetermined
+        first = np.flatnonzero(undetermined)
+        return [v.reshape(shape) for v in values], unreachable.reshape(shape), singular.reshape(shape), \
+            near.reshape(shape), int(first[0]) if first.size else None
 
     def motion(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *,
                on_failure: str | None = None):

@@ -38,8 +38,6 @@ from types import MappingProxyType
 
 import numpy as np
 import sympy as sp
-from sympy.printing.numpy import NumPyPrinter
-from sympy.printing.precedence import precedence
 
 from .errors import (
     FAILURE_POLICIES,
@@ -294,45 +292,6 @@ def _matrix(terms, start: int, rows: int, columns: int) -> np.ndarray:
 _BLOCK = 65_536  # points per block of a long sweep's evaluation
 
 
-def _one_instant(function, values, arrays, where, angles_of, known, same_point, seen) -> np.ndarray | None:
-    """A compiled function's terms (k,) at one instant in Python numbers (0-d arrays cost a microsecond per
-    operation), the array path's bits; None where Python refuses a value (the array path gives inf/NaN)."""
-    columns = [float(arrays[k][j]) for k, j in where]
-    angles = _angles(angles_of, known, same_point, seen, lambda func, index: float(func(columns[index])))
-    try:
-        with np.errstate(all="raise"):
-            return np.array(function(*columns, *angles, *values), dtype=float)
-    except (ArithmeticError, ValueError, TypeError):
-        return None
-
-
-def _angles(angles_of, known, same_point, seen, make) -> list:
-    """The cos and sin a compiled function takes: from ``known``, else ``make(func, index)`` (kept in
-    ``known`` if an input's, or with ``same_point``); each given to ``seen``."""
-    angles = []
-    for key, func, index, is_input in angles_of:
-        value = None if known is None else known.get(key)
-        if value is None:
-            value = make(func, index)
-            if known is not None and (is_input or same_point):
-                known[key] = value
-        angles.append(value)
-        if seen is not None:
-            seen[key] = value
-    return angles
-
-
-class _Printer(NumPyPrinter):
-    """numpy's printer, with x**2 written x*x: what numpy computes for an array's square, where a
-    Python number's x**2 calls pow, which differs from x*x in the last bit for about 1 x in 1,000."""
-
-    def _print_Pow(self, expr, rational=False):
-        if expr.exp == 2:
-            base = self.parenthesize(expr.base, precedence(expr), strict=True)
-            return f"({base}*{base})"
-        return super()._print_Pow(expr, rational=rational)
-
-
 def _rows(*arrays) -> tuple[tuple, list[np.ndarray]]:
     """Arrays (..., k) broadcast over their leading axes and flattened to (N, k); and that leading shape."""
     arrays = [np.asarray(a, dtype=float) for a in arrays]
@@ -575,7 +534,7 @@ class Mechanism:
                 return used[::-1], reduced
 
         arguments = [*symbols, *(placeholders[getattr(sp, func)(s)] for func, s in trig), *self.parameters]
-        function = sp.lambdify(arguments, replaced[:len(expressions)], "numpy", cse=cse, printer=_Printer)
+        function = sp.lambdify(arguments, replaced[:len(expressions)], "numpy", cse=cse)
         inputs = {s.name for s in self.inputs}
         where = [(k, j) for k, group in enumerate(groups) for j in range(len(group))]
         angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
@@ -583,33 +542,30 @@ class Mechanism:
 
         def evaluate(values, *arrays, known=None, same_point=False, seen=None):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
-            if all(a.ndim == 1 for a in arrays):
-                terms = _one_instant(function, values, arrays, where, angles_of, known, same_point, seen)
-                if terms is not None:
-                    return terms
             columns = [arrays[k][..., j] for k, j in where]
+            angles = []
+            for key, func, index, is_input in angles_of:
+                value = None if known is None else known.get(key)
+                if value is None:
+                    value = func(columns[index])
+                    if known is not None and (is_input or same_point):
+                        known[key] = value
+                angles.append(value)
+                if seen is not None:
+                    seen[key] = value
             shapes = {a.shape[:-1] for a in arrays}
             shape = shapes.pop() if len(shapes) == 1 else np.broadcast_shapes(*shapes)
             if shapes or len(shape) != 1 or shape[0] <= 2 * _BLOCK:
                 blocks = [Ellipsis]  # one block: the whole
             else:  # a long sweep in blocks: the temporaries stay in the cache and are reused
                 blocks = [slice(start, start + _BLOCK) for start in range(0, shape[0], _BLOCK)]
-            missing = []  # (func, column, array to fill): filled block by block below
-
-            def make(func, index):
-                missing.append((func, columns[index], np.empty(columns[index].shape)))
-                return missing[-1][2]
-
-            angles = _angles(angles_of, known, same_point, seen, make)
             out, arguments = np.empty((len(expressions),) + shape), [*columns, *angles]  # floats stay floats
             for block in blocks:
-                for func, column, value in missing:
-                    func(column[block], out=value[block])
-                inputs = arguments
+                inputs, part = arguments, out
                 if block is not Ellipsis:
-                    inputs = [a[block] if np.ndim(a) else a for a in arguments]
+                    inputs, part = [a[block] if np.ndim(a) else a for a in arguments], out[:, block]
                 for k, value in enumerate(function(*inputs, *values)):
-                    out[k, block] = value
+                    part[k] = value
             return out
 
         evaluate.function = function  # the lambdified code, for reading

@@ -2,10 +2,11 @@
 
 Stop when the step ‖x_{n+1} − x_n‖ < ``tol`` (the course's rule) and ‖F(x_{n+1})‖ ≤ ``residual_tol``
 (default ``tol``), so that a tiny step far from a root is not taken for convergence.  Steps are linear
-solves (Cramer's rule for n ≤ 3, LU above).  One rule for both solvers: a misuse (bad setting, seed,
-or what ``F``/``jac`` return) raises ``InvalidGeometryError``; a failed run (singular J, NaN, ``max_iter``)
-ends with ``converged=False`` and a ``message``, and with ``on_failure="raise"`` (:func:`newton`'s
-default; :func:`newton_batch`'s is "report") raises ``SingularJacobianError`` or ``ConvergenceError``.
+solves (:func:`newton`: LU; :func:`newton_batch`: Cramer's rule for n ≤ 3, LU above).  One rule for both
+solvers: a misuse (bad setting, seed, or what ``F``/``jac`` return) raises ``InvalidGeometryError``; a
+failed run (singular J, NaN, ``max_iter``) ends with ``converged=False`` and a ``message``, and with
+``on_failure="raise"`` (:func:`newton`'s default; :func:`newton_batch`'s is "report") raises
+``SingularJacobianError`` or ``ConvergenceError``.
 
 >>> result = newton(lambda x: x**2 - 2.0, 1.0, jac=lambda x: 2.0 * x)
 >>> round(result.x, 12), result.iterations, result.converged, result.message
@@ -100,44 +101,9 @@ def finite_difference_jacobian(F: Callable, x: np.ndarray, fx: np.ndarray | None
     return np.stack(columns, axis=-1)
 
 
-def _adjugate(a: list, n: int) -> tuple:
-    """det J and its adjugate's entries, row by row, from J's entries ``a`` (row by row), n ≤ 3: the
-    same arithmetic for numbers (one matrix) and for arrays (a stack), so both give the same bits."""
-    if n == 3:  # rows of the adjugate: cross products of the columns
-        adjugate = [a[4] * a[8] - a[5] * a[7], a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
-                    a[5] * a[6] - a[3] * a[8], a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
-                    a[3] * a[7] - a[4] * a[6], a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]]
-        return a[0] * adjugate[0] + a[1] * adjugate[3] + a[2] * adjugate[6], adjugate
-    return (a[0] if n == 1 else a[0] * a[3] - a[1] * a[2]), None  # n = 2: written out in _cramer_solve
-
-
-def _cramer_solve(a: list, adjugate, det, b: list, n: int) -> list:
-    """x = adj(J)·b / det J, entry by entry (numbers or arrays), b given by its entries."""
-    if n == 1:
-        return [b[0] / det]
-    if n == 2:
-        return [(a[3] * b[0] - a[1] * b[1]) / det, (a[0] * b[1] - a[2] * b[0]) / det]
-    return [(adjugate[3 * i] * b[0] + adjugate[3 * i + 1] * b[1] + adjugate[3 * i + 2] * b[2]) / det
-            for i in range(3)]
-
-
-def _rows_product(a: list, n: int):
-    """Π‖row of J‖², from J's entries."""
-    product = 1.0
-    for i in range(n):
-        product = product * sum(entry * entry for entry in a[n * i:n * i + n])
-    return product
-
-
-#: 3×3 cofactors C[k] = a[T[0, k]]·a[T[1, k]] − a[T[2, k]]·a[T[3, k]] (entries a row by row): the
-#: products of :func:`_adjugate` (adj J = Cᵀ) as four gathers of a stack.
-_COFACTORS_3 = np.array([[4, 5, 3, 7, 8, 6, 1, 2, 0], [8, 6, 7, 2, 0, 1, 5, 3, 4],
-                         [5, 3, 4, 8, 6, 7, 2, 0, 1], [7, 8, 6, 1, 2, 0, 4, 5, 3]])
-
-
 class LinearStack:
     """N matrices J (N, n, n) prepared once for J·x = b and the singularity test: for n ≤ 3 entries laid
-    out (n, n, N), det J and cofactors (the bits of :func:`_adjugate` on one matrix); LU above.
+    out (n, n, N), det J and, for n = 3, the cofactors (Cramer's rule); LU above.
     ``rows`` (indices or a mask) keeps those matrices only.
 
     >>> stack = LinearStack(np.array([[[2.0, 0.0], [0.0, 4.0]], [[1.0, 1.0], [2.0, 2.0]]]))
@@ -164,18 +130,17 @@ class LinearStack:
 
     def _set(self, A: np.ndarray) -> None:
         n, self._A, self._J, self.size = A.shape[0], A, None, A.shape[-1]
-        if n == 3:
-            flat = A.reshape(9, -1)
-            cofactors = flat.take(_COFACTORS_3[0], axis=0)
-            cofactors *= flat.take(_COFACTORS_3[1], axis=0)
-            other = flat.take(_COFACTORS_3[2], axis=0)
-            other *= flat.take(_COFACTORS_3[3], axis=0)
-            cofactors -= other
-            self._cofactors = cofactors.reshape(A.shape)
-            self._det = (A[0] * self._cofactors[0]).sum(axis=0)
+        self._cofactors = None
+        if n == 1:
+            self._det = A[0, 0]
+        elif n == 2:
+            self._det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
         else:
-            self._cofactors = None
-            self._det = A[0, 0] if n == 1 else A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+            (a, b, c), (d, e, f), (g, h, i) = A
+            self._cofactors = np.array([[e * i - f * h, f * g - d * i, d * h - e * g],
+                                        [c * h - b * i, a * i - c * g, b * g - a * h],
+                                        [b * f - c * e, c * d - a * f, a * e - b * d]])
+            self._det = a * self._cofactors[0, 0] + b * self._cofactors[0, 1] + c * self._cofactors[0, 2]
 
     def take(self, rows) -> LinearStack:
         """The same stack restricted to ``rows`` (indices or a mask), nothing computed again."""
@@ -240,19 +205,13 @@ class LinearStack:
         return self._solve_columns(b.T).T
 
     def _solve_columns(self, b: np.ndarray) -> np.ndarray:
-        """x (n, N), rows contiguous whatever the layout of the stack, from b (n, N): Cramer's rule,
-        x = adj(J)·b / det J."""
+        """x (n, N) from b (n, N): Cramer's rule, x = adj(J)·b / det J."""
         A, det = self._A, self._det
-        x = np.empty(b.shape)
         if self.n == 1:
-            np.divide(b, det, out=x)
-        elif self.n == 2:
-            np.divide(A[1, 1] * b[0] - A[0, 1] * b[1], det, out=x[0])
-            np.divide(A[0, 0] * b[1] - A[1, 0] * b[0], det, out=x[1])
-        else:
-            products = np.multiply(self._cofactors, b[:, None], out=np.empty(self._cofactors.shape))
-            np.divide(products.sum(axis=0, out=x), det, out=x)
-        return x
+            return b / det
+        if self.n == 2:
+            return np.array([A[1, 1] * b[0] - A[0, 1] * b[1], A[0, 0] * b[1] - A[1, 0] * b[0]]) / det
+        return (self._cofactors * b[:, None]).sum(axis=0) / det
 
 
 def hadamard_ratio(J: np.ndarray) -> np.ndarray:
@@ -282,21 +241,6 @@ def linear_solver(J: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
     [[1.0, 1.0, 1.0]]
     """
     return LinearStack(J).solve
-
-
-def _solve_one(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-    """x with J·x = b for one matrix (n, n), None where J is singular: the stack's arithmetic in Python
-    numbers for n ≤ 3 (a single small solve is dominated by call overhead)."""
-    n = J.shape[0]
-    if n > 3:
-        return None if is_singular(J[None])[0] else np.linalg.solve(J, b)
-    a = J.ravel().tolist()
-    det, adjugate = _adjugate(a, n)
-    root = _rows_product(a, n) ** 0.5
-    ratio = abs(det) / root if root > 0 else (np.inf if det != 0 else np.nan)  # as numpy divides
-    if not ratio > 1.0 / MAX_CONDITION:
-        return None
-    return np.array(_cramer_solve(a, adjugate, det, b.tolist(), n))
 
 
 def _settings(tol, max_iter, residual_tol, on_failure) -> tuple[float, int, float]:
@@ -405,13 +349,14 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
             if not np.isfinite(J).all():
                 failure = f"jac returned {J.tolist()} at x={here()}, after {len(steps)} iterations"
                 break
-            step = _solve_one(J, -fx)
-            if step is None:
+            ratio = abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=1))  # hadamard_ratio, one J
+            if not ratio > 1.0 / MAX_CONDITION:
                 message = f"the Jacobian is {singular_jacobian_text(n)} at x={here()}; Newton cannot take " \
                           "a step from here: try another seed"
                 if on_failure == "raise":
                     raise SingularJacobianError(message, x=here(), condition_number=float(np.linalg.cond(J)))
                 return result(False, message, singular=True)
+            step = np.linalg.solve(J, -fx)
             x = x + step  # a new array: the history keeps every iterate
             fx = F_vec(x)
             history.append(x)

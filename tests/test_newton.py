@@ -311,7 +311,7 @@ def test_linear_solver_equals_numpy_solve(n):
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
 def test_linear_stack_solves_as_numpy_and_each_matrix_alone(n):
-    from course_lib.newton import LinearStack, _solve_one, is_singular
+    from course_lib.newton import LinearStack, is_singular
 
     rng = np.random.default_rng(20 + n)
     J, b = rng.normal(size=(40, n, n)) + 2 * np.eye(n), rng.normal(size=(40, n))
@@ -323,15 +323,19 @@ def test_linear_stack_solves_as_numpy_and_each_matrix_alone(n):
     x = good.solve(b[~stack.singular])
     np.testing.assert_allclose(x, np.linalg.solve(J[~stack.singular], b[~stack.singular][..., None])[..., 0],
                                rtol=1e-10, atol=1e-12)
-    # a subset taken from the prepared stack, a stack laid out otherwise, and one matrix at a time: same bits
+    # a subset taken from the prepared stack and a stack laid out otherwise: same bits
     np.testing.assert_array_equal(stack.take(~stack.singular).solve(b[~stack.singular]), x)
     columns_first = np.ascontiguousarray(J.transpose(1, 2, 0)).transpose(2, 0, 1)
     np.testing.assert_array_equal(LinearStack(columns_first, np.flatnonzero(~stack.singular)).solve(
         b[~stack.singular]), x)
     np.testing.assert_array_equal(stack.matrices, J)
-    if n <= 3:
-        singles = [_solve_one(J[k], b[k]) for k in np.flatnonzero(~stack.singular)]
-        np.testing.assert_array_equal(np.array(singles), x)
+    # one matrix at a time, as newton steps: its first step from 0 solves J·x = b, and J[5] stops it
+    for k, row in enumerate(np.cumsum(~stack.singular) - 1):
+        run = newton(lambda v, k=k: J[k] @ v - b[k], np.zeros(n), jac=lambda v, k=k: J[k],
+                     on_failure="report")
+        assert run.singular == (k == 5)
+        if k != 5:
+            np.testing.assert_allclose(run.history[1], x[row], rtol=1e-14, atol=1e-15)
 
 
 def test_batch_with_a_constant_jacobian_is_the_run_with_that_jacobian_as_a_callable():

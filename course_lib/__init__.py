@@ -43,4 +43,4 @@ __all__ = ["CourseLibError", "UnreachableError", "ConvergenceError", "SingularJa
            "InvalidGeometryError", "InvalidArgumentError", "gruebler", "newton", "newton_batch",
            "NewtonResult", "BatchNewtonResult"]
 
-__version__ = "0.1.0"
+__version__ = "1.0.0"

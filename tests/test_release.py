@@ -70,3 +70,9 @@ def test_every_file_and_make_target_contributing_names_exists():
         assert (ROOT / path).exists(), f"CONTRIBUTING.md names {path}, which does not exist"
     for name in re.findall(r"`([\w-]+\.(?:txt|toml|cff|md))`", text):
         assert (ROOT / name).exists(), f"CONTRIBUTING.md names {name}, which does not exist"
+
+
+def test_the_package_reports_the_released_version():
+    import course_lib
+
+    assert course_lib.__version__ == PROJECT["version"]

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cache, cached_property, partial
-from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -58,8 +57,6 @@ class ForwardResult(Unpacks, Motion):
 
     mode: int = 1
     _values = ("x3", "y3")
-    _names = MappingProxyType({"x3": ("position", "x3"), "y3": ("position", "y3"),
-                               "theta1": ("inputs", "theta1"), "theta4": ("inputs", "theta4")})
 
     reachable = property(lambda self: self.converged, doc="True where assembled (``converged``).")
 
@@ -80,8 +77,6 @@ class InverseResult(Unpacks, Motion):
 
     modes: tuple[int, int] = (1, 1)
     _values = ("theta1", "theta4")
-    _names = MappingProxyType({"theta1": ("position", "theta1"), "theta4": ("position", "theta4"),
-                               "x3": ("inputs", "x3"), "y3": ("inputs", "y3")})
 
     reachable = property(lambda self: self.converged, doc="True where in reach (``converged``).")
 
@@ -281,11 +276,14 @@ class FiveBar:
         >>> np.round(FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
         """
-        theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
-        motion = self.mechanism._motion({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
-                                          converged=True, singular=False, near_singular=False)
-        points = self.mechanism.joints(motion)
+        points = self.mechanism.joints(self._configuration(theta1, theta4, x3, y3))
         return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
+
+    def _configuration(self, theta1, theta4, x3, y3) -> ForwardResult:
+        """A checked configuration (no solving) as a :class:`ForwardResult`, to draw or take joints of."""
+        theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
+        return self.mechanism._motion({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
+                                      converged=True, singular=False, near_singular=False, kind=ForwardResult)
 
     def constraints(self, theta1, theta4, x3, y3) -> np.ndarray:
         """EcL2, EcL3: |P3 − P2|² − l2² and |P3 − P4|² − l3² (m²), shape (..., 2); zero when assembled.
@@ -588,10 +586,9 @@ class FiveBar:
         """
         from .plotting import draw
 
-        theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
-        if theta1.shape != ():
-            raise InvalidGeometryError(f"draw takes one configuration (scalars); got shape {theta1.shape}")
-        motion = self.mechanism._motion({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
-                                          converged=True, singular=False, near_singular=False)
+        motion = self._configuration(theta1, theta4, x3, y3)
+        if np.shape(motion.x3) != ():
+            raise InvalidGeometryError(f"draw takes one configuration (scalars); got shape "
+                                       f"{np.shape(motion.x3)}")
         options.setdefault("labels", {f"P{k}": str(k) for k in range(1, 6)})
         return draw(self, motion, ax, title=title, **options)

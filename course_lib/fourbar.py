@@ -95,10 +95,8 @@ class FourBarSolution(Unpacks, Motion):
     unreachable: bool | np.ndarray = False
     branch: str = "open"
     _values = ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4")
-    _names = MappingProxyType({"theta3": ("position", "theta3"), "theta4": ("position", "theta4"),
-                               "omega3": ("velocity", "theta3"), "omega4": ("velocity", "theta4"),
-                               "alpha3": ("acceleration", "theta3"), "alpha4": ("acceleration", "theta4"),
-                               "theta2": ("inputs", "theta2")})
+    _names = MappingProxyType({"omega3": ("velocity", "theta3"), "omega4": ("velocity", "theta4"),
+                               "alpha3": ("acceleration", "theta3"), "alpha4": ("acceleration", "theta4")})
 
     @property
     def reachable(self) -> bool | np.ndarray:
@@ -280,13 +278,9 @@ class FourBar:
     def _near(self, theta2, theta3, theta4) -> np.ndarray:
         """True where the core's rule finds J near singular (σ_min(J̃) < NEAR_SINGULAR), False where the
         position is not found."""
-        theta2, theta3, theta4 = np.broadcast_arrays(theta2, theta3, theta4)
-        q = np.stack([theta3, theta4], axis=-1).reshape(-1, 2)
-        found = np.isfinite(q).all(axis=-1)
-        with np.errstate(invalid="ignore"):
-            J = self._unit_mechanism._J(np.where(found[:, None], q, 0.0), np.reshape(theta2, (-1, 1)))
-            near = found & (self._unit_mechanism._smallest(J) < NEAR_SINGULAR)
-        return near.reshape(theta2.shape)
+        smallest = self._unit_mechanism._smallest_where({"theta3": theta3, "theta4": theta4},
+                                                        {"theta2": theta2}, np.shape(theta3))
+        return (smallest < NEAR_SINGULAR) & np.isfinite(theta3)
 
     def _core_rates(self, q, u, u_rate, u_acceleration, trig, toggle):
         """(ω3, ω4), (α3, α4), each (n, 2), and the singular mask, from the declared loop with the closed

@@ -71,7 +71,7 @@ class Motion:
     near_singular: bool | np.ndarray = False
     message: str = ""
     assembly: Mapping[str, int | np.ndarray] | None = None
-    #: A machine's own names for values: attribute → (part, key), e.g. ``"omega4": ("velocity", "theta4")``.
+    #: A machine's own names for rates: attribute → (part, key), e.g. ``"omega4": ("velocity", "theta4")``.
     _names: ClassVar[Mapping[str, tuple[str, str]]] = MappingProxyType({})
 
     def __getattribute__(self, name: str):
@@ -82,12 +82,15 @@ class Motion:
         return value
 
     def __getattr__(self, name: str):
-        """A value by the machine's own name (``solution.theta4``, ``solution.omega4``): see ``_names``."""
-        where = type(self)._names.get(name) if not name.startswith("__") else None
-        if where is None:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        part = object.__getattribute__(self, where[0])
-        return None if part is None else part[where[1]]
+        """A value by name: an unknown's or input's own (``motion.theta4``), or a machine's name for a rate
+        (``solution.omega4``, see ``_names``)."""
+        if not name.startswith("__"):
+            part, key = type(self)._names.get(name, (None, name))
+            for where in (part,) if part else ("position", "inputs"):
+                values = object.__getattribute__(self, where)
+                if values is None or key in values:
+                    return None if values is None else values[key]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def __array__(self, dtype=None, copy=None) -> np.ndarray:
         """The position as one array, (unknowns, ...) in the declared order; a machine's result converts

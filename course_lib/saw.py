@@ -347,9 +347,9 @@ class SawMotion(Unpacks, Motion):
     """
 
     _values = UNKNOWNS
-    _names = MappingProxyType({**{name: (part, unknown) for part, names in (
-        ("position", UNKNOWNS[:3]), ("velocity", UNKNOWNS[3:6]), ("acceleration", UNKNOWNS[6:]))
-        for name, unknown in zip(names, UNKNOWNS[:3], strict=True)}, "theta2": ("inputs", "theta2")})
+    _names = MappingProxyType({name: (part, unknown) for part, names in (
+        ("velocity", UNKNOWNS[3:6]), ("acceleration", UNKNOWNS[6:]))
+        for name, unknown in zip(names, UNKNOWNS[:3], strict=True)})
 
     @property
     def x(self) -> np.ndarray:
@@ -461,9 +461,7 @@ def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
     """
     theta2 = require_finite("theta2", theta2, unit="rad")
     saw = _checked_saw(saw)
-    position = analytic(theta2, saw=saw)[..., :3]
-    motion = saw.mechanism._motion(dict(zip(("r1", "theta1", "theta3"), np.moveaxis(position, -1, 0),
-                                              strict=True)), {"theta2": theta2}, singular=False)
+    motion = _saw_motion(saw, analytic(theta2, saw=saw), theta2)
     return np.stack(np.broadcast_arrays(*saw.mechanism.joints(motion).values()), axis=-2)
 
 

@@ -65,10 +65,8 @@ class SliderCrankMotion(Unpacks, Motion):
     """
 
     _values = ("theta3", "x", "omega3", "v", "alpha3", "a")
-    _names = MappingProxyType({"theta3": ("position", "theta3"), "x": ("position", "x"),
-                               "omega3": ("velocity", "theta3"), "v": ("velocity", "x"),
-                               "alpha3": ("acceleration", "theta3"), "a": ("acceleration", "x"),
-                               "theta2": ("inputs", "theta2")})
+    _names = MappingProxyType({"omega3": ("velocity", "theta3"), "v": ("velocity", "x"),
+                               "alpha3": ("acceleration", "theta3"), "a": ("acceleration", "x")})
 
 
 @dataclass(frozen=True)

@@ -50,6 +50,9 @@ def test_every_machine_solve_returns_a_motion_whose_course_names_are_its_values(
              "acceleration": result.acceleration or {}}
     for attribute, (part, key) in type(result)._names.items():
         assert np.array_equal(getattr(result, attribute), parts[part][key], equal_nan=True), attribute
+    for part in ("position", "inputs"):  # every unknown and input also by its own name
+        for key, value in parts[part].items():
+            assert np.array_equal(getattr(result, key), value, equal_nan=True), key
     values = list(result)  # unpacks as the course's values, and converts to one array of them
     assert np.array(result).shape == (len(values), *np.shape(values[0]))
     assert np.all(result.converged) and not np.any(result.singular)

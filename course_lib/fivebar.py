@@ -266,7 +266,7 @@ class FiveBar:
             {"x3": end.x3, "y3": end.y3}, {"theta1": p[..., 2], "theta4": p[..., 3]},
             {"x3": velocity[..., 0], "y3": velocity[..., 1]},
             {"x3": acceleration[..., 0], "y3": acceleration[..., 1]},
-            converged=end.reachable, singular=singular, near_singular=end.near_singular, kind=ForwardResult,
+            converged=end.reachable, singular=singular, kind=ForwardResult,
             mode=end.mode)
 
     def joints(self, theta1, theta4, x3, y3) -> np.ndarray:

@@ -26,7 +26,8 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import NEAR_SINGULAR, SINGULAR, Motion
+from .mechanism.singular import NEAR_SINGULAR, SINGULAR
+from .motion import Motion
 from .planar import Unpacks, scalar_or_array, wrap_angle
 
 __all__ = ["BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRange", "CouplerPointMotion"]

@@ -1,10 +1,6 @@
-"""What solving a mechanism gives: :class:`Motion`, the one result of every declaration and machine, and
-the one singularity rule's thresholds.  Light on purpose (numpy only), so a machine's result type can be
-imported without sympy.
-
-The rule: J is singular where the smallest singular value of J̃ — J with each row and column divided by
-its typical size at the declaration's generic point — is below ``SINGULAR``; near one below
-``NEAR_SINGULAR`` (see :meth:`course_lib.mechanism.Mechanism.smallest_singular_value`).
+"""What solving a mechanism gives: :class:`Motion`, the one result of every declaration and machine.
+Light on purpose (numpy only).  Its ``singular`` and ``near_singular`` masks follow the one singularity
+rule of :mod:`course_lib.mechanism.singular` (``SINGULAR``, ``NEAR_SINGULAR``).
 """
 
 from __future__ import annotations
@@ -19,12 +15,7 @@ import numpy as np
 if TYPE_CHECKING:
     from .newton import NewtonResult
 
-__all__ = ["Motion", "Deferred", "SINGULAR", "NEAR_SINGULAR"]
-
-#: J is singular where σ_min(J̃) < SINGULAR (J̃: rows and columns scaled by their typical sizes).
-SINGULAR = 1e-6
-#: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
-NEAR_SINGULAR = 1e-3
+__all__ = ["Motion", "Deferred"]
 
 
 class Deferred:

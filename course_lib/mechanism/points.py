@@ -1,0 +1,94 @@
+"""The declared points along a motion: their coordinates (``joints``) and their velocities and
+accelerations (``point_motion``), from the points' declaration differentiated in time.
+
+One room of :class:`~course_lib.mechanism.Mechanism`, which is all of them together.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from ..errors import (
+    InvalidGeometryError,
+    require_finite,
+)
+from ..motion import Motion
+from .compiled import _vector
+from .declaration import _derived, _keyed
+
+
+class Points:
+    """The declared points along a motion: coordinates, velocities, accelerations."""
+
+    @_derived
+    def _point_fn(self):
+        return self._compile([c for xy in self.points.values() for c in xy], self.unknowns, self.inputs)
+
+    @_derived
+    def _point_rate_fn(self):
+        """(q, q̇, q̈, u, u̇, ü) → each point's velocity and acceleration, its declaration differentiated."""
+        terms = []
+        for point in self.points.values():
+            terms += [entry for derivative in self._in_time(point) for entry in derivative]
+        q, u = self.unknowns, self.inputs
+        return self._compile(terms, q, self._rates_of(q, 1), self._rates_of(q, 2), u, self._rates_of(u, 1),
+                             self._rates_of(u, 2))
+
+    def point_motion(self, motion: Motion, rates: Mapping | None = None, accelerations: Mapping | None = None
+                     ) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Position, velocity and acceleration (each (..., 2), SI) of every declared point along ``motion``
+        (solved with ``rates``, and ``accelerations`` if any: pass the same input rates here; missing ones
+        are 0), from the point's declaration differentiated in time — ω k̂ × r and α k̂ × r − ω² r, Coriolis
+        terms included, without writing any of them by hand.
+
+        >>> th, x = sp.symbols("theta x")
+        >>> A = sp.Matrix([sp.cos(th), sp.sin(th)])
+        >>> crank = Mechanism([x - sp.cos(th)], [x], [th], points={"O": sp.zeros(2, 1), "A": A},
+        ...                   links=[("O", "A")])
+        >>> turning = crank.solve({th: 0.0}, rates={th: 2.0}, guess={x: 1.0})
+        >>> [v.round(12).tolist() for v in crank.point_motion(turning, rates={th: 2.0})["A"]]
+        [[1.0, 0.0], [0.0, 2.0], [-4.0, 0.0]]
+        """
+        positions = self.joints(motion)
+        if motion.velocity is None:
+            raise InvalidGeometryError("point_motion needs the unknowns' rates: solve with rates={input: "
+                                       "rate} (and accelerations=... if any); got a motion of positions only")
+        zero = {name: 0.0 for name in motion.position}
+        arrays = [np.stack(np.broadcast_arrays(*(values[s.name] for s in self.unknowns)), axis=-1)
+                  for values in (motion.position, motion.velocity, motion.acceleration or zero)]
+        given = [_keyed(argument, {} if mapping is None else mapping, self.inputs, required=False)
+                 for argument, mapping in (("rates", rates), ("accelerations", accelerations))]
+        inputs = [np.stack(np.broadcast_arrays(*(motion.inputs[s.name] for s in self.inputs)), axis=-1)]
+        ones = np.ones_like(inputs[0][..., 0])
+        for argument, values in zip(("rates", "accelerations"), given, strict=True):
+            inputs.append(np.stack([require_finite(f"{argument}[{s.name}]", values.get(s.name, 0.0)) * ones
+                                    for s in self.inputs], axis=-1))
+        terms = self._point_rate_fn(self._values, *arrays, *inputs)
+        return {name: (positions[name], _vector(terms, 4 * k, 2), _vector(terms, 4 * k + 2, 2))
+                for k, name in enumerate(self.points)}
+
+    def joints(self, motion: Motion) -> dict[str, np.ndarray]:
+        """Coordinates (m) of the declared ``points`` along a motion: name → array (..., 2).
+
+        >>> th, x = sp.symbols("theta x")
+        >>> A = sp.Matrix([sp.cos(th), sp.sin(th)])
+        >>> crank = Mechanism([x - sp.cos(th)], [x], [th], points={"O": sp.zeros(2, 1), "A": A},
+        ...                   links=[("O", "A")])
+        >>> crank.joints(crank.solve({th: [0.0, np.pi / 2]}, guess={x: 1.0}))["A"].round(12).tolist()
+        [[1.0, 0.0], [0.0, 1.0]]
+        """
+        if not self.points:
+            raise InvalidGeometryError("joints needs points: declare points={name: Matrix([x, y])}; "
+                                       "got points={}")
+        names = [s.name for s in self.unknowns], [s.name for s in self.inputs]
+        # a Motion of these loops, or of the same loops solved the other way round (a five-bar's inverse)
+        values = {**motion.inputs, **motion.position} if isinstance(motion, Motion) else {}
+        if sorted(values) != sorted(names[0] + names[1]):
+            raise InvalidGeometryError(f"motion must be a Motion of this mechanism (unknowns {names[0]}, "
+                                       f"inputs {names[1]}); got {motion!r}"[:400])
+        q = np.stack(np.broadcast_arrays(*(values[s.name] for s in self.unknowns)), axis=-1)
+        u = np.stack(np.broadcast_arrays(*(values[s.name] for s in self.inputs)), axis=-1)
+        xy = self._point_fn(self._values, q, u)
+        return {name: _vector(xy, 2 * k, 2) for k, name in enumerate(self.points)}

@@ -1,0 +1,107 @@
+"""Rates: q̇ and q̈ at known positions, J·q̇ = −F_u·u̇ and J·q̈ = −(the rest of d²F/dt²), block by block.
+
+One room of :class:`~course_lib.mechanism.Mechanism`, which is all of them together.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from ..errors import (
+    InvalidGeometryError,
+)
+from ..newton import (
+    LinearStack,
+)
+from .compiled import _rows
+from .declaration import _broadcast
+from .singular import SINGULAR
+
+
+class Rates:
+    """Velocities and accelerations at known positions, by linear solves block by block."""
+
+    def _block_stacks(self, J: np.ndarray) -> list:
+        """Per block of a stack J (N, n, n): its rows, columns, the columns solved before it, its diagonal
+        block prepared for solving (:class:`LinearStack`) and the coupling to the earlier columns."""
+        blocks = self._structure["blocks"]
+        if len(blocks) == 1:
+            return [(None, None, [], LinearStack(J), None)]
+        entries = J.transpose(1, 2, 0)  # (n, n, N): contiguous for the compiled terms' J
+        stacks, done = [], []
+        for rows, columns in blocks:
+            block = np.ascontiguousarray(entries[np.ix_(rows, columns)]).transpose(2, 0, 1)
+            coupling = J[:, rows][:, :, done] if done else None
+            stacks.append((rows, columns, done, LinearStack(block), coupling))
+            done = done + list(columns)
+        return stacks
+
+    def _solve_blocks(self, J: np.ndarray, b: np.ndarray, stacks: list | None = None) -> np.ndarray:
+        """x (N, n) with J·x = b for a stack J (N, n, n), block by block (forward substitution);
+        ``stacks``: :meth:`_block_stacks` of J, when already prepared."""
+        stacks = self._block_stacks(J) if stacks is None else stacks
+        if len(stacks) == 1:
+            return stacks[0][3].solve(b)
+        x = np.empty(b.shape)
+        for rows, columns, done, stack, coupling in stacks:
+            rhs = b[:, rows]
+            if done:
+                rhs = rhs - np.einsum("nij,nj->ni", coupling, x[:, done])
+            x[:, columns] = stack.solve(rhs)
+        return x
+
+    def rates(self, q, u, u_rate, u_acceleration=None, *, trig: Mapping | None = None, singular=None):
+        """q̇, q̈ (None without ``u_acceleration``) and the singular mask at known positions, by J·q̇ =
+        −F_u·u̇, J·q̈ = −(the rest of d²F/dt²); NaN where singular (σ_min(J̃) < SINGULAR, see
+        :meth:`smallest_singular_value`).  ``q`` (..., n), the others (..., m); ``trig``: {name: (cos, sin)}
+        already computed; ``singular``: the caller's own mask.
+
+        >>> th, x = sp.symbols("theta x")
+        >>> [a.tolist() for a in Mechanism([x**2 - th], [x], [th]).rates([2.0], [4.0], [1.0], [0.0])]
+        [[0.25], [-0.03125], False]
+        """
+        names = dict(q=q, u=u, u_rate=u_rate)
+        if u_acceleration is not None:
+            names["u_acceleration"] = u_acceleration
+        arrays = self._checked(**names)
+        shape, arrays = _rows(*arrays)
+        q, u, u_rate = arrays[:3]
+        if trig is not None and not isinstance(trig, Mapping):
+            raise InvalidGeometryError(f"trig must map names to (cos, sin) pairs; got {trig!r}")
+        known = {(name, func): _broadcast(value, shape).ravel() for name, pair in (trig or {}).items()
+                 for func, value in zip(("cos", "sin"), pair, strict=True)}
+        J, F_u = self._rate_terms(q, u, known, same_point=True)
+        if singular is None:
+            singular = ~(self._smallest(J) >= SINGULAR)
+        else:
+            singular = _broadcast(np.asarray(singular, dtype=bool), shape).ravel()
+        any_singular = singular.any()
+        if any_singular:
+            J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
+        stacks = self._block_stacks(J)
+        q_rate = self._solve_blocks(J, sum(F_u[:, :, j] * -u_rate[:, j, None]
+                                           for j in range(u_rate.shape[1])), stacks)
+        q_acc = None
+        if u_acceleration is not None:
+            q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, arrays[3], known), stacks)
+            if any_singular:
+                q_acc[singular] = np.nan
+            q_acc = q_acc.reshape(shape + q_acc.shape[-1:])
+        if any_singular:
+            q_rate[singular] = np.nan
+        return q_rate.reshape(shape + q_rate.shape[-1:]), q_acc, singular.reshape(shape)
+
+    def _rates(self, q, u, u_rate, u_acc, singular, terms, known=None
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """q̇ and q̈ (N, n) at solved positions from (J, F_u) there, NaN where ``singular`` (``known``: the
+        cos and sin already computed at q and u, see _compile)."""
+        J, F_u = terms
+        if singular.any():
+            J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
+        stacks = self._block_stacks(J)
+        q_rate = self._solve_blocks(J, np.einsum("nij,nj->ni", F_u, -u_rate), stacks)
+        q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, u_acc, known), stacks)
+        q_rate[singular], q_acc[singular] = np.nan, np.nan
+        return q_rate, q_acc, singular

@@ -1,0 +1,142 @@
+"""The one singularity rule: J is singular where the smallest singular value of J̃ — J with each row and
+column divided by its typical size at the declaration's generic point — is below ``SINGULAR``; near one
+below ``NEAR_SINGULAR`` (the rates are large and sensitive there).
+
+One room of :class:`~course_lib.mechanism.Mechanism`, which is all of them together.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..symbolic import is_angle
+
+#: J is singular where σ_min(J̃) < SINGULAR (J̃: rows and columns scaled by their typical sizes).
+SINGULAR = 1e-6
+#: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
+NEAR_SINGULAR = 1e-3
+
+class Singularity:
+    """The one singularity rule: typical sizes at the generic point and σ_min(J̃)."""
+
+    def _generic_jacobians(self) -> np.ndarray | None:
+        """J at 24 generic configurations (angles in (−π, π], lengths of the parameters' typical size)."""
+        if "generic" not in self._numeric:
+            sizes = [abs(v) for v in self._values if v != 0.0]
+            length = float(np.median(sizes)) if sizes else 1.0
+            rng = np.random.default_rng(0)
+            angles = self._structure["angles"] | {s for s in self.inputs if all(
+                is_angle(row, s) for row in self.equations if row.has(s))}
+
+            def sample(symbols):
+                return np.column_stack([rng.uniform(-np.pi, np.pi, 24) if s in angles else
+                                        length * rng.uniform(0.5, 2.0, 24) * rng.choice([-1, 1], 24)
+                                        for s in symbols])
+
+            q, u = sample(self.unknowns), sample(self.inputs)
+            with np.errstate(all="ignore"):
+                J = self.jacobian(q, u)
+            J = J[np.isfinite(J).all(axis=(1, 2))]
+            self._numeric["generic"] = J if len(J) else None
+        return self._numeric["generic"]
+
+    @property
+    def _scales(self) -> tuple[np.ndarray, np.ndarray]:
+        """Typical size of each row and column of J at the generic configurations (rows first)."""
+        if "scales" not in self._numeric:
+            J, n = self._generic_jacobians(), len(self.unknowns)
+            if J is None:
+                rows = columns = np.ones(n)
+            else:
+                units = self._column_units(J)
+                J = J / units
+                rows = np.sqrt((J * J).mean(axis=(0, 2)))
+                rows = np.where(rows > 0, rows, 1.0)
+                scaled = J / rows[:, None]
+                columns = np.sqrt((scaled * scaled).mean(axis=(0, 1)))
+                columns = np.where(columns > 0, columns, 1.0) * units
+            self._numeric["scales"] = (rows, columns)
+        return self._numeric["scales"]
+
+    def _column_units(self, J: np.ndarray) -> np.ndarray:
+        """A unit for each column of J: 1 for an angle, one typical length ℓ for every length — the ℓ of
+        the least-squares fit log|J_ij| ≈ log d_i + log ℓ·[j a length] over the nonzero typical sizes.  A
+        change of units multiplies row i of J by some d_i and the lengths' columns by 1/k: ℓ moves by k, so
+        J divided by these units changes by whole rows only, which the row sizes take.  With angles alone
+        or lengths alone every unit is 1 (then a change of units is such rows already)."""
+        lengths = [j for j, s in enumerate(self.unknowns) if s not in self._structure["angles"]]
+        units = np.ones(len(self.unknowns))
+        if not lengths or len(lengths) == len(units):
+            return units
+        size = np.sqrt((J * J).mean(axis=0))
+        i, j = np.nonzero(size > 0)
+        fit = np.zeros((len(i), len(units) + 1))
+        fit[np.arange(len(i)), i] = 1.0
+        fit[:, -1] = np.isin(j, lengths)
+        solution = np.linalg.lstsq(fit, np.log(size[i, j]), rcond=None)[0]
+        units[lengths] = np.exp(solution[-1])
+        return units
+
+    def smallest_singular_value(self, q, u) -> np.ndarray:
+        """σ_min(J̃) at positions ``q`` (..., n) and inputs ``u`` (..., m): J̃ is J with each row and column
+        divided by its typical size at the declaration's generic point, so the test ignores units and a
+        row vanishing as a whole counts.  J is singular where it is below ``SINGULAR``.
+
+        >>> x, y, s = sp.symbols("x y s")
+        >>> trammel = Mechanism([x**2 + y**2 - 1, x - s], [x, y], [s])
+        >>> values = trammel.smallest_singular_value([[0.6, 0.8], [1.0, 0.0]], [[0.6], [1.0]])
+        >>> [round(float(v), 3) for v in values]
+        [0.798, 0.0]
+        """
+        q, u = self._checked(q=q, u=u)
+        return self._smallest(self.jacobian(q, u))
+
+    def is_singular(self, q, u) -> np.ndarray:
+        """The one singularity rule: True where σ_min(J̃) < ``SINGULAR`` (see
+        :meth:`smallest_singular_value`), or where J is not finite; ``q`` (..., n), ``u`` (..., m).
+
+        >>> x, y, s = sp.symbols("x y s")
+        >>> Mechanism([x**2 + y**2 - 1, x - s], [x, y], [s]).is_singular([[0.6, 0.8], [1.0, 0.0]],
+        ...                                                               [[0.6], [1.0]]).tolist()
+        [False, True]
+        """
+        return ~(self.smallest_singular_value(q, u) >= SINGULAR)
+
+    def _smallest(self, J: np.ndarray) -> np.ndarray:
+        """σ_min(J̃) of a stack J (..., n, n): exact for n ≤ 2, else exact where a bound cannot settle it."""
+        rows, columns = self._scales
+        n = J.shape[-1]
+        # entries first (n, n, ...): contiguous for the compiled terms' J, so each operation runs in one pass
+        A = np.moveaxis(J, (-2, -1), (0, 1)) / rows[:, None].reshape((n, 1) + (1,) * (J.ndim - 2))
+        A /= columns.reshape((1, n) + (1,) * (J.ndim - 2))
+        with np.errstate(all="ignore"):
+            if n == 1:
+                return np.abs(A[0, 0])
+            frobenius = (A * A).sum(axis=(0, 1))
+            if n == 2:
+                det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+                largest = np.sqrt((frobenius + np.sqrt(np.maximum(frobenius**2 - 4 * det**2, 0.0))) / 2)
+                return np.where(largest > 0, np.abs(det) / largest, 0.0)
+            det = np.ones(A.shape[2:])
+            for block_rows, block_columns in self._structure["blocks"]:
+                block = A[np.ix_(block_rows, block_columns)]
+                if len(block_rows) == 1:
+                    det = det * block[0, 0]
+                elif len(block_rows) == 2:
+                    det = det * (block[0, 0] * block[1, 1] - block[0, 1] * block[1, 0])
+                else:
+                    det = det * np.linalg.det(np.moveaxis(block, (0, 1), (-2, -1)))
+            smallest = np.array(np.abs(det) / np.sqrt(frobenius) ** (n - 1))  # a lower bound (an array)
+            unsure = ~(smallest >= NEAR_SINGULAR) & np.isfinite(frobenius)
+            if unsure.any():
+                stacked = np.moveaxis(A, (0, 1), (-2, -1))
+                smallest[unsure] = np.linalg.svd(stacked[unsure], compute_uv=False)[..., -1]
+            return smallest
+
+    def _smallest_where(self, position, inputs, shape) -> np.ndarray:
+        """σ_min(J̃) (shape ``shape``) at the declared values by name (unknowns not finite taken as 0)."""
+        q = np.stack([np.broadcast_to(position[s.name], shape) for s in self.unknowns], axis=-1)
+        u = np.stack([np.broadcast_to(inputs[s.name], shape) for s in self.inputs], axis=-1)
+        q, u = q.reshape(-1, len(self.unknowns)), u.reshape(-1, len(self.inputs))
+        with np.errstate(all="ignore"):
+            return self._smallest(self._J(np.where(np.isfinite(q), q, 0.0), u)).reshape(shape)

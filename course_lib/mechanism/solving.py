@@ -1,0 +1,264 @@
+"""Solving a motion: :meth:`Solving.solve` (closed form by σ where every block reduces, Newton with
+continuation elsewhere) and the one result, a :class:`~course_lib.motion.Motion`.
+
+One room of :class:`~course_lib.mechanism.Mechanism`, which is all of them together.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from types import MappingProxyType
+
+import numpy as np
+
+from ..errors import (
+    FAILURE_POLICIES,
+    ConvergenceError,
+    InvalidGeometryError,
+    SingularJacobianError,
+    UnreachableError,
+    require_broadcast,
+    require_choice,
+    require_finite,
+)
+from ..motion import Deferred, Motion
+from ..newton import (
+    NewtonResult,
+    newton,
+)
+from ..planar import scalar_or_array
+from .declaration import _broadcast, _keyed
+from .singular import NEAR_SINGULAR, SINGULAR
+
+
+class Solving:
+    """``solve``: a motion from the inputs, and the one result it returns."""
+
+    def solve(self, inputs: Mapping, rates: Mapping | None = None, accelerations: Mapping | None = None,
+              guess: Mapping | None = None, *, assembly: Mapping | None = None, tol: float = 1e-10,
+              max_iter: int = 50, on_failure: str = "raise") -> Motion:
+        """Position, and velocity and acceleration if asked, at each value of the inputs.
+
+        ``inputs``, ``rates``, ``accelerations`` map inputs (symbol or name) to numbers or arrays,
+        broadcast together (missing rates are 0).  ``guess`` picks the assembly: Newton runs from it at the
+        first instant (its history in ``Motion.newton`` for one instant).  Where every block reduces to a
+        closed form (:attr:`closed_forms`) each block keeps the root σ nearest that solution (σ = +1 without
+        a guess, or the σ that ``assembly`` gives by the block's first unknown, as ``Motion.assembly``
+        names them), and Newton only cross-checks; elsewhere each instant continues from its neighbour's
+        solution (tangent predictor, steps subdivided and Newton's steps limited, so no instant lands on
+        another assembly).  A sweep of one input is followed from its first instant outward, in increasing
+        and in decreasing order of the input (the order the values come in does not matter); several inputs
+        in the order given.  Angles stay within a turn of their neighbours.  Raises, unless
+        ``on_failure="nan"``: ``SingularJacobianError`` (rates asked where J is singular, or a singular
+        seed), ``ConvergenceError`` (no root from the guess), ``UnreachableError`` (no assembly).
+
+        >>> th, x = sp.symbols("theta x")
+        >>> motion = Mechanism([x**2 - th], [x], [th]).solve({th: [4.0, 1.0]}, {th: 1.0}, guess={x: 2.0})
+        >>> motion.position["x"].tolist(), motion.velocity["x"].tolist(), motion.acceleration["x"].tolist()
+        ([2.0, 1.0], [0.25, 0.5], [-0.03125, -0.25])
+        """
+        require_choice("on_failure", on_failure, FAILURE_POLICIES)
+        u_given = _keyed("inputs", inputs, self.inputs)
+        rate_given = _keyed("rates", {} if rates is None else rates, self.inputs, required=False)
+        acc_given = _keyed("accelerations", {} if accelerations is None else accelerations, self.inputs,
+                           required=False)
+        closed = self._closed_fns is not None
+        chosen = self._assembly(assembly, closed)
+        seed = None
+        if guess is not None or not closed:
+            q_given = _keyed("guess", {} if guess is None else guess, self.unknowns)
+            for name, value in q_given.items():
+                if np.ndim(value) != 0 and np.size(value) != 1 or isinstance(value, str | bytes):
+                    raise InvalidGeometryError(f"guess must give one number per unknown; got guess[{name}]="
+                                               f"{value!r}")
+            seed = np.array([float(require_finite(f"guess[{k}]", v).ravel()[0]) for k, v in q_given.items()])
+        named = {}
+        for argument, given in (("inputs", u_given), ("rates", rate_given), ("accelerations", acc_given)):
+            for name in (s.name for s in self.inputs):
+                named[f"{argument}[{name}]"] = require_finite(f"{argument}[{name}]", given.get(name, 0.0))
+        try:
+            arrays = np.broadcast_arrays(*named.values())
+        except ValueError:
+            shapes = {k: np.shape(v) for k, v in named.items()}
+            raise InvalidGeometryError(f"inputs, rates and accelerations must broadcast to one shape; "
+                                       f"got shapes {shapes}") from None
+        shape, m = arrays[0].shape, len(self.inputs)
+        u, u_rate, u_acc = (np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in range(3))
+        paths, notes, result, assembly = self._paths(u), [], None, None
+        known, at_q = {}, None  # the cos and sin of the inputs, computed once; of q, where q is final
+        stuck = np.zeros(len(u), bool)
+        with np.errstate(all="ignore"):
+            if seed is not None:
+                result = newton(lambda q: self._F(q, u[0]), seed, jac=lambda q: self._J(q, u[0]),
+                                tol=tol, max_iter=max_iter, on_failure="report")
+            if closed:
+                target = None if result is None else result.x if result.converged else seed
+                if result is not None and not result.converged:
+                    notes.append(f"Newton from the guess did not converge at {self._where(u, 0)} "
+                                 f"({result.message}); the closed form gave the assembly nearest the guess")
+                q, iterations, sigma, at_q = self._closed(u, paths, target, tol, max_iter, notes, chosen,
+                                                          known)
+                if shape == () and result is not None:
+                    iterations[0] = result.iterations
+                assembly = {name: scalar_or_array(values.reshape(shape)) for name, values in sigma.items()}
+            elif shape == ():
+                where = self._where(u, 0)
+                if on_failure == "raise" and result.singular:
+                    raise SingularJacobianError(f"at {where}: {result.message}", result.x.tolist())
+                if on_failure == "raise" and not result.converged:
+                    raise ConvergenceError(f"at {where}, from the guess: {result.message}", result=result)
+                q = result.x[None, :].copy() if result.converged else np.full((1, len(seed)), np.nan)
+                iterations, stuck[0] = np.array([result.iterations]), result.singular
+            else:
+                start = result.x if result.converged else None
+                if start is None:
+                    start, fixed, _ = self._correct(seed, u[0], tol, max_iter)
+                    if not fixed:
+                        start = None
+                    if start is None and on_failure == "raise":
+                        where = self._where(u, 0)
+                        if result.singular:
+                            raise SingularJacobianError(f"at {where}, the first instant: {result.message}",
+                                                        result.x.tolist())
+                        raise ConvergenceError(f"at {where}, the first instant, from the guess: "
+                                               f"{result.message}", result=result)
+                q, iterations = self._march(u, paths, start, tol, max_iter, notes)
+            converged = np.isfinite(q).all(axis=1)
+            safe = q if converged.all() else np.where(converged[:, None], q, 0.0)
+            want_rates = rates is not None or accelerations is not None
+            at_q = at_q if at_q is not None and safe is q else dict(known)
+            J, F_u = (self._rate_terms(safe, u, at_q, same_point=True) if want_rates
+                      else (self._J(safe, u, at_q), None))
+            smallest = self._smallest(J)
+            singular = converged & ~(smallest >= SINGULAR) | stuck
+            near = converged & ~(smallest >= NEAR_SINGULAR)
+            if want_rates:
+                q_rate, q_acc, _ = self._rates(safe, u, u_rate, u_acc, singular | ~converged, (J, F_u), at_q)
+        self._notes(notes, converged, singular, near, u)
+        if on_failure == "raise":
+            self._report(~converged, singular & want_rates, u, closed)
+        velocity = acceleration = None
+        if want_rates:
+            velocity, acceleration = self._by_name(q_rate, shape), self._by_name(q_acc, shape)
+
+        def shaped(values):
+            return scalar_or_array(values.reshape(shape))
+
+        inputs_used = {s.name: scalar_or_array(a) for s, a in zip(self.inputs, arrays[:m], strict=True)}
+        return Motion(position=self._by_name(q, shape), velocity=velocity, acceleration=acceleration,
+                      converged=shaped(converged), singular=shaped(singular), iterations=shaped(iterations),
+                      inputs=MappingProxyType(inputs_used), newton=result if shape == () else None,
+                      near_singular=shaped(near), message="; ".join(notes),
+                      assembly=None if assembly is None else MappingProxyType(assembly))
+
+    def _notes(self, notes, converged, singular, near, u) -> None:
+        """The singular and near-singular instants and the limits met, added to ``notes`` in words."""
+        for mask, what in ((singular, f"J is singular (σ_min(J̃) < {SINGULAR:.0e}: a toggle, limit or change "
+                                      "point; the rates are undefined)"),
+                           (near & ~singular, f"near a singular configuration (σ_min(J̃) < "
+                                               f"{NEAR_SINGULAR:.0e}: the rates are large and sensitive)"),
+                           (~converged, "no assembly (beyond a limit position, or not reached)")):
+            if mask.any():
+                first = int(np.flatnonzero(mask)[0])
+                notes.append(f"{what} at {self._where(u, first)} ({int(mask.sum())} of {mask.size} instants)")
+
+    def _report(self, bad, singular, u, closed) -> None:
+        """Raise the named error of the first bad instant (see :meth:`solve`)."""
+        if not (bad.any() or singular.any()):
+            return
+        first = int(np.flatnonzero(bad | singular)[0])
+        where = self._where(u, first)
+        count = f"({int((bad | singular).sum())} of {bad.size} instants, first at index {first})"
+        if singular[first]:
+            raise SingularJacobianError(f"J is singular at {where} {count}: the mechanism is at a toggle, "
+                                        f"limit or change point (σ_min(J̃) < {SINGULAR:.0e}), where the rates "
+                                        "are undefined; ask for positions only, or move the input off it")
+        if closed:
+            raise UnreachableError(f"the loops cannot be closed at {where} {count}: the closed form has no "
+                                   "real root there (B² − 4AC < 0), so no assembly exists", mask=bad)
+        if first == 0:
+            raise ConvergenceError(f"Newton did not converge at {where} from the guess {count}: "
+                                   "no assembly near the guess, or none at all")
+        raise UnreachableError(f"the loops cannot be closed at {where} {count}, continuing from the previous "
+                               "instant: the mechanism cannot follow the input there", mask=bad)
+
+    def motion_of(self, position: Mapping, inputs: Mapping, velocity: Mapping | None = None,
+                  acceleration: Mapping | None = None, *, converged=None, singular=None, near_singular=None,
+                  message: str = "", assembly: Mapping | None = None, iterations=0,
+                  newton: NewtonResult | None = None, kind: type[Motion] = Motion, **extra) -> Motion:
+        """A :class:`Motion` of this mechanism from values found another way (a machine's own closed form):
+        ``position`` and the rates keyed by the unknowns' names, ``inputs`` by the inputs', broadcast
+        together.  ``converged`` defaults to "every unknown finite"; ``singular`` and ``near_singular`` to
+        the core's rule where converged; ``iterations`` (default 0) and ``newton`` say how it was found.
+        ``kind``: a machine's own :class:`Motion` (its result type, with its names for the values and its
+        ``extra`` fields).
+
+        >>> th, x = sp.symbols("theta x")
+        >>> follower = Mechanism([x - sp.cos(th)], [x], [th])
+        >>> motion = follower.motion_of({"x": [1.0, 0.0]}, {"theta": [0.0, np.pi / 2]})
+        >>> motion.converged.tolist(), motion.singular.tolist(), motion.iterations.tolist()
+        ([True, True], [False, False], [0, 0])
+        """
+        unknowns, inputs_named = [s.name for s in self.unknowns], [s.name for s in self.inputs]
+        for argument, given, names in (("position", position, unknowns), ("inputs", inputs, inputs_named),
+                                       ("velocity", velocity, unknowns),
+                                       ("acceleration", acceleration, unknowns)):
+            if given is not None and (not isinstance(given, Mapping) or sorted(given) != sorted(names)):
+                raise InvalidGeometryError(f"{argument} must map each of {names} to its values; got {given!r}"
+                                           [:400])
+        named = {f"position[{k}]": position[k] for k in unknowns} | {f"inputs[{k}]": inputs[k]
+                                                                      for k in inputs_named}
+        for rates_name, rates in (("velocity", velocity), ("acceleration", acceleration)):
+            if rates is not None:
+                named |= {f"{rates_name}[{k}]": rates[k] for k in unknowns}
+        arrays = dict(zip(named, require_broadcast(**{k: require_finite(k, v, allow_nan=True)
+                                                         for k, v in named.items()}), strict=True))
+
+        def part(prefix, names, given):
+            return None if given is None else {k: arrays[f"{prefix}[{k}]"] for k in names}
+
+        return self._motion(
+            part("position", unknowns, position), part("inputs", inputs_named, inputs),
+            part("velocity", unknowns, velocity), part("acceleration", unknowns, acceleration),
+            converged=converged, singular=singular, near_singular=near_singular, message=message,
+            assembly=assembly, iterations=iterations, newton=newton, kind=kind, **extra)
+
+    def _motion(self, position, inputs, velocity=None, acceleration=None, *, converged=None, singular=None,
+                near_singular=None, message="", assembly=None, iterations=0, newton=None, kind=Motion,
+                **extra) -> Motion:
+        """:meth:`motion_of` of values already checked (a machine's own, keyed by the declared names):
+        broadcast, shaped, and the singularity masks not given left to the core's rule, computed when
+        first read."""
+        values = [*position.values(), *inputs.values(), *(velocity or {}).values(),
+                  *(acceleration or {}).values()]
+        shape = np.broadcast_shapes(*(np.shape(v) for v in values))
+
+        def shaped(value):
+            return scalar_or_array(_broadcast(value, shape))
+
+        def by_name(values):
+            return None if values is None else MappingProxyType({k: shaped(v) for k, v in values.items()})
+
+        if converged is None:
+            converged = np.logical_and.reduce([np.isfinite(v) for v in position.values()])
+        converged = shaped(np.asarray(converged, bool))
+        found = {}
+
+        def smallest():  # the core's σ_min(J̃), once, for whichever mask is read first
+            if not found:
+                found["smallest"] = self._smallest_where(position, inputs, shape)
+            return found["smallest"]
+
+        if singular is None:
+            singular = Deferred(lambda: shaped(np.asarray(converged) & ~(smallest() >= SINGULAR)))
+        else:
+            singular = shaped(np.asarray(singular, bool))
+        if near_singular is None:
+            near_singular = Deferred(lambda: shaped(np.asarray(converged) & ~(smallest() >= NEAR_SINGULAR)))
+        else:
+            near_singular = shaped(np.asarray(near_singular, bool))
+        return kind(position=by_name(position), velocity=by_name(velocity),
+                    acceleration=by_name(acceleration),
+                    converged=converged, singular=singular, iterations=shaped(np.asarray(iterations)),
+                    newton=newton, inputs=by_name(inputs), near_singular=near_singular, message=message,
+                    assembly=None if assembly is None else MappingProxyType(dict(assembly)), **extra)

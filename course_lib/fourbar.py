@@ -26,7 +26,6 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .mechanism.singular import NEAR_SINGULAR, SINGULAR
 from .motion import Motion
 from .planar import Unpacks, scalar_or_array, wrap_angle
 
@@ -268,6 +267,8 @@ class FourBar:
         and the core's σ_min(J̃) ≥ 2·SINGULAR) and none near one (σ_min(J̃) ≥ 2·NEAR_SINGULAR): σ_min ≥
         |det J̃| / ‖J̃‖_F, with ‖J̃‖_F bounded by the lengths and the core's scales, and B² − 4AC =
         16 l3² l4² sin²(θ3 − θ4) (rounding below 1e-12)."""
+        from .mechanism.singular import NEAR_SINGULAR, SINGULAR  # the core (sympy) only when solving
+
         _, _, l3, l4 = self._unit_lengths()
         rows, columns = self._unit_mechanism._scales
         frobenius = math.sqrt((l3**2 / columns[0] ** 2 + l4**2 / columns[1] ** 2)
@@ -279,6 +280,8 @@ class FourBar:
     def _near(self, theta2, theta3, theta4) -> np.ndarray:
         """True where the core's rule finds J near singular (σ_min(J̃) < NEAR_SINGULAR), False where the
         position is not found."""
+        from .mechanism.singular import NEAR_SINGULAR
+
         smallest = self._unit_mechanism._smallest_where({"theta3": theta3, "theta4": theta4},
                                                         {"theta2": theta2}, np.shape(theta3))
         return (smallest < NEAR_SINGULAR) & np.isfinite(theta3)

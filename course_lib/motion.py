@@ -47,8 +47,9 @@ class Motion:
     iterations : Newton updates per instant (0 where the closed form alone gave it).
     inputs : input's name → its broadcast values.  newton : one instant's ``NewtonResult``; None for a sweep.
     near_singular : True where σ_min(J̃) < NEAR_SINGULAR (rates large and sensitive).  message : the toggles,
-    limits and change points met, in words ("" when none).  assembly : each closed-form block's first
-    unknown → its root σ (±1) per instant; None where Newton alone solved.
+    limits and change points met, in words ("" when none).  assembly : each unknown of a closed-form
+    block → its block's σ (±1) per instant, σ = −sign(det J_b) (see :mod:`course_lib.mechanism.closed_forms`;
+    0 where J_b is singular or nothing was found); None where Newton alone solved.
     """
 
     position: Mapping[str, float | np.ndarray]

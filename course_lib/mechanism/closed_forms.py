@@ -1,5 +1,15 @@
 """Closed forms: the blocks solved in turn, each reduced where it can be by the course's half-angle route to
-one quadratic whose two roots are the block's two assemblies (σ = ±1), followed along a sweep.
+one quadratic whose two roots are the block's two assemblies, followed along a sweep.
+
+**σ, the one assembly vocabulary.**  A block's two assemblies are told apart by σ = −sign(det J_b), J_b the
+block's rows of the loops differentiated by its unknowns, both in the declared order.  σ does not depend on
+how the block is reduced, so ``assembly=`` may name any unknown of the block.  For a dyad — two links
+meeting at a joint, their far ends known — det J_b vanishes exactly where the links line up, and σ tells on
+which side of the line through the far ends the joint lies: for a loop written with the link vectors
+l_a·e(θ_a) and l_b·e(θ_b) of its unknowns θ_a, θ_b (in that order), σ = sign(e(θ_a) × e(θ_b)) = +1 where
+the turn from the first to the second is counter-clockwise.  The course's machines: the four-bar's open
+assembly (B left of the line A → O4) is σ = +1, crossed −1; the five-bar's arms up (P3 left of the line
+P4 → P2, the larger Y3 while P2 is right of P4) is σ = +1, arms down −1.
 
 One room of :class:`~course_lib.mechanism.Mechanism`, which is all of them together.
 """
@@ -15,6 +25,7 @@ import sympy as sp
 from ..errors import (
     InvalidGeometryError,
 )
+from ..planar import scalar_or_array
 from ..symbolic import LoopForm, is_angle, reduce_loop
 from .continuation import MAX_CHANGE, _unwrap_to
 from .declaration import _derived
@@ -81,18 +92,48 @@ class ClosedForms:
 
     @_derived
     def _closed_fns(self) -> list | None:
-        """Per block, the compiled (a, b, c) and second-unknown functions; None unless every block reduces."""
+        """Per block, the compiled (a, b, c), second-unknown and det J_b functions (J_b: the block's rows
+        and unknowns of J, as declared; σ = −sign(det J_b)); None unless every block reduces."""
         forms = self._structure["forms"]
         if any(form is None for form in forms):
             return None
-        compiled = []
-        for form in forms:
+        compiled, J = [], self.equations.jacobian(self.unknowns)
+        for form, (rows, columns) in zip(forms, self._structure["blocks"], strict=True):
             second = None
             if form.second is not None:
                 second = self._compile(list(form.second[1:]), self.unknowns, self.inputs)
             linear = form.kind == "length" and form.quadratic[0] == 0
-            compiled.append((self._compile(list(form.quadratic), self.unknowns, self.inputs), second, linear))
+            orientation = self._compile([J.extract(rows, columns).det()], self.unknowns, self.inputs)
+            compiled.append((self._compile(list(form.quadratic), self.unknowns, self.inputs), second, linear,
+                             orientation))
         return compiled
+
+    def _block_of(self) -> dict[str, str]:
+        """Each unknown of a closed-form block (by name) → the name that keys its block internally (the
+        block's first unknown as the half-angle route orders it)."""
+        return {s.name: form.unknowns[0].name for form in self._structure["forms"]
+                if form is not None and not (form.kind == "length" and form.quadratic[0] == 0)
+                for s in form.unknowns}
+
+    def _assembly_at(self, position: Mapping, inputs: Mapping, shape) -> dict[str, np.ndarray] | None:
+        """σ = −sign(det J_b) of each closed-form block at values found another way (a machine's own
+        closed form), keyed like ``Motion.assembly``: every unknown of a block → its σ (shape ``shape``; 0
+        where J_b is singular or the position not found); None where some block has no closed form."""
+        if self._closed_fns is None:
+            return None
+        q = np.stack([np.broadcast_to(position[s.name], shape) for s in self.unknowns], axis=-1)
+        u = np.stack([np.broadcast_to(inputs[s.name], shape) for s in self.inputs], axis=-1)
+        q, u = q.reshape(-1, len(self.unknowns)), u.reshape(-1, len(self.inputs))
+        found = np.isfinite(q).all(axis=1)
+        out = {}
+        with np.errstate(all="ignore"):
+            for form, fns in zip(self._structure["forms"], self._closed_fns, strict=True):
+                if fns[2]:  # a linear block: one solution, no σ
+                    continue
+                det = fns[3](self._values, np.where(np.isfinite(q), q, 0.0), u)[0]
+                sigma = np.where(found, -np.sign(det), 0).astype(int).reshape(shape)
+                out.update({s.name: scalar_or_array(sigma) for s in form.unknowns})
+        return {s.name: out[s.name] for s in self.unknowns if s.name in out}
 
     @staticmethod
     def _roots(a, b, c, kind):
@@ -117,21 +158,27 @@ class ClosedForms:
         return out[0], out[1], np.where(scale > 0, discriminant / scale, 0.0)
 
     def _assembly(self, assembly: Mapping | None, closed: bool) -> dict[str, int]:
-        """``solve``'s ``assembly``: σ = ±1 by the name (or symbol) of a block's first unknown."""
+        """``solve``'s ``assembly``: σ = ±1 by the name (or symbol) of any unknown of a block."""
         if assembly is None:
             return {}
-        firsts = [form.unknowns[0].name for form in self._structure["forms"] if form is not None and closed]
+        keys = self._block_of() if closed else {}
         if not isinstance(assembly, Mapping) or not closed:
-            raise InvalidGeometryError(f"assembly must map the first unknown of each closed-form block "
-                                       f"({firsts or 'none here: give a guess instead'}) to σ = +1 or −1; "
-                                       f"got assembly={assembly!r}")
+            raise InvalidGeometryError(f"assembly must map an unknown of each closed-form block "
+                                       f"({sorted(keys) or 'none here: give a guess instead'}) to σ = +1 or "
+                                       f"−1; got assembly={assembly!r}")
         chosen = {}
         for key, value in assembly.items():
             name = getattr(key, "name", key)
-            if name not in firsts or isinstance(value, bool) or value not in (1, -1):
-                raise InvalidGeometryError(f"assembly must map one of {firsts} to σ = +1 or −1; got "
-                                           f"assembly={dict(assembly)!r}")
-            chosen[name] = int(value)
+            if not isinstance(name, str) or name not in keys or isinstance(value, bool | np.bool_) or not (
+                    isinstance(value, int | float | np.integer | np.floating) and value in (1, -1)):
+                raise InvalidGeometryError(f"assembly must map unknowns of the closed-form blocks "
+                                           f"({sorted(keys)}) to σ = +1 or −1; "
+                                           f"got assembly={dict(assembly)!r}")
+            block = keys[name]
+            if chosen.get(block, int(value)) != int(value):
+                raise InvalidGeometryError(f"assembly gives two σ for one block ({name} and another unknown "
+                                           f"of its block); got assembly={dict(assembly)!r}")
+            chosen[block] = int(value)
         return chosen
 
     def _closed(self, u, paths, target, tol, max_iter, notes, chosen=None, known=None
@@ -145,23 +192,31 @@ class ClosedForms:
         N, n = len(u), len(self.unknowns)
         q, sigmas = np.full((N, n), np.nan), {}
         structure = self._structure
-        for form, (coefficients, second, linear) in zip(structure["forms"], self._closed_fns, strict=True):
+        for form, (coefficients, second, linear, orientation) in zip(structure["forms"], self._closed_fns,
+                                                                     strict=True):
             first = self.unknowns.index(form.unknowns[0])
             a, b, c = coefficients(self._values, q, u, known=known)
             if linear:
                 q[:, first] = -c / b
             else:
                 plus, minus, level = self._roots(a, b, c, form.kind)
+                # σ of the root +√Δ: −sign(det J_b) there (the other root's is the opposite)
+                at_plus = q.copy()
+                at_plus[:, first] = plus
+                if form.second is not None:
+                    at_plus[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, at_plus, u)
+                side = -np.sign(orientation(self._values, np.where(np.isfinite(at_plus), at_plus, 0.0), u)[0])
+                side = np.where(side == 0, 1.0, side)
                 name = form.unknowns[0].name
-                picked = (chosen or {}).get(name) or self._pick(plus, minus, paths, target, first)
-                sigma = np.full(N, picked)
-                self._follow(sigma, plus, minus, level, paths, u, first, notes)
-                q[:, first] = np.where(sigma > 0, plus, minus)
-                sigmas[form.unknowns[0].name] = sigma
+                wanted = (chosen or {}).get(name)
+                if wanted is None:
+                    wanted = self._pick(plus, minus, paths, target, first, side)
+                root = wanted * side  # +1: the root +√Δ, −1: the other
+                self._follow(root, plus, minus, level, paths, u, first, notes)
+                q[:, first] = np.where(root > 0, plus, minus)
+                sigmas[name] = (root * side).astype(int)
             if form.second is not None:
-                other = self.unknowns.index(form.unknowns[1])
-                values = second(self._values, q, u, known=known)
-                q[:, other] = np.arctan2(values[1], values[0]) if form.second[0] == "angle" else values[0]
+                q[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, q, u, known)
         self._continuous(q, paths, target)
         iterations = np.zeros(N, int)
         rows = self._scales[0]
@@ -177,8 +232,14 @@ class ClosedForms:
             q[k] = polished if fixed and self._distance(polished, q[k]) <= MAX_CHANGE else np.nan
         return q, iterations, sigmas, at_q if everywhere and not len(doubt) else None
 
-    def _pick(self, plus, minus, paths, target, first) -> int:
-        """σ at the first instant (along the paths) where the two roots differ: the one nearer ``target``."""
+    def _second(self, form, second, q, u, known=None) -> np.ndarray:
+        """The block's second unknown from its first (already in ``q``)."""
+        values = second(self._values, q, u, known=known)
+        return np.arctan2(values[1], values[0]) if form.second[0] == "angle" else values[0]
+
+    def _pick(self, plus, minus, paths, target, first, side) -> int:
+        """σ at the first instant (along the paths) where the two roots differ: the one nearer ``target``
+        (``side``: the σ of the root +√Δ per instant)."""
         if target is None:
             return 1
         for k in itertools.chain(*paths):
@@ -188,19 +249,22 @@ class ClosedForms:
                 gaps = np.abs(both - target[first])
                 if self.unknowns[first] in self._structure["angles"]:
                     gaps = np.abs(_unwrap_to(both - target[first], 0.0))
-                return 1 if gaps[0] * size <= gaps[1] * size else -1
+                return int((1 if gaps[0] * size <= gaps[1] * size else -1) * side[k])
         return 1
 
-    def _follow(self, sigma, plus, minus, level, paths, u, first, notes) -> None:
-        """Swap σ where the two assemblies meet between instants (a change point): there the other root
-        continues the motion smoothly (a secant from the two instants before predicts it)."""
+    def _follow(self, root, plus, minus, level, paths, u, first, notes) -> None:
+        """Swap the root (``root``: +1 the root +√Δ, −1 the other, per instant) where the two assemblies
+        meet between instants (a change point): there the other root continues the motion smoothly (a
+        secant from the two instants before predicts it), and σ changes."""
+        if u.shape[1] > 1:  # several inputs: no order of neighbours to follow; each instant keeps its σ
+            return
         name, is_angle_ = self.unknowns[first].name, self.unknowns[first] in self._structure["angles"]
         for path in paths:
             for _ in range(64):
                 if len(path) < 3:
                     break
-                chosen = np.where(sigma[path] > 0, plus[path], minus[path])
-                other = np.where(sigma[path] > 0, minus[path], plus[path])
+                chosen = np.where(root[path] > 0, plus[path], minus[path])
+                other = np.where(root[path] > 0, minus[path], plus[path])
                 steps = np.linalg.norm(np.diff(u[path], axis=0), axis=1)
                 ratio = np.where(steps[:-1] > 0, steps[1:] / np.where(steps[:-1] > 0, steps[:-1], 1.0), 0.0)
                 back = chosen[1:-1] - chosen[:-2]
@@ -218,7 +282,7 @@ class ClosedForms:
                 if not suspect.any():
                     break
                 k = int(np.argmax(suspect)) + 2
-                sigma[path[k:]] *= -1
+                root[path[k:]] *= -1
                 notes.append(f"the two assemblies of {name} meet (a change point) between "
                              f"{self._where(u, path[k - 1])} and {self._where(u, path[k])}: the motion "
                              "continues on the smooth one (σ swapped there)")

@@ -42,13 +42,16 @@ class Solving:
         ``inputs``, ``rates``, ``accelerations`` map inputs (symbol or name) to numbers or arrays,
         broadcast together (missing rates are 0).  ``guess`` picks the assembly: Newton runs from it at the
         first instant (its history in ``Motion.newton`` for one instant).  Where every block reduces to a
-        closed form (:attr:`closed_forms`) each block keeps the root σ nearest that solution (σ = +1 without
-        a guess, or the σ that ``assembly`` gives by the block's first unknown, as ``Motion.assembly``
-        names them), and Newton only cross-checks; elsewhere each instant continues from its neighbour's
-        solution (tangent predictor, steps subdivided and Newton's steps limited, so no instant lands on
-        another assembly).  A sweep of one input is followed from its first instant outward, in increasing
-        and in decreasing order of the input (the order the values come in does not matter); several inputs
-        in the order given.  Angles stay within a turn of their neighbours.  Raises, unless
+        closed form (:attr:`closed_forms`) each block keeps the assembly σ nearest that solution (σ = +1
+        without a guess, or the σ that ``assembly`` gives by any unknown of the block; σ = −sign(det J_b),
+        see :mod:`~course_lib.mechanism.closed_forms`; ``Motion.assembly`` gives it for every unknown of a
+        block, and ``Motion.message`` names the blocks a partial ``assembly`` left at +1), and Newton only
+        cross-checks; elsewhere each instant continues from its neighbour's solution (tangent predictor,
+        steps subdivided and Newton's steps limited, so no instant lands on another assembly).  A sweep of
+        one input is followed from its first instant outward, in increasing and in decreasing order of the
+        input (the order the values come in does not matter), σ changing only at a change point, where the
+        message names it; with several inputs each instant keeps its σ.  Angles stay within a turn of their
+        neighbours.  Raises, unless
         ``on_failure="nan"``: ``SingularJacobianError`` (rates asked where J is singular, or a singular
         seed), ``ConvergenceError`` (no root from the guess), ``UnreachableError`` (no assembly).
 
@@ -100,7 +103,15 @@ class Solving:
                                                           known)
                 if shape == () and result is not None:
                     iterations[0] = result.iterations
-                assembly = {name: scalar_or_array(values.reshape(shape)) for name, values in sigma.items()}
+                blocks = self._block_of()
+                assembly = {s.name: scalar_or_array(sigma[blocks[s.name]].reshape(shape))
+                            for s in self.unknowns if s.name in blocks}
+                left = sorted({blocks[name] for name in blocks} - set(chosen)) if chosen else []
+                if left:
+                    notes.append("assembly= chose no σ for the block of " + ", ".join(
+                        "/".join(s.name for s in self.unknowns if blocks.get(s.name) == block)
+                        for block in left)
+                        + ": σ = +1 taken there")
             elif shape == ():
                 where = self._where(u, 0)
                 if on_failure == "raise" and result.singular:
@@ -227,8 +238,8 @@ class Solving:
                 near_singular=None, message="", assembly=None, iterations=0, newton=None, kind=Motion,
                 **extra) -> Motion:
         """:meth:`motion_of` of values already checked (a machine's own, keyed by the declared names):
-        broadcast, shaped, and the singularity masks not given left to the core's rule, computed when
-        first read."""
+        broadcast, shaped, and the singularity masks and the assembly not given left to the core's rules,
+        computed when first read."""
         values = [*position.values(), *inputs.values(), *(velocity or {}).values(),
                   *(acceleration or {}).values()]
         shape = np.broadcast_shapes(*(np.shape(v) for v in values))
@@ -261,4 +272,11 @@ class Solving:
                     acceleration=by_name(acceleration),
                     converged=converged, singular=singular, iterations=shaped(np.asarray(iterations)),
                     newton=newton, inputs=by_name(inputs), near_singular=near_singular, message=message,
-                    assembly=None if assembly is None else MappingProxyType(dict(assembly)), **extra)
+                    assembly=(MappingProxyType(dict(assembly)) if assembly is not None
+                              else Deferred(lambda: self._frozen_assembly(position, inputs, shape))), **extra)
+
+    def _frozen_assembly(self, position, inputs, shape):
+        """The core's σ of values found another way (see ``_assembly_at``), read-only; None without closed
+        forms."""
+        found = self._assembly_at(position, inputs, shape)
+        return None if found is None else MappingProxyType(found)

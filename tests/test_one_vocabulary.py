@@ -1,0 +1,125 @@
+"""One assembly vocabulary: every machine's result carries ``Motion.assembly``, the core's σ = −sign(det J_b),
+and each machine's own names for its assemblies (branch, mode, modes) map onto it as documented.  The
+geometry is computed here, independently: pins by circle intersections, sides by cross products."""
+
+import numpy as np
+import pytest
+import sympy as sp
+from geometry import circle_intersections, fourbar_pins
+
+from course_lib.errors import InvalidGeometryError
+from course_lib.fivebar import FiveBar
+from course_lib.fourbar import FourBar
+from course_lib.mechanism import Mechanism
+from course_lib.slider_crank import OffsetSliderCrank
+
+
+def cross(a, b):
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+THETA2 = np.radians(np.arange(0.0, 360.0, 10.0))
+WIPER = FourBar(0.06, 0.18, 0.12, 0.20)
+
+
+@pytest.mark.parametrize(("branch", "sigma"), [("open", +1), ("crossed", -1)])
+def test_the_four_bars_branches_are_sigmas_of_the_core(branch, sigma):
+    solution = WIPER.solve(THETA2, branch=branch)
+    assert set(np.ravel(solution.assembly["theta3"])) == set(np.ravel(solution.assembly["theta4"])) == {sigma}
+    A, B = fourbar_pins(0.20, 0.06, 0.18, 0.12, THETA2, branch)  # open: B left of A → O4
+    assert set(np.sign(cross(np.array([0.20, 0.0]) - A, B - A))) == {sigma}
+    # the machine's solve and its declaration's solve with that σ: the same assembly
+    core = WIPER.mechanism.solve({"theta2": THETA2}, assembly={"theta3": sigma})
+    assert np.abs(np.angle(np.exp(1j * (core.position["theta4"] - solution.theta4)))).max() < 1e-12
+    assert np.array_equal(core.assembly["theta4"], solution.assembly["theta4"])
+
+
+@pytest.mark.parametrize(("branch", "sigma"), [("left", +1), ("right", -1)])
+def test_the_slider_cranks_branches_are_sigmas_of_the_core(branch, sigma):
+    crank = OffsetSliderCrank(0.075, 0.170, 0.045)
+    motion = crank.solve(THETA2, branch=branch)
+    assert set(np.ravel(motion.assembly["theta3"])) == {sigma}
+    core = crank.mechanism.solve({"theta2": THETA2}, assembly={"x": sigma})
+    assert np.abs(core.position["x"] - motion.x).max() < 1e-12
+
+
+ROBOT = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+RNG = np.random.default_rng(7)
+T1, T4 = RNG.uniform(-np.pi, np.pi, 400), RNG.uniform(-np.pi, np.pi, 400)
+
+
+def elbows(theta1, theta4):
+    P2 = np.stack([0.04 + 0.10 * np.cos(theta1), 0.10 * np.sin(theta1)], axis=-1)
+    P4 = np.stack([-0.04 + 0.10 * np.cos(theta4), 0.10 * np.sin(theta4)], axis=-1)
+    return P2, P4
+
+
+@pytest.mark.parametrize("sigma", [+1, -1])
+def test_the_five_bars_arms_up_is_sigma_plus_one_by_a_cross_product(sigma):
+    P2, P4 = elbows(T1, T4)
+    left, right = circle_intersections(P2, 0.15, P4, 0.15)  # left / right of the directed line P2 → P4
+    reach = np.isfinite(left).all(axis=1)
+    motion = ROBOT.mechanism.solve({"theta1": T1, "theta4": T4}, assembly={"y3": sigma}, on_failure="nan")
+    P3 = np.stack([motion.position["x3"], motion.position["y3"]], axis=-1)
+    assert reach.sum() > 200 and np.array_equal(np.isfinite(P3).all(axis=1), reach)
+    # arms up: P3 left of the line P4 → P2, i.e. right of P2 → P4
+    expected = right if sigma > 0 else left
+    assert np.abs(P3[reach] - expected[reach]).max() < 1e-12
+    assert set(np.sign(cross(P2 - P4, P3 - P4))[reach]) == {sigma}
+    assert set(np.ravel(motion.assembly["x3"])[reach]) == {sigma}
+    # the course's mode (+1: the larger Y3) is that σ while P2 is right of P4, the other where it is left
+    course = ROBOT.forward(T1, T4, mode=sigma, on_failure="nan")
+    D = P2[:, 0] - P4[:, 0]
+    assert np.abs(course.y3 - P3[:, 1])[reach & (D > 1e-9)].max() < 1e-12
+    assert set(np.ravel(course.assembly["y3"])[reach]) == {-1, 1}
+    assert np.array_equal(np.ravel(course.assembly["y3"])[reach], sigma * np.sign(D[reach]).astype(int))
+
+
+@pytest.mark.parametrize("modes", [(1, 1), (1, -1), (-1, 1), (-1, -1)])
+def test_the_five_bars_inverse_modes_map_onto_sigma(modes):
+    x3, y3 = RNG.uniform(-0.1, 0.1, 300), RNG.uniform(0.05, 0.22, 300)
+    result = ROBOT.inverse(x3, y3, modes=modes, on_failure="nan")
+    found = np.isfinite(result.theta1) & np.isfinite(result.theta4)
+    assert found.sum() > 200
+    P1, P5, P3 = np.array([0.04, 0.0]), np.array([-0.04, 0.0]), np.stack([x3, y3], axis=-1)
+    P2, P4 = elbows(result.theta1, result.theta4)
+    # each leg's σ: +1 where it turns counter-clockwise at its elbow (l1 then l2; l4 then l3)
+    assert set(np.sign(cross(P2 - P1, P3 - P2))[found]) == {-modes[0]}
+    assert set(np.sign(cross(P4 - P5, P3 - P4))[found]) == {-modes[1]}
+    assert set(np.ravel(result.assembly["theta1"])[found]) == {-modes[0]}
+    assert set(np.ravel(result.assembly["theta4"])[found]) == {-modes[1]}
+
+
+th2, th3, th4, th5, th6 = sp.symbols("theta2:7", real=True)
+
+
+def two_loops():
+    def R(length, angle):
+        return length * sp.Matrix([sp.cos(angle), sp.sin(angle)])
+
+    O4, O6 = sp.Matrix([0.20, 0]), sp.Matrix([0.36, 0])
+    A, B = R(0.06, th2), O4 + R(0.12, th4)
+    C, D = O4 + R(0.12, th4 - 0.26), O6 + R(0.08, th6)
+    return Mechanism([A + R(0.18, th3) - B, C + R(0.20, th5) - D], [th3, th4, th5, th6], [th2])
+
+
+def test_a_partial_assembly_names_the_block_left_to_choose():
+    six_bar = two_loops()
+    motion = six_bar.solve({th2: np.radians([30.0, 40.0])}, assembly={"theta3": -1})
+    assert "theta5/theta6" in motion.message and "σ = +1 taken" in motion.message
+    assert set(motion.assembly["theta4"]) == {-1} and set(motion.assembly["theta6"]) == {+1}
+    both = six_bar.solve({th2: np.radians([30.0, 40.0])}, assembly={"theta3": -1, "theta5": -1})
+    assert "taken" not in both.message and set(both.assembly["theta6"]) == {-1}
+
+
+def test_several_inputs_keep_each_instants_sigma_in_any_order():
+    order = RNG.permutation(len(T1))
+    shuffled = ROBOT.mechanism.solve({"theta1": T1[order], "theta4": T4[order]}, assembly={"x3": 1},
+                                     on_failure="nan")
+    alone = ROBOT.mechanism.solve({"theta1": T1, "theta4": T4}, assembly={"x3": 1}, on_failure="nan")
+    assert np.array_equal(shuffled.position["y3"], alone.position["y3"][order], equal_nan=True)
+
+
+def test_sigma_of_another_block_is_refused_by_name():
+    with pytest.raises(InvalidGeometryError, match="two σ for one block"):
+        two_loops().solve({th2: 0.5}, assembly={"theta5": 1, "theta6": -1})

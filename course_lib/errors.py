@@ -4,7 +4,9 @@ the offending input and its value, so a student learns *which* argument is wrong
 
 from __future__ import annotations
 
+import functools
 import numbers
+import warnings
 from collections.abc import Iterable, Mapping
 from typing import Any
 
@@ -13,7 +15,7 @@ import numpy as np
 __all__ = ["CourseLibError", "UnreachableError", "ConvergenceError", "SingularJacobianError",
            "InvalidGeometryError", "InvalidArgumentError", "require_positive", "require_finite",
            "require_broadcast", "require_choice", "report_unreachable", "failure_policy", "FAILURE_POLICIES",
-           "UNSET"]
+           "older_failure_keywords"]
 
 #: What a call does where it fails (no assembly, a singular Jacobian): raise the named error, or give NaN.
 FAILURE_POLICIES = ("raise", "nan")
@@ -146,40 +148,61 @@ def require_choice(name: str, value: Any, choices: Iterable[Any]) -> Any:
     return value
 
 
-class _Unset(str):
-    """The default of an older failure keyword: it reads "raise" (as that default always did) and counts
-    as not given, so ``on_failure`` alone decides."""
-
-    __slots__ = ()
+#: The older spellings of ``on_failure=``, accepted with a ``DeprecationWarning`` until this version.
+OLDER_FAILURE_KEYWORDS = ("on_unreachable", "on_singular")
+OLDER_FAILURE_REMOVED_IN = "2.0.0"
 
 
-#: The default of ``on_unreachable=`` and ``on_singular=``: "raise", unless ``on_failure`` says otherwise.
-UNSET = _Unset("raise")
+def failure_policy(on_failure: str | None = None) -> str:
+    """The one failure policy of a call: ``on_failure`` = "raise" (the default, None) or "nan".
 
-
-def failure_policy(on_failure: str | None = None, **aliases: str) -> str:
-    """The one failure policy of a call, ``on_failure`` = "raise" or "nan", given by that keyword or by
-    the older one that spelled it (``on_unreachable=``, ``on_singular=``, whose default is ``UNSET``);
-    "raise" when none is given.  Two that disagree are refused by name.
-
-    >>> failure_policy(), failure_policy("nan"), failure_policy(None, on_unreachable="nan")
-    ('raise', 'nan', 'nan')
+    >>> failure_policy(), failure_policy("nan")
+    ('raise', 'nan')
     """
-    given = {} if on_failure is None else {"on_failure": on_failure}
-    given |= {name: value for name, value in aliases.items() if value is not UNSET}
-    for name, value in given.items():
-        require_choice(name, value, FAILURE_POLICIES)
-    if len(set(given.values())) > 1:
-        shown = ", ".join(f"{name}={value!r}" for name, value in given.items())
-        raise InvalidArgumentError(f"on_failure and its older spelling disagree: give one; got {shown}")
-    return next(iter(given.values()), "raise")
+    return "raise" if on_failure is None else require_choice("on_failure", on_failure, FAILURE_POLICIES)
 
 
-def report_unreachable(bad: np.ndarray, inputs: Mapping[str, Any], what: str, on_unreachable: str = "raise"
+def older_failure_keywords(function):
+    """A call's ``on_unreachable=`` or ``on_singular=`` (the older spellings of ``on_failure=``) read as
+    ``on_failure=``, with a ``DeprecationWarning`` naming the removal version; two that disagree are refused.
+
+    >>> import warnings
+    >>> @older_failure_keywords
+    ... def solve(x, *, on_failure=None):
+    ...     return failure_policy(on_failure)
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     solve(1.0, on_unreachable="nan"), caught[0].category.__name__
+    ('nan', 'DeprecationWarning')
+    """
+
+    @functools.wraps(function)
+    def call(*args, **kwargs):
+        older = {name: kwargs.pop(name) for name in OLDER_FAILURE_KEYWORDS if name in kwargs}
+        if older:
+            warnings.warn(f"{', '.join(older)}= is the older spelling of on_failure= and goes in course_lib "
+                          f"{OLDER_FAILURE_REMOVED_IN}: write on_failure={next(iter(older.values()))!r}",
+                          DeprecationWarning, stacklevel=2)
+            given = dict(older)
+            if kwargs.get("on_failure") is not None:
+                given = {"on_failure": kwargs["on_failure"]} | older
+            for name, value in given.items():
+                require_choice(name, value, FAILURE_POLICIES)
+            if len(set(given.values())) > 1:
+                shown = ", ".join(f"{name}={value!r}" for name, value in given.items())
+                raise InvalidArgumentError(f"on_failure and its older spelling disagree: give one; "
+                                           f"got {shown}")
+            kwargs["on_failure"] = next(iter(given.values()))
+        return function(*args, **kwargs)
+
+    return call
+
+
+def report_unreachable(bad: np.ndarray, inputs: Mapping[str, Any], what: str, on_failure: str = "raise"
                        ) -> None:
     """Raise ``UnreachableError`` if any entry of the boolean mask ``bad`` is set, naming the ``inputs``
     (arrays broadcastable to ``bad``) at the first bad entry, and for arrays how many are bad.  With
-    ``on_unreachable="nan"`` nothing is raised (the caller fills NaN).
+    ``on_failure="nan"`` nothing is raised (the caller fills NaN).
 
     >>> try:
     ...     report_unreachable(np.array([False, True]), {"theta2": [0.1, 2.0]}, "the loop cannot close")
@@ -187,9 +210,9 @@ def report_unreachable(bad: np.ndarray, inputs: Mapping[str, Any], what: str, on
     ...     print(err)
     the loop cannot close at theta2=2 (1 of 2 inputs unreachable, first at index 1)
     """
-    require_choice("on_unreachable", on_unreachable, ("raise", "nan"))
+    require_choice("on_failure", on_failure, FAILURE_POLICIES)
     bad = np.asarray(bad, dtype=bool)
-    if on_unreachable == "nan" or not bad.any():
+    if on_failure == "nan" or not bad.any():
         return
     first = int(np.flatnonzero(bad)[0])
     index = np.unravel_index(first, bad.shape) if bad.ndim else ()

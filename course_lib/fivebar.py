@@ -15,10 +15,10 @@ from typing import Any
 import numpy as np
 
 from .errors import (
-    UNSET,
     InvalidGeometryError,
     SingularJacobianError,
     failure_policy,
+    older_failure_keywords,
     report_unreachable,
     require_broadcast,
     require_choice,
@@ -319,8 +319,8 @@ class FiveBar:
             c = f**2 - l3**2 + l4**2 + f * l5 + l5**2 / 4 - l4 * (2 * f + l5) * c4
         return {"f": f, "g": g, "a": a, "b": b, "c": c, "D": D}
 
-    def forward(self, theta1, theta4, mode: int = 1, on_unreachable: str = UNSET, *,
-                on_failure: str | None = None) -> ForwardResult:
+    @older_failure_keywords
+    def forward(self, theta1, theta4, mode: int = 1, *, on_failure: str | None = None) -> ForwardResult:
         """End effector P3 = (X3, Y3) (m) for crank angles θ1, θ4 (rad); ``mode`` +1 "arms up" (larger Y3),
         −1 "arms down".  X3 = g·Y3 + f where |P2x − P4x| ≥ |P2y − P4y|, else Y3 = g'·X3 + f'.
 
@@ -329,7 +329,7 @@ class FiveBar:
         True
         """
         sigma = int(require_choice("mode", mode, (1, -1)))
-        on_unreachable = failure_policy(on_failure, on_unreachable=on_unreachable)
+        policy = failure_policy(on_failure)
         theta1, theta4 = require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                                            theta4=require_finite("theta4", theta4, "rad"))
         l3, l4, l5 = self.l3, self.l4, self.l5
@@ -349,9 +349,9 @@ class FiveBar:
         discriminant = B * B - 4 * A * C
         far = (discriminant < -_DISCRIMINANT_SLACK * (B * B + 4 * np.abs(A * C))) & ~coincident
         inputs = {"theta1": theta1, "theta4": theta4}
-        report_unreachable(far, inputs, "the distal links l2, l3 cannot meet", on_unreachable)
+        report_unreachable(far, inputs, "the distal links l2, l3 cannot meet", policy)
         report_unreachable(coincident, inputs, "P2 and P4 coincide, so the end effector is undetermined",
-                           on_unreachable)
+                           policy)
         bad = far | coincident
         root = np.sqrt(np.clip(discriminant, 0.0, None))
         # on the swapped route the larger Y3 is the larger X3 when g' > 0 (tie D = 0: D → 0⁺)
@@ -387,8 +387,9 @@ class FiveBar:
             "c2": -(l3**2) + l4**2 - l4 * l5 - 2 * l4 * X + l5 * X + common,
         }
 
-    def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1), on_unreachable: str = UNSET, *,
-                on_failure: str | None = None) -> InverseResult:
+    @older_failure_keywords
+    def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1), *, on_failure: str | None = None
+                ) -> InverseResult:
         """Crank angles θ1, θ4 (rad, in (−π, π]) that put the end effector at (x3, y3) (m); ``modes`` =
         (σ1, σ2), the signs in θ = 2·atan((−b + σ√(b² − 4ac))/2a): the four working modes.
 
@@ -397,15 +398,15 @@ class FiveBar:
         [0.0, 0.2]
         """
         sigmas = _working_mode(modes)
-        on_unreachable = failure_policy(on_failure, on_unreachable=on_unreachable)
+        policy = failure_policy(on_failure)
         X, Y = require_broadcast(x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
         with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
             theta1, theta4, far1, far4, free = _blockwise(partial(self._inverse_points, sigmas=sigmas),
                                                           (X, Y), (float, float, bool, bool, bool))
         inputs = {"x3": x3, "y3": y3}
-        report_unreachable(far1, inputs, "leg 1 (l1, l2) cannot reach the point", on_unreachable)
-        report_unreachable(far4, inputs, "leg 4 (l4, l3) cannot reach the point", on_unreachable)
-        report_unreachable(free, inputs, "a crank angle is undetermined (P3 on a base pivot)", on_unreachable)
+        report_unreachable(far1, inputs, "leg 1 (l1, l2) cannot reach the point", policy)
+        report_unreachable(far4, inputs, "leg 4 (l4, l3) cannot reach the point", policy)
+        report_unreachable(free, inputs, "a crank angle is undetermined (P3 on a base pivot)", policy)
         reachable = np.logical_or(far1, far4, out=np.asarray(far1))
         reachable = np.logical_not(np.logical_or(reachable, free, out=reachable), out=reachable)
         return self._cores["inverse"]._motion({"theta1": theta1, "theta4": theta4}, {"x3": X, "y3": Y},
@@ -472,7 +473,7 @@ class FiveBar:
         leg4 = ((p4x + half) * y_4 - p4y * x_4) / (self.l4 * self.l3)
         return leg1, leg4, (x_2 * y_4 - y_2 * x_4) / (self.l2 * self.l3)
 
-    def _singular(self, kind, on_singular, theta1, theta4, x3, y3):
+    def _singular(self, kind, policy, theta1, theta4, x3, y3):
         """The mask of a "parallel" or "serial" singularity, by the core's rule (σ_min(J̃) < SINGULAR of
         ∂(EcL2, EcL3)/∂(X3, Y3), or of ∂(EcL2, EcL3)/∂(θ1, θ4)); raises there, or for an unassembled one."""
         residual = np.abs(self._constraints(theta1, theta4, x3, y3))
@@ -496,14 +497,14 @@ class FiveBar:
             which = "leg 1 (l1, l2)" if np.any(singular & (leg1 <= leg4)) else "leg 4 (l4, l3)"
             message = f"serial (type-1) singularity: {which} is stretched or folded; the crank rates are " \
                       "undefined there"
-        if on_singular == "raise" and singular.any():
+        if policy == "raise" and singular.any():
             raise SingularJacobianError(message, condition_number=np.inf)
         return singular
 
-    def velocity_jacobian(self, theta1, theta4, x3, y3, on_singular: str = UNSET, *,
-                          on_failure: str | None = None) -> np.ndarray:
+    @older_failure_keywords
+    def velocity_jacobian(self, theta1, theta4, x3, y3, *, on_failure: str | None = None) -> np.ndarray:
         """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4).  ``SingularJacobianError`` at a
-        parallel singularity (``on_failure="nan"``, older spelling ``on_singular="nan"``: NaN), as the two
+        parallel singularity (``on_failure="nan"``, NaN), as the two
         rate functions at theirs.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
@@ -511,7 +512,7 @@ class FiveBar:
         [[-0.0754, -0.0754], [0.0614, -0.0614]]
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
-        policy = failure_policy(on_failure, on_singular=on_singular)
+        policy = failure_policy(on_failure)
         singular = self._singular("parallel", policy, theta1, theta4, x3, y3)
         A, B = self._terms(theta1, theta4, x3, y3)
         shape, B = A.shape[:-2], B.reshape(-1, 2, 2)
@@ -519,8 +520,8 @@ class FiveBar:
         J = np.stack([solve(-B[:, :, j]) for j in range(2)], axis=-1).reshape(shape + (2, 2))
         return np.where(singular[..., None, None], np.nan, J)
 
-    def end_effector_velocity(self, theta1, theta4, x3, y3, omega1, omega4, on_singular: str = UNSET,
-                              *, on_failure: str | None = None):
+    @older_failure_keywords
+    def end_effector_velocity(self, theta1, theta4, x3, y3, omega1, omega4, *, on_failure: str | None = None):
         """(Ẋ3, Ẏ3) (m/s), shape (..., 2), from the crank rates ω1, ω4 (rad/s): A·ṗ = −B·ω.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
@@ -530,13 +531,13 @@ class FiveBar:
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         omega = [require_finite("omega1", omega1, "rad/s"), require_finite("omega4", omega4, "rad/s")]
-        policy = failure_policy(on_failure, on_singular=on_singular)
+        policy = failure_policy(on_failure)
         singular = self._singular("parallel", policy, theta1, theta4, x3, y3)
         p = _stacked(x3, y3, theta1, theta4, *omega)
         return self._cores["forward"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
-    def crank_rates(self, theta1, theta4, x3, y3, vx, vy, on_singular: str = UNSET, *,
-                    on_failure: str | None = None):
+    @older_failure_keywords
+    def crank_rates(self, theta1, theta4, x3, y3, vx, vy, *, on_failure: str | None = None):
         """(ω1, ω4) (rad/s), shape (..., 2), for the end-effector velocity (vx, vy) (m/s): B·ω = −A·ṗ.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
@@ -545,7 +546,7 @@ class FiveBar:
         """
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
         velocity = [require_finite(name, value, "m/s") for name, value in (("vx", vx), ("vy", vy))]
-        policy = failure_policy(on_failure, on_singular=on_singular)
+        policy = failure_policy(on_failure)
         singular = self._singular("serial", policy, theta1, theta4, x3, y3)
         p = _stacked(theta1, theta4, x3, y3, *velocity)
         return self._cores["inverse"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]

@@ -17,9 +17,9 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import (
-    UNSET,
     SingularJacobianError,
     failure_policy,
+    older_failure_keywords,
     report_unreachable,
     require_broadcast,
     require_choice,
@@ -313,19 +313,20 @@ class FourBar:
             omegas[singular], alphas[singular] = np.nan, np.nan
         return omegas, alphas, singular
 
-    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", on_unreachable: str = UNSET,
-              *, on_failure: str | None = None) -> FourBarSolution:
+    @older_failure_keywords
+    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *,
+              on_failure: str | None = None) -> FourBarSolution:
         """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²),
         broadcast.  ``UnreachableError`` where the loop cannot close, ``SingularJacobianError`` at a toggle
         while moving (the core's rule: σ_min(J̃) < SINGULAR) or where A is on O4 with coupler = rocker;
-        ``on_failure="nan"`` (older spelling ``on_unreachable="nan"``): NaN there.
+        ``on_failure="nan"``: NaN there.
 
         >>> crossed = FourBar(0.06, 0.18, 0.12, 0.20).solve(np.pi / 2, branch="crossed")
         >>> round(crossed.theta3, 6), round(crossed.theta4, 6)
         (-0.901761, -2.398416)
         """
         require_choice("branch", branch, BRANCHES)
-        on_unreachable = failure_policy(on_failure, on_unreachable=on_unreachable)
+        policy = failure_policy(on_failure)
         theta2 = _finite("theta2", theta2, "rad")
         omega2 = _finite("omega2", omega2, "rad/s")
         alpha2 = _finite("alpha2", alpha2, "rad/s^2")
@@ -340,8 +341,8 @@ class FourBar:
         if any_unreachable:
             what = f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle " \
                 "quadratic)"
-            report_unreachable(np.reshape(unreachable, shape), {"theta2": theta2}, what, on_unreachable)
-        if on_unreachable == "raise" and any_singular:  # undetermined, else a toggle while moving
+            report_unreachable(np.reshape(unreachable, shape), {"theta2": theta2}, what, policy)
+        if policy == "raise" and any_singular:  # undetermined, else a toggle while moving
             first = int(np.flatnonzero(singular)[0]) if first_undetermined is None else first_undetermined
             at = [np.broadcast_to(v, shape)[np.unravel_index(first, shape)] for v in (theta2, omega2, alpha2)]
             if first_undetermined is not None:
@@ -401,27 +402,28 @@ class FourBar:
         """
         return self.solve(theta2, omega2, alpha2, branch=branch, on_failure=on_failure)
 
-    def joints(self, theta2, branch: str = "open", on_unreachable: str = UNSET, *,
-               on_failure: str | None = None) -> np.ndarray:
+    @older_failure_keywords
+    def joints(self, theta2, branch: str = "open", *, on_failure: str | None = None) -> np.ndarray:
         """Coordinates of O2, A, B, O4 (m) for drawing, shape (..., 4, 2): the declaration's points
         (:attr:`mechanism`) at the closed form's position.
 
         >>> FourBar(1.0, 1.0, 1.0, 1.0).joints(np.pi / 2).round(12).tolist()
         [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]
         """
-        policy = failure_policy(on_failure, on_unreachable=on_unreachable)
+        policy = failure_policy(on_failure)
         points = self.mechanism.joints(self.solve(theta2, branch=branch, on_failure=policy))
         return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
 
+    @older_failure_keywords
     def transmission_angle(self, theta2, branch: str = "open", acute: bool = True,
-                           on_unreachable: str = UNSET, *, on_failure: str | None = None):
+                           *, on_failure: str | None = None):
         """Transmission angle μ (rad): the joint angle at B, |θ4 − θ3| folded into [0, π], with ``acute``
         (Norton's design value) into [0, π/2]; good force transmission wants μ ≥ 40° or so.
 
         >>> round(float(np.degrees(FourBar(0.06, 0.18, 0.12, 0.20).transmission_angle(np.pi / 2))), 4)
         85.752
         """
-        policy = failure_policy(on_failure, on_unreachable=on_unreachable)
+        policy = failure_policy(on_failure)
         solution = self.solve(theta2, branch=branch, on_failure=policy)
         turn = np.asarray(solution.theta4) - np.asarray(solution.theta3)
         joint_angle = np.abs(wrap_angle(turn, nan_ok=True))
@@ -442,9 +444,9 @@ class FourBar:
         return _declaration(coupler=True).with_parameters(
             {"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4, "p": p, "delta": delta})
 
+    @older_failure_keywords
     def coupler_point(self, theta2, p: float, delta: float, omega2=0.0, alpha2=0.0, branch: str = "open",
-                      on_unreachable: str = UNSET, *, on_failure: str | None = None
-                      ) -> CouplerPointMotion:
+                      *, on_failure: str | None = None) -> CouplerPointMotion:
         """Motion of the coupler point P of :meth:`with_coupler_point`: its declaration differentiated by the
         core (:meth:`~course_lib.mechanism.Mechanism.point_motion`), which is the course's V_P = ω2 k̂×R2
         + ω3 k̂×r and A_P = α2 k̂×R2 − ω2² R2 + α3 k̂×r − ω3² r with r = P − A.
@@ -454,7 +456,7 @@ class FourBar:
         ([0.5, 1.0], [-1.0, 0.0])
         """
         plate = self.with_coupler_point(p, delta)
-        policy = failure_policy(on_failure, on_unreachable=on_unreachable)
+        policy = failure_policy(on_failure)
         solution = self.solve(theta2, omega2, alpha2, branch=branch, on_failure=policy)
         position, velocity, acceleration = plate.point_motion(
             solution, rates={"theta2": omega2}, accelerations={"theta2": alpha2})["P"]

@@ -23,11 +23,11 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import (
-    UNSET,
     ConvergenceError,
     InvalidGeometryError,
     SingularJacobianError,
     failure_policy,
+    older_failure_keywords,
     report_unreachable,
     require_choice,
     require_finite,
@@ -270,7 +270,7 @@ def _closed_position(sine, theta2, saw: Saw):
     return saw.r1y / np.sin(theta1), theta1, theta3
 
 
-def _check_assembly(theta2, saw: Saw, on_unreachable: str = "raise") -> np.ndarray:
+def _check_assembly(theta2, saw: Saw, on_failure: str = "raise") -> np.ndarray:
     """sin θ3 (from Fy − Fc = 0); UnreachableError where the rod cannot reach the slider line,
     SingularJacobianError where the declared loop's J is singular by the core's rule (σ_min(J̃) <
     SINGULAR: the rod perpendicular to the slider line, cos θ3 = 0)."""
@@ -278,7 +278,7 @@ def _check_assembly(theta2, saw: Saw, on_unreachable: str = "raise") -> np.ndarr
     sine = (saw.r1y - saw.r2 * np.sin(theta2)) / saw.r3
     report_unreachable(np.abs(sine) > 1.0, {"theta2": theta2},
                        f"the rod r3 = {saw.r3:g} m cannot reach the slider line y = r1y = {saw.r1y:g} m "
-                       "(|r1y - r2 sin(theta2)| > r3)", on_unreachable)
+                       "(|r1y - r2 sin(theta2)| > r3)", on_failure)
     reaches = np.abs(sine) <= 1.0
     toggle = reaches
     if np.any(reaches):
@@ -419,21 +419,21 @@ def solve_simultaneous(theta2: float, omega2: float = 0.0, alpha2: float = 0.0, 
                        method="simultaneous", iterations=result.iterations, newton=result)
 
 
-def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_unreachable: str = UNSET,
-             on_failure: str | None = None):
+@older_failure_keywords
+def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_failure: str | None = None):
     """The nine unknowns in closed form (the course's eqs. 20–28; its eq. 22, labelled r1, is ω3 and its
-    eq. 23, labelled ω3, repeats θ1), shape broadcast(θ2, ω2, α2) + (9,); ``on_failure="nan"`` (older
-    spelling ``on_unreachable="nan"``) gives NaN rows instead of raising ``UnreachableError``.
+    eq. 23, labelled ω3, repeats θ1), shape broadcast(θ2, ω2, α2) + (9,); ``on_failure="nan"`` gives NaN
+    rows instead of raising ``UnreachableError``.
 
     >>> np.round(analytic(0.0)[:3], 6).tolist()
     [-0.099672, -0.468422, 2.873694]
     """
-    on_unreachable = failure_policy(on_failure, on_unreachable=on_unreachable)
+    policy = failure_policy(on_failure)
     theta2 = require_finite("theta2", theta2, unit="rad")
     omega2 = require_finite("omega2", omega2, unit="rad/s")
     alpha2 = require_finite("alpha2", alpha2, unit="rad/s²")
     theta2, omega2, alpha2 = np.broadcast_arrays(theta2, omega2, alpha2)
-    sine = _check_assembly(theta2, saw, on_unreachable)
+    sine = _check_assembly(theta2, saw, policy)
     bad = np.abs(sine) > 1.0
     sine = np.where(bad, 0.0, sine)
     r2, r3 = saw.r2, saw.r3

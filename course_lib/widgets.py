@@ -499,8 +499,8 @@ def fourbar_explorer(
         offset = stage.linkage.label_offset = 0.04 * max(l1, l2, l3, l4)
         if geometry_changed:
             sweep = np.linspace(-np.pi, np.pi, 361)
-            curve = four.coupler_point(sweep, p, delta, branch=branch, on_unreachable="nan").position
-            mu = four.transmission_angle(sweep, branch=branch, on_unreachable="nan")
+            curve = four.coupler_point(sweep, p, delta, branch=branch, on_failure="nan").position
+            mu = four.transmission_angle(sweep, branch=branch, on_failure="nan")
             artists["coupler_curve"].set_data(curve[:, 0], curve[:, 1])
             artists["mu_curve"].set_data(np.degrees(sweep), np.degrees(mu))
             # the limits stay while crank circle, rocker circle and coupler curve fit and fill half of them

@@ -74,7 +74,7 @@ def test_a_point_just_inside_a_workspace_edge_round_trips(l1, l2, l3, l4, l5, le
     with strict():
         theta1, theta4 = robot.inverse(*inside, modes=modes)
         assert math.isfinite(theta1) and math.isfinite(theta4)
-        assert robot.inverse(*inside, modes=modes, on_unreachable="nan").reachable
+        assert robot.inverse(*inside, modes=modes, on_failure="nan").reachable
         # the cranks put P2 and P4 where the distal links reach the point: independent check
         p2 = (robot.l5 / 2 + l1 * math.cos(theta1), l1 * math.sin(theta1))
         p4 = (-robot.l5 / 2 + l4 * math.cos(theta4), l4 * math.sin(theta4))
@@ -97,7 +97,7 @@ def test_a_point_just_outside_a_workspace_edge_is_refused_or_masked(l1, l2, l3, 
     with strict():
         with pytest.raises(UnreachableError, match=f"leg {leg} "):
             robot.inverse(*outside, modes=modes)
-        masked = robot.inverse(*outside, modes=modes, on_unreachable="nan")
+        masked = robot.inverse(*outside, modes=modes, on_failure="nan")
         assert not masked.reachable and math.isnan(masked.theta1) and math.isnan(masked.theta4)
         grid = robot.workspace([outside[0]], [outside[1]], modes)
     assert not grid.reachable.any() and np.isnan(grid.parallel).all()
@@ -111,7 +111,7 @@ def test_a_point_far_outside_the_workspace_is_refused_by_name(exponent, phi, mod
     with strict():
         with pytest.raises(UnreachableError, match="cannot reach the point"):
             robot.inverse(*point, modes=modes)
-        masked = robot.inverse(*point, modes=modes, on_unreachable="nan")
+        masked = robot.inverse(*point, modes=modes, on_failure="nan")
         grid = robot.workspace([point[0]], [point[1]], modes)
     assert not masked.reachable and math.isnan(masked.theta1) and math.isnan(masked.theta4)
     assert not grid.reachable.any() and np.isnan(grid.theta1).all()

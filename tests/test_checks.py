@@ -568,7 +568,7 @@ def test_reach_height_against_bisection():
     x3 = -0.03
 
     def reachable(y):
-        return bool(ROBOT.inverse(x3, y, on_unreachable="nan").reachable)
+        return bool(ROBOT.inverse(x3, y, on_failure="nan").reachable)
 
     low, high = 0.1, 0.4
     assert reachable(low) and not reachable(high)

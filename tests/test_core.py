@@ -1,5 +1,7 @@
 """errors, planar, symbolic, mobility, plotting: checked against independent routes."""
 
+import pathlib
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
@@ -9,6 +11,7 @@ from hypothesis import strategies as st
 
 from course_lib import errors, planar, symbolic
 from course_lib.errors import InvalidGeometryError, UnreachableError
+from course_lib.fivebar import FiveBar
 from course_lib.mobility import gruebler
 from course_lib.newton import newton
 from course_lib.plotting import animation_html, draw_linkage, plot_convergence
@@ -51,7 +54,7 @@ def test_report_unreachable_scalar_and_array():
         errors.report_unreachable(bad, {"x3": [[0, 5], [6, 0]], "y3": 1.0}, "out of reach")
     assert "x3=5, y3=1" in str(info.value)
     assert info.value.mask is bad
-    errors.report_unreachable(bad, {"x3": 0}, "ignored", on_unreachable="nan")  # no raise
+    errors.report_unreachable(bad, {"x3": 0}, "ignored", on_failure="nan")  # no raise
 
 
 def test_error_hierarchy():
@@ -63,14 +66,26 @@ def test_error_hierarchy():
     assert issubclass(errors.InvalidArgumentError, ValueError)
 
 
-def test_failure_policy_one_keyword_and_its_older_spellings():
-    assert errors.failure_policy() == "raise"
-    assert errors.failure_policy("nan") == errors.failure_policy(None, on_singular="nan") == "nan"
-    assert errors.failure_policy("nan", on_unreachable="nan") == "nan"
-    with pytest.raises(errors.InvalidArgumentError, match=r"on_failure='nan', on_unreachable='raise'"):
-        errors.failure_policy("nan", on_unreachable="raise")
-    with pytest.raises(InvalidGeometryError, match=r"on_singular must be one of 'raise', 'nan'; got 'skip'"):
-        errors.failure_policy(None, on_singular="skip")
+def test_failure_policy_one_keyword_and_its_older_spellings_warn_until_their_removal():
+    assert errors.failure_policy() == "raise" and errors.failure_policy("nan") == "nan"
+    with pytest.raises(InvalidGeometryError, match=r"on_failure must be one of 'raise', 'nan'; got 'skip'"):
+        errors.failure_policy("skip")
+    robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+    pen = robot.forward(1.2, 1.9)
+    calls = {"on_unreachable": lambda **kw: robot.inverse(0.0, 0.5, **kw).theta1,  # out of reach: NaN
+             "on_singular": lambda **kw: robot.velocity_jacobian(1.2, 1.9, pen.x3, pen.y3, **kw)}
+    for older, call in calls.items():
+        expected = rf"{older}= is the older spelling of on_failure= and goes in course_lib 2\.0\.0"
+        with pytest.warns(DeprecationWarning, match=expected):
+            np.testing.assert_array_equal(call(**{older: "nan"}), call(on_failure="nan"))
+        with pytest.warns(DeprecationWarning), pytest.raises(
+                errors.InvalidArgumentError, match=rf"on_failure='nan', {older}='raise'"):
+            call(on_failure="nan", **{older: "raise"})
+        with pytest.warns(DeprecationWarning), pytest.raises(InvalidGeometryError,
+                                                             match=rf"{older} must be one of 'raise', 'nan'"):
+            call(**{older: "skip"})
+    changelog = (pathlib.Path(__file__).parents[1] / "CHANGELOG.md").read_text()
+    assert "on_unreachable" in changelog and errors.OLDER_FAILURE_REMOVED_IN in changelog
 
 
 def test_the_newton_module_stays_reachable_and_callable():

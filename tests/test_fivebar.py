@@ -152,7 +152,7 @@ def well_conditioned(robot, theta1, theta4, x3, y3, margin=1e-3):
 # ------------------------------------------------------------------------------------ round trips
 @given(ANGLE, ANGLE, MODE)
 def test_forward_matches_circle_intersection_and_sigma_is_the_larger_y3(theta1, theta4, mode):
-    result = ROBOT.forward(theta1, theta4, mode, on_unreachable="nan")
+    result = ROBOT.forward(theta1, theta4, mode, on_failure="nan")
     assume(result.reachable)
     first, second = circle_intersections(ROBOT, theta1, theta4)
     upper, lower = (first, second) if first[1] >= second[1] else (second, first)
@@ -164,7 +164,7 @@ def test_forward_matches_circle_intersection_and_sigma_is_the_larger_y3(theta1, 
 
 @given(ANGLE, ANGLE, MODE)
 def test_inverse_of_forward_recovers_the_cranks_in_one_working_mode(theta1, theta4, mode):
-    x3, y3 = ROBOT.forward(theta1, theta4, mode, on_unreachable="nan")
+    x3, y3 = ROBOT.forward(theta1, theta4, mode, on_failure="nan")
     assume(np.isfinite(x3) and well_conditioned(ROBOT, theta1, theta4, x3, y3))
     gaps = []
     for modes in WORKING_MODES:
@@ -176,7 +176,7 @@ def test_inverse_of_forward_recovers_the_cranks_in_one_working_mode(theta1, thet
 
 @given(st.floats(-0.3, 0.3), st.floats(-0.3, 0.3), st.sampled_from(WORKING_MODES))
 def test_forward_of_inverse_returns_the_point_in_every_mode(x3, y3, modes):
-    theta1, theta4 = ROBOT.inverse(x3, y3, modes, on_unreachable="nan")
+    theta1, theta4 = ROBOT.inverse(x3, y3, modes, on_failure="nan")
     assume(np.isfinite(theta1) and well_conditioned(ROBOT, theta1, theta4, x3, y3))
     assert max(abs(r) for r in residuals(ROBOT, theta1, theta4, x3, y3)) < 1e-12
     candidates = [ROBOT.forward(theta1, theta4, mode) for mode in (1, -1)]
@@ -208,7 +208,7 @@ def test_arrays_broadcast_like_scalar_calls():
     result = ROBOT.forward(theta1, theta4, -1)
     assert result.x3.shape == (3, 4)
     assert result.y3[2, 1] == ROBOT.forward(2.0, theta4[0, 1], -1).y3
-    back = ROBOT.inverse(result.x3, result.y3, (1, -1), on_unreachable="nan")
+    back = ROBOT.inverse(result.x3, result.y3, (1, -1), on_failure="nan")
     assert back.theta1.shape == (3, 4)
     assert ROBOT.joints(theta1, theta4, result.x3, result.y3).shape == (3, 4, 5, 2)
 
@@ -281,7 +281,7 @@ def test_tiny_a1_keeps_both_roots_accurate():
 @given(ANGLE, ANGLE, MODE)
 def test_coincident_pivots_l5_zero(theta1, theta4, mode):
     robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.0)
-    x3, y3 = robot.forward(theta1, theta4, mode, on_unreachable="nan")
+    x3, y3 = robot.forward(theta1, theta4, mode, on_failure="nan")
     assume(np.isfinite(x3) and well_conditioned(robot, theta1, theta4, x3, y3))
     assert max(abs(r) for r in residuals(robot, theta1, theta4, x3, y3)) < 1e-13
     assert np.allclose(robot.joints(theta1, theta4, x3, y3)[[0, 4]], 0.0)
@@ -293,7 +293,7 @@ def test_p2_on_p4_is_reported():
     robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.0)  # θ1 = θ4 puts P2 exactly on P4
     with pytest.raises(UnreachableError, match="P2 and P4 coincide"):
         robot.forward(0.7, 0.7)
-    assert not robot.forward(0.7, 0.7, on_unreachable="nan").reachable
+    assert not robot.forward(0.7, 0.7, on_failure="nan").reachable
 
 
 # ------------------------------------------------------------------------------------ singularities
@@ -305,7 +305,7 @@ def test_serial_singularity_stretched_leg_is_detected():
     assert abs(ROBOT.singularity_measures(theta1, theta4, x3, y3).serial_leg1) < 1e-7
     with pytest.raises(SingularJacobianError, match="leg 1"):
         ROBOT.crank_rates(theta1, theta4, x3, y3, 0.01, 0.0)
-    assert np.isnan(ROBOT.crank_rates(theta1, theta4, x3, y3, 0.01, 0.0, on_singular="nan")).all()
+    assert np.isnan(ROBOT.crank_rates(theta1, theta4, x3, y3, 0.01, 0.0, on_failure="nan")).all()
 
 
 def test_serial_singularity_folded_leg4_is_detected():
@@ -438,7 +438,7 @@ def test_unreachable_inputs_are_named():
     short = FiveBar(0.10, 0.10, 0.10, 0.10, 0.08)
     with pytest.raises(UnreachableError, match="theta1=0, theta4=3.14159"):
         short.forward(0.0, math.pi)
-    result = short.inverse([0.0, 0.5], [0.15, 0.0], on_unreachable="nan")
+    result = short.inverse([0.0, 0.5], [0.15, 0.0], on_failure="nan")
     assert result.reachable.tolist() == [True, False] and np.isnan(result.theta4[1])
 
 
@@ -458,7 +458,7 @@ def test_parallel_singularities_lie_where_the_elbows_meet():
     for sign in (1, -1):
         for phi in np.linspace(0.2, 2 * math.pi - 0.2, 7):
             x3, y3 = 0.15 * math.cos(phi), sign * q + 0.15 * math.sin(phi)
-            if not ROBOT.inverse(x3, y3, on_unreachable="nan").reachable:
+            if not ROBOT.inverse(x3, y3, on_failure="nan").reachable:
                 continue
             measures = [abs(ROBOT.singularity_measures(*ROBOT.inverse(x3, y3, m), x3, y3).parallel)
                         for m in WORKING_MODES]
@@ -485,17 +485,17 @@ def test_large_arrays_give_what_single_points_give():
     rng = np.random.default_rng(5)
     x = rng.uniform(-0.3, 0.3, 70_001)
     for y in (0.17, rng.uniform(-0.3, 0.3, 70_001)):
-        result = ROBOT.inverse(x, y, (-1, 1), on_unreachable="nan")
+        result = ROBOT.inverse(x, y, (-1, 1), on_failure="nan")
         assert 0 < result.reachable.mean() < 1
         for i in [*range(0, x.size, 701), 65_535, 65_536, x.size - 1]:
             y_i = np.broadcast_to(y, x.shape)[i]
-            alone = ROBOT.inverse(float(x[i]), float(y_i), (-1, 1), on_unreachable="nan")
+            alone = ROBOT.inverse(float(x[i]), float(y_i), (-1, 1), on_failure="nan")
             assert alone.reachable == result.reachable[i]
             assert np.array_equal([alone.theta1, alone.theta4], [result.theta1[i], result.theta4[i]],
                                   equal_nan=True)
-    grid = ROBOT.inverse(x[:400, None], x[None, 400:700], (1, 1), on_unreachable="nan")
+    grid = ROBOT.inverse(x[:400, None], x[None, 400:700], (1, 1), on_failure="nan")
     assert grid.theta1.shape == (400, 300)
-    assert np.array_equal(grid.theta4[123, 45], ROBOT.inverse(x[123], x[445], on_unreachable="nan").theta4,
+    assert np.array_equal(grid.theta4[123, 45], ROBOT.inverse(x[123], x[445], on_failure="nan").theta4,
                           equal_nan=True)
 
 
@@ -503,7 +503,7 @@ def test_a_large_workspace_agrees_with_inverse_and_the_measures():
     x, y = np.linspace(-0.3, 0.3, 300), np.linspace(-0.28, 0.3, 250)   # 75,000 points
     w = ROBOT.workspace(x, y, (1, -1))
     X, Y = np.meshgrid(x, y)
-    solution = ROBOT.inverse(X, Y, (1, -1), on_unreachable="nan")
+    solution = ROBOT.inverse(X, Y, (1, -1), on_failure="nan")
     ok = solution.reachable
     assert np.array_equal(w.reachable, ok) and 0.3 < ok.mean() < 0.5
     assert np.array_equal(w.theta1, solution.theta1, equal_nan=True)
@@ -540,7 +540,7 @@ def test_the_motion_rates_by_finite_differences_and_one_failure_keyword():
     short = FiveBar(0.10, 0.05, 0.05, 0.10, 0.08)  # distal links reach 0.1 m: P2, P4 0.28 m apart at θ4 = π
     cranks = ([np.pi / 2, np.pi / 2], [np.pi / 2, np.pi])
     far = short.forward(*cranks, on_failure="nan")
-    assert far.reachable.tolist() == short.forward(*cranks, on_unreachable="nan").reachable.tolist()
+    assert far.reachable.tolist() == short.forward(*cranks, on_failure="nan").reachable.tolist()
     assert far.reachable.tolist() == [True, False]
     assert short.motion(*cranks, on_failure="nan").converged.tolist() == [True, False]
     inverse = ROBOT.inverse([0.0, 1.0], [0.2, 1.0], on_failure="nan")

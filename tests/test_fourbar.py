@@ -107,7 +107,7 @@ lengths = st.floats(min_value=0.05, max_value=1.0, allow_nan=False)
 @given(lengths, lengths, lengths, lengths, st.floats(min_value=-np.pi, max_value=np.pi))
 def test_random_linkages_close_the_loop_on_both_branches(l1, l2, l3, l4, theta2):
     linkage = FourBar(crank=l2, coupler=l3, rocker=l4, ground=l1)
-    solution = linkage.solve(theta2, on_unreachable="nan")
+    solution = linkage.solve(theta2, on_failure="nan")
     distance = np.hypot(l1 - l2 * np.cos(theta2), l2 * np.sin(theta2))
     reachable = abs(l3 - l4) + 1e-9 < distance < l3 + l4 - 1e-9
     clearly_unreachable = distance > l3 + l4 + 1e-9 or distance < abs(l3 - l4) - 1e-9
@@ -296,8 +296,8 @@ def test_input_range_limits_are_toggles(linkage):
     assert not r.full_rotation and r.intervals
     for start, end in r.intervals:
         inside = np.linspace(start, end, 50)[1:-1]
-        assert not np.any(linkage.solve(inside, on_unreachable="nan").mask)
-        assert np.all(linkage.solve(np.array([start - 1e-4, end + 1e-4]), on_unreachable="nan").mask)
+        assert not np.any(linkage.solve(inside, on_failure="nan").mask)
+        assert np.all(linkage.solve(np.array([start - 1e-4, end + 1e-4]), on_failure="nan").mask)
     for toggle in r.toggle_angles:
         distance = np.hypot(linkage.l1 - linkage.l2 * np.cos(toggle), linkage.l2 * np.sin(toggle))
         extended, folded = linkage.l3 + linkage.l4, abs(linkage.l3 - linkage.l4)
@@ -351,7 +351,7 @@ def test_unreachable_inputs_named_raise_or_nan():
     with pytest.raises(UnreachableError, match=message) as info:
         rocker_input.solve(theta2)
     np.testing.assert_array_equal(info.value.mask, [False, True, False, True, False])
-    solution = rocker_input.solve(theta2, omega2=1.0, on_unreachable="nan")
+    solution = rocker_input.solve(theta2, omega2=1.0, on_failure="nan")
     np.testing.assert_array_equal(solution.mask, [False, True, False, True, False])
     assert np.all(np.isnan(solution.theta4[solution.mask]))
     assert np.all(np.isnan(solution.alpha3[solution.mask]))
@@ -363,7 +363,7 @@ def test_singular_jacobian_in_nan_mode():
     toggle = linkage.input_range().toggle_angles[1]
     with pytest.raises(SingularJacobianError, match=r"1 of 2 inputs, first at index 1"):
         linkage.solve([0.0, toggle], omega2=2.0)
-    solution = linkage.solve([0.0, toggle], omega2=2.0, on_unreachable="nan")
+    solution = linkage.solve([0.0, toggle], omega2=2.0, on_failure="nan")
     assert solution.singular.tolist() == [False, True]
     assert np.isfinite(solution.omega4[0]) and np.isnan(solution.omega4[1])
     assert np.isfinite(solution.theta4[1])
@@ -385,7 +385,7 @@ def test_crank_pin_on_o4_with_equal_coupler_and_rocker_is_reported_not_nan():
         assert linkage.input_range().full_rotation
         with pytest.raises(SingularJacobianError, match=r"theta2=0\b.*not determined"):
             linkage.solve(0.0)
-        flagged = linkage.solve([0.0, 1.0], on_unreachable="nan")
+        flagged = linkage.solve([0.0, 1.0], on_failure="nan")
         assert flagged.singular.tolist() == [True, False] and not flagged.mask.any()
         assert np.isnan(flagged.theta4[0]) and np.isfinite(flagged.theta4[1])
         A, B = fourbar_pins(linkage.l1, linkage.l2, linkage.l3, linkage.l4, 1.0, "open")
@@ -444,7 +444,7 @@ def test_input_range_edges_and_inside_assemble(lengths, where):
 
 def test_one_mask_convention_and_results_that_convert():
     linkage = FourBar(0.15, 0.10, 0.12, 0.20)  # closes only for |θ2| ≤ 1.3336
-    solution = linkage.solve([0.0, 2.0], 1.0, on_unreachable="nan")
+    solution = linkage.solve([0.0, 2.0], 1.0, on_failure="nan")
     assert solution.reachable.tolist() == [True, False] and solution.mask.tolist() == [False, True]
     assert linkage.solve(0.3).reachable is True
     theta3, theta4, omega3, omega4, alpha3, alpha4 = DESK.solve(0.7, 10.0, 2.0)
@@ -473,9 +473,9 @@ def test_one_instant_agrees_with_the_array_solve(linkage):
     angles = np.r_[np.linspace(-4, 4, 81), 0.0, np.pi, toggles, np.add.outer(toggles, [-1e-9, 1e-9]).ravel()]
     for branch in BRANCHES:
         for omega2, alpha2 in ((0.0, 0.0), (10.0, -3.0), (0.0, 2.0)):
-            whole = linkage.solve(angles, omega2, alpha2, branch=branch, on_unreachable="nan")
+            whole = linkage.solve(angles, omega2, alpha2, branch=branch, on_failure="nan")
             for k, angle in enumerate(angles.tolist()):
-                one = linkage.solve(angle, omega2, alpha2, branch=branch, on_unreachable="nan")
+                one = linkage.solve(angle, omega2, alpha2, branch=branch, on_failure="nan")
                 np.testing.assert_allclose(np.array(one), np.array(whole)[:, k], rtol=1e-14, atol=1e-15,
                                            err_msg=f"{branch} {angle!r}")
                 assert (one.mask, one.singular, one.near_singular) == (whole.mask[k], whole.singular[k],

@@ -167,7 +167,7 @@ def test_fivebar_forward_mode_never_turns_red_for_the_course_robot():
     # |P2P4| ≤ l1 + l4 + l5 = 0.28 m < l2 + l3 = 0.30 m: every crank pair assembles
     robot = FiveBar(**ROBOT)
     cranks1, cranks4 = np.meshgrid(np.radians(np.arange(360.0)), np.radians(np.arange(360.0)))
-    assert robot.forward(cranks1, cranks4, mode=1, on_unreachable="nan").reachable.all()
+    assert robot.forward(cranks1, cranks4, mode=1, on_failure="nan").reachable.all()
     explorer = fivebar_explorer(**ROBOT)
     for theta1 in np.arange(0.0, 360.0, 15.0):
         for theta4 in np.arange(0.0, 360.0, 15.0):
@@ -193,7 +193,7 @@ def test_fivebar_crossing_the_red_curve_flips_the_parallel_measure(modes):
     for point in curve[np.argsort(np.hypot(*curve.T))]:  # the curve point nearest the base first
         for step in ([0.01, 0.0], [0.0, 0.01]):
             sides = [point - step, point + step]
-            solved = [robot.inverse(*side, modes=modes, on_unreachable="nan") for side in sides]
+            solved = [robot.inverse(*side, modes=modes, on_failure="nan") for side in sides]
             if not all(bool(s.reachable) for s in solved):
                 continue
             measures = [robot.singularity_measures(s.theta1, s.theta4, *side).parallel
@@ -222,7 +222,7 @@ def test_fivebar_worst_round_trips_are_at_a_parallel_singularity():
     robot = FiveBar(**ROBOT)
     xs, ys = np.meshgrid(np.linspace(-0.2, 0.2, 41), np.linspace(-0.2, 0.25, 46))
     for modes in ((1, 1), (-1, -1)):
-        back = robot.inverse(xs, ys, modes=modes, on_unreachable="nan")
+        back = robot.inverse(xs, ys, modes=modes, on_failure="nan")
         ok = back.reachable
         up, down = (robot.forward(back.theta1[ok], back.theta4[ok], mode=s) for s in (+1, -1))
         miss = np.minimum(np.hypot(up.x3 - xs[ok], up.y3 - ys[ok]),

@@ -397,7 +397,7 @@ def test_input_beyond_reach_raises_unreachable_or_gives_nan():
     theta2 = np.linspace(0, 1.6, 50)
     with pytest.raises(UnreachableError, match=r"theta2=1\.33\d+ .*first at index 41") as info:
         TRIPLE_ROCKER.solve({th2: theta2}, guess={th3: 1.0, th4: 2.0})
-    reference = FourBar(0.15, 0.10, 0.12, 0.20).solve(theta2, on_unreachable="nan")
+    reference = FourBar(0.15, 0.10, 0.12, 0.20).solve(theta2, on_failure="nan")
     np.testing.assert_array_equal(info.value.mask, reference.mask)
     motion = TRIPLE_ROCKER.solve({th2: theta2}, {th2: 1.0}, guess={th3: 1.0, th4: 2.0}, on_failure="nan")
     np.testing.assert_array_equal(motion.converged, ~reference.mask)

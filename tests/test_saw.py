@@ -298,7 +298,7 @@ def test_unreachable_names_theta2():
     ):
         with pytest.raises(UnreachableError, match="theta2"):
             call()
-    values = saw.analytic([0.0, -np.pi / 2], saw=SHORT_ROD, on_unreachable="nan")
+    values = saw.analytic([0.0, -np.pi / 2], saw=SHORT_ROD, on_failure="nan")
     assert np.all(np.isfinite(values[0])) and np.all(np.isnan(values[1]))
 
 

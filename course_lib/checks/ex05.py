@@ -23,7 +23,7 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
     False
     """
     reference, other = (np.array(tuple(robot.forward(theta1, theta4, mode=m))) for m in (mode, -mode))
-    in_degrees = robot.forward(*np.degrees([theta1, theta4]), mode=mode, on_unreachable="nan")
+    in_degrees = robot.forward(*np.degrees([theta1, theta4]), mode=mode, on_failure="nan")
     names = {1: "arms up (σ = +1)", -1: "arms down (σ = −1)"}
     return diagnose(answer, MICROMETRES, [
         (reference, "Correct."),

@@ -53,7 +53,7 @@ def check_rocker_pin_speed(answer, linkage: FourBar, theta2: float, omega2: floa
     other = "crossed" if branch == "open" else "open"
     speed, crossed = (abs(linkage.solve(theta2, omega2, branch=b).omega4) * linkage.l4
                       for b in (branch, other))
-    in_degrees = linkage.solve(np.degrees(theta2), omega2, branch=branch, on_unreachable="nan").omega4
+    in_degrees = linkage.solve(np.degrees(theta2), omega2, branch=branch, on_failure="nan").omega4
     return diagnose(answer, FIGURES, [
         (speed, "Correct: B moves perpendicular to the rocker at |ω4|·l4."),
         (lambda value: value < 0, "a speed is a magnitude: it cannot be negative."),

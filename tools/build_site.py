@@ -52,6 +52,7 @@ import sys
 import threading
 import time
 import urllib.parse
+from html import escape as escape_html  # (display_copy has a variable named html)
 
 import nbformat
 import yaml
@@ -108,6 +109,11 @@ def _relative(path: pathlib.Path) -> str:
     return path.relative_to(ROOT).as_posix()
 
 
+def _anchor(url: str, text: str) -> str:
+    """An HTML link to ``url``, its address and text escaped for HTML."""
+    return f'<a href="{escape_html(url, quote=True)}">{escape_html(text)}</a>'
+
+
 def landing_page(readme: str, url: str | None = None, pdf: bool = False) -> str:
     """The site's index page: the README's title, its first paragraph and its *Lessons* section.
 
@@ -154,10 +160,11 @@ def landing_page(readme: str, url: str | None = None, pdf: bool = False) -> str:
         parts.append("The whole course, every lesson and exercise set, is also one PDF: "
                      f'<a href="{PDF.name}" class="course-pdf">{PDF.name}</a>.')
     if url:
-        made = repository.links(url)
-        elsewhere = [f"[the repository]({made.repository})", f"[its issues]({made.issues})"]
+        made = repository.links(url)  # the address checked (tools/repository.py); escaped all the same
+        elsewhere = [_anchor(made.repository, "the repository"), _anchor(made.issues, "its issues")]
         if made.binder:
-            elsewhere.append(f"[Binder]({made.binder}) (JupyterLab at lesson 00, nothing to install)")
+            binder = _anchor(made.binder, "Binder")
+            elsewhere.append(f"{binder} (JupyterLab at lesson 00, nothing to install)")
         parts.append("Run the lessons elsewhere, or report a problem: " + ", ".join(elsewhere) + ".")
     licence = (
         "## Licence\n\nThe lesson text and figures are licensed CC-BY-4.0 (`LICENSE-content`); the code — "
@@ -193,7 +200,7 @@ def site_config(url: str | None, hub: str | None = None) -> str:
             "notebook_interface": "jupyterlab", "thebe": False,
             "binderhub_url": "https://mybinder.org" if made.binder else "",
             "colab_url": "https://colab.research.google.com" if made.colab else "",
-            "jupyterhub_url": hub or "",
+            "jupyterhub_url": repository.checked_hub(hub) if hub else "",
         }
         config["html"].update(use_repository_button=True, use_issues_button=True)
         options.update(use_repository_button=True, use_issues_button=True, use_source_button=True)
@@ -532,4 +539,8 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except (SiteError, repository.RepositoryError) as error:  # a bad setting: its message, no traceback
+        print(f"build_site: {error}", file=sys.stderr)
+        sys.exit(2)

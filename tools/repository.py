@@ -14,10 +14,19 @@ address, none of them shows a link, and nothing stands in for one.
 A JupyterHub is a second, optional address (``[tool.course] jupyterhub-url``, or
 ``COURSE_JUPYTERHUB_URL``): with both set, the website also shows an nbgitpuller link that clones the
 repository into the hub and opens the page there.
+
+Both addresses are checked before anything is made from them: ``https://HOST[:PORT]/PATH`` with a host of
+letters, digits, dots and hyphens, a port from 1 to 65535, a path of plain segments (letters, digits,
+``-``, ``_``, ``.``; not ``.`` or ``..``), and no credentials, query, fragment, spaces or control
+characters.  Anything else is refused with a message naming the setting and its value, and nothing is
+written.  Where an address is written it is escaped all the same: percent-encoded in Markdown links,
+a quoted (JSON) string in CITATION.cff, and ``--check`` compares with exactly what ``--write`` writes
+(and reads CITATION.cff back as YAML).
 """
 
 from __future__ import annotations
 
+import json
 import os
 import pathlib
 import re
@@ -42,34 +51,78 @@ class RepositoryError(ValueError):
     """The address is not one the links can be made from (message says why)."""
 
 
+REPOSITORY_SETTING, HUB_SETTING = "the repository's address", "the JupyterHub's address"
+_LABEL = r"[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-9])?"
+ADDRESS = re.compile(rf"https://(?P<host>{_LABEL}(?:\.{_LABEL})*)(?::(?P<port>[1-9][0-9]{{0,4}}))?"
+                     r"(?P<path>(?:/[A-Za-z0-9._-]+)*)", re.ASCII)
+# what may stand in a Markdown link's target as it is (everything else is percent-encoded)
+_MARKDOWN_SAFE = "/:?=&%#~+,;@!$*"
+
+
 def _pyproject() -> dict:
-    return tomllib.loads(PYPROJECT.read_text(encoding="utf-8"))
+    try:
+        return tomllib.loads(PYPROJECT.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as error:
+        raise RepositoryError(f"pyproject.toml is not valid TOML: {error}") from None
+
+
+def _shown(url: str) -> str:
+    """``url`` as a message shows it: quoted, escapes visible, credentials (user, password, token) hidden."""
+    return repr(re.sub(r"(?<=://)[^/@]*@", "***@", url))
 
 
 def _https(url: str, what: str) -> str:
-    url = url.strip().rstrip("/")
-    parts = urllib.parse.urlsplit(url)
-    if parts.scheme != "https" or not parts.hostname or parts.query or parts.fragment:
-        raise RepositoryError(f"{what} must be an https:// address without query or fragment, not {url!r}")
-    return url.removesuffix(".git")
+    """``url`` checked and in its one form (no trailing ``/`` or ``.git``), or RepositoryError."""
+    if not isinstance(url, str):
+        raise RepositoryError(f"{what} must be a string, not {url!r}")
+    given = url
+    url = url.strip().rstrip("/").removesuffix(".git")
+    match = ADDRESS.fullmatch(url)
+    if not match:
+        if "@" in url.split("?")[0].split("#")[0]:
+            why = "must carry no credentials (user:password@)"
+        elif any(ord(c) < 33 or c == "\x7f" for c in url):
+            why = "must not contain spaces or control characters"
+        else:
+            why = ("must be an https:// address: a host of letters, digits, dots and hyphens, an optional "
+                   "port, a path of plain segments, no query or fragment")
+        raise RepositoryError(f"{what} {why}, not {_shown(given)}")
+    if match["port"] and not 1 <= int(match["port"]) <= 65535:
+        raise RepositoryError(f"{what} has a port out of 1–65535, not {_shown(given)}")
+    if any(segment in {".", ".."} for segment in match["path"].split("/")):
+        raise RepositoryError(f"{what} must have no . or .. segments, not {_shown(given)}")
+    return url
 
 
 def repository_url(environ=os.environ) -> str | None:
     """The repository's address, or None when it is not set."""
     if ENV in environ:
-        url = environ[ENV]
+        url, where = environ[ENV], ENV
     else:
+        where = "[project.urls] Repository in pyproject.toml"
         url = _pyproject()["project"].get("urls", {}).get("Repository", "")
-    return _https(url, "the repository's address") if url.strip() else None
+    return _https(url, f"{REPOSITORY_SETTING} ({where})") if not isinstance(url, str) or url.strip() else None
 
 
 def jupyterhub_url(environ=os.environ) -> str | None:
     """The JupyterHub's address, or None when it is not set."""
     if HUB_ENV in environ:
-        url = environ[HUB_ENV]
+        url, where = environ[HUB_ENV], HUB_ENV
     else:
+        where = "[tool.course] jupyterhub-url in pyproject.toml"
         url = _pyproject().get("tool", {}).get("course", {}).get("jupyterhub-url", "")
-    return _https(url, "the JupyterHub's address") if url.strip() else None
+    return checked_hub(url, where) if not isinstance(url, str) or url.strip() else None
+
+
+def checked_hub(url: str, where: str = "") -> str:
+    """The JupyterHub's address checked (as the repository's; a hub may have no path)."""
+    return _https(url, f"{HUB_SETTING} ({where})" if where else HUB_SETTING)
+
+
+def markdown_url(url: str) -> str:
+    """``url`` fit for a Markdown link's target or autolink: ``()<>[]``, quotes, backslashes, spaces and
+    anything else that could end the link are percent-encoded (a checked address has none of them)."""
+    return urllib.parse.quote(url, safe=_MARKDOWN_SAFE)
 
 
 @dataclass(frozen=True)
@@ -93,11 +146,11 @@ class Links:
 
 def links(url: str) -> Links:
     """The links made from ``url`` (https://github.com/OWNER/NAME, a GitLab address, or another host)."""
-    url = _https(url, "the repository's address")
+    url = _https(url, REPOSITORY_SETTING)
     parts = urllib.parse.urlsplit(url)
     path = parts.path.strip("/")
     if path.count("/") < 1:
-        raise RepositoryError(f"the repository's address must name an owner and a repository, not {url!r}")
+        raise RepositoryError(f"{REPOSITORY_SETTING} must name an owner and a repository, not {_shown(url)}")
     host = parts.hostname
     lab = urllib.parse.quote(f"lab/tree/{FIRST_LESSON}", safe="")
     if host == "github.com":
@@ -119,11 +172,11 @@ def readme_block(url: str | None) -> str:
     if url is None:
         return ""
     made = links(url)
-    lines = [f"Repository: <{made.repository}> · issues: <{made.issues}>"]
+    lines = [f"Repository: <{markdown_url(made.repository)}> · issues: <{markdown_url(made.issues)}>"]
     if made.binder:
-        lines.append(f"[Launch on Binder]({made.binder}) (JupyterLab at lesson 00)")
+        lines.append(f"[Launch on Binder]({markdown_url(made.binder)}) (JupyterLab at lesson 00)")
     if made.colab:
-        lines.append(f"[Lesson 00 on Colab]({made.colab_notebook(FIRST_LESSON)})")
+        lines.append(f"[Lesson 00 on Colab]({markdown_url(made.colab_notebook(FIRST_LESSON))})")
     return "\n".join(f"- {line}" for line in lines) + "\n"
 
 
@@ -138,28 +191,66 @@ def expected_citation(text: str, url: str | None) -> str:
     text = CITATION_KEY.sub("", text)
     if url is None:
         return text
-    line = f'repository-code: "{url}"\n'
+    url = links(url).repository  # checked: an address the links are made from
+    line = f"repository-code: {json.dumps(url)}\n"  # a JSON string is a double-quoted YAML scalar
     anchor = re.search(r"^license:", text, re.M)
     return text[: anchor.start()] + line + text[anchor.start():] if anchor else text + line
+
+
+def expected_files(url: str | None) -> dict[pathlib.Path, str]:
+    """README.md and CITATION.cff as they follow ``url``: what ``--write`` writes and ``--check`` wants."""
+    return {README: expected_readme(README.read_text(encoding="utf-8"), url),
+            CITATION: expected_citation(CITATION.read_text(encoding="utf-8"), url)}
+
+
+def citation_problem(text: str, url: str | None) -> str | None:
+    """What is wrong with CITATION.cff read as YAML (None: valid, and repository-code is ``url``)."""
+    try:
+        import yaml
+    except ImportError:  # pragma: no cover - PyYAML is in the development set
+        return None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as error:
+        return f"CITATION.cff is not valid YAML: {' '.join(str(error).split())}"
+    if not isinstance(data, dict):
+        return "CITATION.cff is not a YAML mapping"
+    if data.get("repository-code") != url:
+        return f"CITATION.cff: repository-code reads {data.get('repository-code')!r}, not {url!r}"
+    return None
 
 
 def disagreements(url: str | None) -> list[str]:
     """What in README.md and CITATION.cff does not follow the address (empty: they agree)."""
     found = []
-    readme = README.read_text(encoding="utf-8")
-    if expected_readme(readme, url) != readme:
+    expected = expected_files(url)
+    if expected[README] != README.read_text(encoding="utf-8"):
         found.append("README.md: the repository-links block (python tools/repository.py --write)")
     citation = CITATION.read_text(encoding="utf-8")
-    if expected_citation(citation, url) != citation:
+    if expected[CITATION] != citation:
         found.append("CITATION.cff: repository-code (python tools/repository.py --write)")
+    else:
+        problem = citation_problem(citation, url)
+        if problem:
+            found.append(problem)
     return found
 
 
 def main(arguments: list[str]) -> int:
-    url = repository_url()
+    try:
+        url = repository_url()
+        hub = jupyterhub_url()
+        expected = expected_files(url)  # everything is made and checked before anything is written
+        problem = citation_problem(expected[CITATION], url) if "--write" in arguments else None
+        if problem:
+            raise RepositoryError(f"{problem} once written; nothing was written")
+    except RepositoryError as error:
+        print(f"repository: {error}", file=sys.stderr)
+        return 2
     if "--write" in arguments:
-        README.write_text(expected_readme(README.read_text(encoding="utf-8"), url), encoding="utf-8")
-        CITATION.write_text(expected_citation(CITATION.read_text(encoding="utf-8"), url), encoding="utf-8")
+        for path, text in expected.items():
+            if path.read_text(encoding="utf-8") != text:
+                path.write_text(text, encoding="utf-8")
     if "--check" in arguments:
         found = disagreements(url)
         for line in found:
@@ -169,7 +260,7 @@ def main(arguments: list[str]) -> int:
     if url:
         for name, value in vars(links(url)).items():
             print(f"  {name}: {value}")
-    print(f"jupyterhub: {jupyterhub_url() or '(not set)'}")
+    print(f"jupyterhub: {hub or '(not set)'}")
     return 0
 
 

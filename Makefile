@@ -1,12 +1,18 @@
 # Two commands: `make lab` (open the lessons) and `make test` (prove they all work).
 # Both create .venv. `make lab` installs the student set (environment.txt); `make test` and the other
 # developer targets the whole set (environment-dev.txt, which includes environment.txt). Each set is
-# re-installed when its file (or pyproject.toml) changes.
+# re-installed when its file (or pyproject.toml) changes. Before it creates anything, each checks the Python: one
+# outside SUPPORTED_PYTHONS (or none) stops it with a one-line message. .venv is made again when its python no longer
+# runs, is another version than it was made with (.venv/.python records which) or is not the one PYTHON names.
 PYTHON ?= python3
+# the Pythons the collection supports, oldest to newest (README's "Needs Python …" says the same; make lab and make
+# test refuse any other; make test-pythons' PYTHONS below tests them all)
+SUPPORTED_PYTHONS := 3.11 3.12 3.13
 VENV   := .venv
 BIN    := $(VENV)/bin
 STUDENT_STAMP := $(VENV)/.installed-student
 DEV_STAMP     := $(VENV)/.installed-dev
+PYTHON_STAMP  := $(VENV)/.python
 PIP := $(BIN)/python -m pip install --quiet --disable-pip-version-check
 # JupyterLab refuses to run as root unless told; containers and CI often are root
 LAB_ROOT := $(if $(filter 0,$(shell id -u)),--allow-root,)
@@ -19,17 +25,73 @@ NBVAL := --nbval --nbval-current-env --nbval-sanitize-with tests/sanitize.cfg --
 # make test-pythons: the versions it tests (each in a venv of its own, .venv/pythons/X.Y)
 PYTHONS ?= 3.11 3.12 3.13
 
-.PHONY: lab test test-portable test-pythons execute exercises bench clean site nbgrader dist
+.PHONY: FORCE lab test test-portable test-pythons execute exercises bench clean site nbgrader dist
 
-$(STUDENT_STAMP): environment.txt pyproject.toml
-	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+$(STUDENT_STAMP): environment.txt pyproject.toml $(PYTHON_STAMP)
 	$(PIP) -r environment.txt
 	touch $@
 
-$(DEV_STAMP): environment-dev.txt environment.txt pyproject.toml
-	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+$(DEV_STAMP): environment-dev.txt environment.txt pyproject.toml $(PYTHON_STAMP)
 	$(PIP) -r environment-dev.txt
 	touch $@ $(STUDENT_STAMP)
+
+# An interpreter as .venv/.python records it, "X.Y /its/real/path" (a venv's python answers with the Python
+# it was made from)
+PY_ID := import os, sys; sys.stdout.write("%d.%d %s\n" % (sys.version_info[0], sys.version_info[1], \
+	os.path.realpath(getattr(sys, "_base_executable", sys.executable))))
+# PYTHON named (command line or environment): .venv must be made by that one; else any working .venv of a supported
+# version stays, whichever Python made it
+PYTHON_NAMED := $(if $(filter file default,$(origin PYTHON)),,yes)
+PY_RANGE := $(firstword $(SUPPORTED_PYTHONS))–$(lastword $(SUPPORTED_PYTHONS))
+PY_GOAL  := $(firstword $(filter-out clean,$(MAKECMDGOALS)) lab)
+# sh functions: `supported X.Y`; `empty_venv` removes what .venv holds but .venv/pythons/ (make test-pythons' venvs);
+# `check_python` puts PYTHON's "X.Y /path" into $$asked or, when PYTHON is missing, does not run or is of another
+# version, says so in one line (naming a supported pythonX.Y on the PATH if there is one) and exits 1
+PY_SH := supported() { case " $(SUPPORTED_PYTHONS) " in *" $$1 "*) return 0;; esac; return 1; }; \
+	empty_venv() { \
+	  for entry in $(VENV)/* $(VENV)/.[!.]*; do case $$entry in $(VENV)/pythons) ;; *) rm -rf "$$entry";; esac; done; \
+	}; \
+	check_python() { \
+	  where=`command -v $(PYTHON) 2>/dev/null` || where=; asked=; \
+	  test -z "$$where" || asked=`$(PYTHON) -c '$(PY_ID)' 2>/dev/null` || asked=; \
+	  if test -n "$$asked" && supported $${asked%% *}; then return 0; fi; \
+	  hint=; for v in $(SUPPORTED_PYTHONS); do \
+	    case `python$$v -c '$(PY_ID)' 2>/dev/null` in "$$v "*) hint=python$$v;; esac; done; \
+	  if test -z "$$where"; then found="$(PYTHON) was not found"; \
+	  elif test -z "$$asked"; then found="$(PYTHON) at $$where does not run"; \
+	  else found="found $${asked%% *} at $$where"; fi; \
+	  if test -n "$$hint"; then todo="run \`make $(PY_GOAL) PYTHON=$$hint\`"; \
+	  else todo="install one and run \`make $(PY_GOAL) PYTHON=python$(lastword $(SUPPORTED_PYTHONS))\`"; fi; \
+	  echo "needs Python $(PY_RANGE); $$found — $$todo" >&2; exit 1; \
+	}
+
+# Runs every time, before anything is installed. Keeps .venv when its python runs, is the version .venv/.python
+# records, is supported and (PYTHON named) is PYTHON; else checks PYTHON, makes .venv again with it (keeping
+# .venv/pythons/) and writes .venv/.python anew, so both sets are installed again. A venv that failed half-way
+# (Debian without python3.X-venv) is removed, so the next run makes it again.
+$(PYTHON_STAMP): FORCE
+	@$(PY_SH); \
+	have=`$(BIN)/python -c '$(PY_ID)' 2>/dev/null` || have=; made=`cat $@ 2>/dev/null` || made=; stale=; asked=; \
+	if test -n "$$have"; then \
+	  if test -n "$$made" && test "$${made%% *}" != "$${have%% *}"; then \
+	    stale="it was made with Python $${made%% *}, its python is now $${have%% *}"; \
+	  elif ! supported $${have%% *}; then stale="it was made with Python $${have%% *}"; fi; \
+	elif test -f $(VENV)/pyvenv.cfg || test -h $(BIN)/python || test -e $(BIN)/python; then \
+	  stale="its python does not run"; fi; \
+	if test -n "$(PYTHON_NAMED)" || test -z "$$have" || test -n "$$stale"; then check_python; fi; \
+	if test -n "$$have" && test -z "$$stale" && test -n "$$asked" && test "$$have" != "$$asked"; then \
+	  stale="it was made by $${have#* } ($${have%% *}), PYTHON=$(PYTHON) is $${asked#* } ($${asked%% *})"; fi; \
+	if test -n "$$have" && test -z "$$stale"; then \
+	  test "$$made" = "$$have" || { printf '%s\n' "$$have" > $@ && touch -r $(VENV)/pyvenv.cfg $@; }; exit 0; fi; \
+	if test -n "$$stale"; then \
+	  test -f $(VENV)/pyvenv.cfg || { \
+	    echo "$(VENV) is not a virtual environment (no pyvenv.cfg): remove it" >&2; exit 1; }; \
+	  echo "making $(VENV) again: $$stale"; empty_venv; \
+	fi; \
+	echo "$(PYTHON) -m venv $(VENV)"; $(PYTHON) -m venv $(VENV) || { empty_venv; exit 1; }; \
+	printf '%s\n' "$$asked" > $@
+
+FORCE:
 
 # JupyterLab's settings for this project (no news pop-up): tools/lab-settings/overrides.json
 lab: $(STUDENT_STAMP)

@@ -88,3 +88,219 @@ def test_make_clean_removes_what_the_targets_make_and_keeps_the_nbgrader_setting
     assert made <= removed, made - removed
     kept = {"nbgrader", ".", "nbgrader/nbgrader_config.py"}
     assert not any(path in kept or path.startswith("nbgrader/templates") for path in removed)
+
+
+# The Python check and the rebuild of .venv, in a copy of the Makefile with fake interpreters: shell scripts
+# that answer the Makefile's `-c` query with their version, make a fake venv (python, jupyter, ruff: copies of
+# themselves) for `-m venv` and log every call. The PATH holds only them and the few tools the recipes use, so
+# no real Python is found, nothing is installed and every make run takes milliseconds.
+FAKE_PYTHON = """#!/bin/sh
+printf '%s\\n' "$0 $*" >> {log}
+case "$1" in
+  -c) echo "{version} /opt/python{version}/bin/python{version}" ;;
+  -m) if [ "$2" = venv ]; then
+        mkdir -p "$3/bin"; for tool in python jupyter ruff; do cp "$0" "$3/bin/$tool"; done
+        echo "home = /opt/python{version}/bin" > "$3/pyvenv.cfg"
+      fi ;;
+esac
+"""
+MAKEFILE = (ROOT / "Makefile").read_text(encoding="utf-8")
+SUPPORTED = re.search(r"^SUPPORTED_PYTHONS := (.+)$", MAKEFILE, re.M)
+# the targets that make .venv: those that need an installed set
+VENV_TARGETS = re.findall(r"^([a-z][\w-]*):.*\$\((?:STUDENT|DEV)_STAMP\)", MAKEFILE, re.M)
+
+
+class Sandbox:
+    def __init__(self, root: pathlib.Path):
+        self.repo, self.bin, self.log = root / "repo", root / "bin", root / "calls.log"
+        for name in ("Makefile", "environment.txt", "environment-dev.txt", "pyproject.toml",
+                     "tools/lab-settings/overrides.json"):
+            (self.repo / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(ROOT / name, self.repo / name)
+        tools = root / "tools"
+        for directory in (self.bin, tools):
+            directory.mkdir()
+        for tool in ("sh", "cat", "mkdir", "cp", "touch", "rm", "id", "uname"):
+            (tools / tool).symlink_to(shutil.which(tool))
+        self.env = {key: value for key, value in os.environ.items()
+                    if key not in ("PYTHON", "MAKEFLAGS", "MFLAGS", "MAKELEVEL")}
+        self.env["PATH"] = f"{self.bin}{os.pathsep}{tools}"
+        self.venv = self.repo / ".venv"
+
+    def python(self, name: str, version: str) -> pathlib.Path:
+        path = self.bin / name
+        path.write_text(FAKE_PYTHON.format(log=self.log, version=version), encoding="utf-8")
+        path.chmod(0o755)
+        return path
+
+    def make(self, *arguments: str) -> subprocess.CompletedProcess:
+        self.log.unlink(missing_ok=True)
+        return subprocess.run([shutil.which("make"), "--no-print-directory", *arguments], cwd=self.repo,
+                              env=self.env, capture_output=True, text=True, timeout=60)
+
+    def calls(self) -> list[str]:
+        """What the fakes were asked to do besides answering the version query."""
+        if not self.log.exists():
+            return []
+        lines = self.log.read_text(encoding="utf-8").splitlines()
+        return [line for line in lines if " -m " in line or "/jupyter " in line or "/ruff " in line]
+
+    def stamp(self) -> str:
+        return (self.venv / ".python").read_text(encoding="utf-8").strip()
+
+
+needs_make = pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
+
+
+@pytest.fixture
+def sandbox(tmp_path):
+    return Sandbox(tmp_path)
+
+
+def test_the_supported_pythons_are_listed_once_and_match_the_readme():
+    targets = {"lab", "test", "test-portable", "execute", "exercises", "bench", "site", "nbgrader"}
+    assert targets <= set(VENV_TARGETS), targets - set(VENV_TARGETS)
+    assert SUPPORTED, "the Makefile lists the supported Pythons in SUPPORTED_PYTHONS"
+    versions = SUPPORTED.group(1).split()
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert f"Needs Python {', '.join(versions[:-1])} or {versions[-1]}" in readme
+    makefile = MAKEFILE
+    # make test-pythons tests all of them unless told fewer (tests/test_release.py pins that line as it is)
+    assert re.search(rf"^PYTHONS \?= {re.escape(SUPPORTED.group(1))}$", makefile, re.M)
+    code = "\n".join(line for line in makefile.splitlines() if not line.lstrip().startswith("#"))
+    for version in versions:  # and nowhere else: the check and its message take them from SUPPORTED_PYTHONS
+        assert code.count(version) == 2, version
+
+
+@needs_make
+@pytest.mark.parametrize("target", VENV_TARGETS)
+def test_an_unsupported_python_stops_each_target_making_the_venv_before_it_creates_anything(sandbox, target):
+    old = sandbox.python("python3.10", "3.10")
+    sandbox.python("python3.12", "3.12")  # a supported one on the PATH: the message names it
+    result = sandbox.make(target, "PYTHON=python3.10")
+    assert result.returncode != 0
+    ours = [line for line in result.stderr.splitlines() if not line.startswith("make")]
+    assert ours == [f"needs Python 3.11–3.13; found 3.10 at {old} — run `make {target} PYTHON=python3.12`"]
+    assert not sandbox.venv.exists() and sandbox.calls() == []
+    assert "pip" not in result.stdout
+
+
+@needs_make
+def test_a_missing_python_says_so_and_names_one_to_install(sandbox):
+    result = sandbox.make("lab", "PYTHON=python3.14")
+    assert result.returncode != 0
+    assert result.stderr.splitlines()[0] == ("needs Python 3.11–3.13; python3.14 was not found — install one "
+                                             "and run `make lab PYTHON=python3.13`")
+    result = sandbox.make("test")  # PYTHON not named: python3, which is not there either
+    assert result.returncode != 0 and "python3 was not found" in result.stderr
+    (sandbox.bin / "python3").write_text("#!/bin/sh\nexit 1\n", encoding="utf-8")  # there but broken
+    (sandbox.bin / "python3").chmod(0o755)
+    result = sandbox.make("lab")
+    assert result.returncode != 0 and f"python3 at {sandbox.bin / 'python3'} does not run" in result.stderr
+    assert not sandbox.venv.exists()
+
+
+@needs_make
+def test_the_venv_is_made_again_when_another_python_made_it(sandbox):
+    sandbox.python("python3.12", "3.12")
+    result = sandbox.make("lab", "PYTHON=python3.12")
+    assert result.returncode == 0, result.stderr
+    assert sandbox.calls()[:2] == [f"{sandbox.bin}/python3.12 -m venv .venv",
+                                   ".venv/bin/python -m pip install --quiet --disable-pip-version-check "
+                                   "-r environment.txt"]
+    assert sandbox.stamp() == "3.12 /opt/python3.12/bin/python3.12"
+    (sandbox.venv / "pythons" / "3.13").mkdir(parents=True)  # make test-pythons' venvs stay
+    (sandbox.venv / "pythons" / "3.13" / "pyvenv.cfg").touch()
+
+    # nothing changed: nothing made, nothing installed
+    assert sandbox.make("lab", "PYTHON=python3.12").returncode == 0
+    assert [call for call in sandbox.calls() if "jupyter" not in call] == []
+
+    # .venv/.python says another version made it (as a 3.10 venv that the Python was swapped under)
+    (sandbox.venv / ".python").write_text("3.10 /usr/bin/python3.10\n", encoding="utf-8")
+    result = sandbox.make("lab", "PYTHON=python3.12")
+    assert result.returncode == 0, result.stderr
+    assert "making .venv again: it was made with Python 3.10, its python is now 3.12" in result.stdout
+    assert f"{sandbox.bin}/python3.12 -m venv .venv" in sandbox.calls()
+    assert any("-r environment.txt" in call for call in sandbox.calls())
+    assert sandbox.stamp() == "3.12 /opt/python3.12/bin/python3.12"
+    assert (sandbox.venv / "pythons" / "3.13" / "pyvenv.cfg").exists()
+
+    # another Python named: made again by it, and `make test` installs the whole set into it
+    sandbox.python("python3.13", "3.13")
+    result = sandbox.make("test", "PYTHON=python3.13")
+    assert result.returncode == 0, result.stderr
+    assert ("making .venv again: it was made by /opt/python3.12/bin/python3.12 (3.12), PYTHON=python3.13 is "
+            "/opt/python3.13/bin/python3.13 (3.13)") in result.stdout
+    assert f"{sandbox.bin}/python3.13 -m venv .venv" in sandbox.calls()
+    assert any("-r environment-dev.txt" in call for call in sandbox.calls())
+    assert sandbox.stamp() == "3.13 /opt/python3.13/bin/python3.13"
+
+    # no Python named: the working 3.13 venv stays although python3 is 3.10
+    sandbox.python("python3", "3.10")
+    result = sandbox.make("lab")
+    assert result.returncode == 0, result.stderr
+    assert not any(" -m " in call for call in sandbox.calls())
+    # an unsupported Python named: refused, and the venv is left as it is
+    result = sandbox.make("lab", "PYTHON=python3")
+    assert result.returncode != 0 and "found 3.10 at" in result.stderr
+    assert sandbox.stamp() == "3.13 /opt/python3.13/bin/python3.13"
+
+
+@needs_make
+def test_a_venv_whose_python_is_broken_or_unsupported_is_made_again(sandbox):
+    sandbox.python("python3", "3.12")
+    assert sandbox.make("lab").returncode == 0
+    (sandbox.venv / "bin" / "python").unlink()  # its interpreter uninstalled: a dangling link
+    (sandbox.venv / "bin" / "python").symlink_to(sandbox.repo / "gone" / "python3.12")
+    result = sandbox.make("lab")
+    assert result.returncode == 0, result.stderr
+    assert "making .venv again: its python does not run" in result.stdout
+    assert f"{sandbox.bin}/python3 -m venv .venv" in sandbox.calls()
+
+    # a 3.10 .venv made before the check (no .venv/.python): made again with a supported Python
+    sandbox.python("python3.10", "3.10").rename(sandbox.venv / "bin" / "python")
+    (sandbox.venv / ".python").unlink()
+    result = sandbox.make("lab")
+    assert result.returncode == 0, result.stderr
+    assert "making .venv again: it was made with Python 3.10" in result.stdout
+    assert sandbox.stamp() == "3.12 /opt/python3.12/bin/python3.12"
+
+    # a .venv that is not a venv at all is not emptied
+    (sandbox.venv / "pyvenv.cfg").unlink()
+    (sandbox.venv / "bin" / "python").write_text("#!/bin/sh\nexit 1\n", encoding="utf-8")
+    result = sandbox.make("lab")
+    assert result.returncode != 0 and "(no pyvenv.cfg): remove it" in result.stderr
+    assert (sandbox.venv / "bin" / "jupyter").exists()
+
+
+@needs_make
+def test_a_venv_that_failed_half_way_is_removed(sandbox):
+    # Debian's python3.X without python3.X-venv: the venv's python is made, then ensurepip fails
+    failing = sandbox.python("python3", "3.12")
+    failing.write_text(failing.read_text(encoding="utf-8").replace(
+        'echo "home', 'echo "ensurepip is not available" >&2; exit 1; echo "home'), encoding="utf-8")
+    result = sandbox.make("lab")
+    assert result.returncode != 0 and "ensurepip is not available" in result.stderr
+    assert not any(sandbox.venv.iterdir())
+    assert not any("pip" in call for call in sandbox.calls())
+    sandbox.python("python3", "3.12")  # python3.12-venv installed: made now
+    result = sandbox.make("lab")
+    assert result.returncode == 0, result.stderr
+    assert f"{sandbox.bin}/python3 -m venv .venv" in sandbox.calls()
+
+
+@needs_make
+def test_a_working_venv_made_before_the_check_is_kept_without_installing_again(sandbox):
+    sandbox.python("python3.12", "3.12")
+    assert sandbox.make("lab", "PYTHON=python3.12").returncode == 0
+    (sandbox.venv / ".python").unlink()
+    result = sandbox.make("lab", "PYTHON=python3.12")
+    assert result.returncode == 0, result.stderr
+    assert [call for call in sandbox.calls() if "jupyter" not in call] == []
+    assert sandbox.stamp() == "3.12 /opt/python3.12/bin/python3.12"
+    # the requirements changed: installed again into the same venv
+    os.utime(sandbox.repo / "environment.txt")
+    assert sandbox.make("lab", "PYTHON=python3.12").returncode == 0
+    assert [call for call in sandbox.calls() if "jupyter" not in call] == [
+        ".venv/bin/python -m pip install --quiet --disable-pip-version-check -r environment.txt"]

@@ -5,9 +5,9 @@ one quadratic whose two roots are the block's two assemblies, followed along a s
 block's rows of the loops differentiated by its unknowns, both in the declared order.  σ does not depend on
 how the block is reduced, so ``assembly=`` may name any unknown of the block.  For a dyad — two links
 meeting at a joint, their far ends known — det J_b vanishes exactly where the links line up, and σ tells on
-which side of the line through the far ends the joint lies: for a loop written with the link vectors
-l_a·e(θ_a) and l_b·e(θ_b) of its unknowns θ_a, θ_b (in that order), σ = sign(e(θ_a) × e(θ_b)) = +1 where
-the turn from the first to the second is counter-clockwise.  The course's machines: the four-bar's open
+which side of the line through the far ends the joint lies: with the links' angles θ_a, θ_b as its unknowns
+(in that order), σ = +1 where the joint lies left of the directed line from θ_a's far end to θ_b's, however
+the loop is written.  The course's machines: the four-bar's open
 assembly (B left of the line A → O4) is σ = +1, crossed −1; the five-bar's arms up (P3 left of the line
 P4 → P2, the larger Y3 while P2 is right of P4) is σ = +1, arms down −1.
 

@@ -104,7 +104,8 @@ class Solving:
                 if shape == () and result is not None:
                     iterations[0] = result.iterations
                 blocks = self._block_of()
-                assembly = {s.name: scalar_or_array(sigma[blocks[s.name]].reshape(shape))
+                found = np.isfinite(q).all(axis=1)
+                assembly = {s.name: scalar_or_array(np.where(found, sigma[blocks[s.name]], 0).reshape(shape))
                             for s in self.unknowns if s.name in blocks}
                 left = sorted({blocks[name] for name in blocks} - set(chosen)) if chosen else []
                 if left:

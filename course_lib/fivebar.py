@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from .errors import (
+    InvalidArgumentError,
     InvalidGeometryError,
     SingularJacobianError,
     failure_policy,
@@ -29,8 +30,8 @@ from .motion import Motion
 from .newton import linear_solver
 from .planar import Unpacks, scalar_or_array, wrap_angle
 
-__all__ = ["FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures", "WorkspaceMap",
-           "WORKING_MODES"]
+__all__ = ["FORWARD_ASSEMBLIES", "FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures",
+           "WorkspaceMap", "WORKING_MODES"]
 
 #: The four working modes (σ1, σ2) of the inverse kinematics, in the course's order.
 WORKING_MODES = ((1, 1), (-1, 1), (1, -1), (-1, -1))
@@ -154,6 +155,10 @@ def _configuration(theta1, theta4, x3, y3) -> list[np.ndarray]:
     return require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                              theta4=require_finite("theta4", theta4, "rad"),
                              x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
+
+
+#: The forward assemblies by name, as the core's σ (``assembly=``): arms up has P3 left of the line P4 → P2.
+FORWARD_ASSEMBLIES = {"arms up": {"x3": +1}, "arms down": {"x3": -1}}
 
 
 def _working_mode(modes) -> tuple[int, int]:
@@ -320,15 +325,26 @@ class FiveBar:
         return {"f": f, "g": g, "a": a, "b": b, "c": c, "D": D}
 
     @older_failure_keywords
-    def forward(self, theta1, theta4, mode: int = 1, *, on_failure: str | None = None) -> ForwardResult:
-        """End effector P3 = (X3, Y3) (m) for crank angles θ1, θ4 (rad); ``mode`` +1 "arms up" (larger Y3),
-        −1 "arms down".  X3 = g·Y3 + f where |P2x − P4x| ≥ |P2y − P4y|, else Y3 = g'·X3 + f'.
+    def forward(self, theta1, theta4, mode: int = 1, *, assembly=None, on_failure: str | None = None
+                ) -> ForwardResult:
+        """End effector P3 = (X3, Y3) (m) for crank angles θ1, θ4 (rad); ``mode`` the course's σ: +1 "arms
+        up" (larger Y3), −1 "arms down".  X3 = g·Y3 + f where |P2x − P4x| ≥ |P2y − P4y|, else Y3 = g'·X3 + f'.
+        ``assembly=`` chooses by the core's σ instead (``{"x3": +1}`` or ``"arms up"``: P3 left of the line
+        P4 → P2, the course's +1 while P2 is right of P4 and its −1 where P2 is left of P4).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> bool(robot.forward(1.0, 2.0, +1).y3 > robot.forward(1.0, 2.0, -1).y3)
         True
         """
         sigma = int(require_choice("mode", mode, (1, -1)))
+        if assembly is not None:
+            sigma = self.mechanism.assembly_sigma(assembly, FORWARD_ASSEMBLIES).get("x3", 1)
+            if mode != 1:
+                raise InvalidArgumentError(f"mode and assembly both choose the assembly: give one; got "
+                                           f"mode={mode!r}, assembly={assembly!r}")
+            p2x, _, p4x, _ = self._cranks(*require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
+                                                            theta4=require_finite("theta4", theta4, "rad")))
+            sigma = np.where(p2x - p4x >= 0, sigma, -sigma)  # the course's σ that is this side of P4 → P2
         policy = failure_policy(on_failure)
         theta1, theta4 = require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                                            theta4=require_finite("theta4", theta4, "rad"))
@@ -388,16 +404,21 @@ class FiveBar:
         }
 
     @older_failure_keywords
-    def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1), *, on_failure: str | None = None
-                ) -> InverseResult:
+    def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1), *, assembly=None,
+                on_failure: str | None = None) -> InverseResult:
         """Crank angles θ1, θ4 (rad, in (−π, π]) that put the end effector at (x3, y3) (m); ``modes`` =
-        (σ1, σ2), the signs in θ = 2·atan((−b + σ√(b² − 4ac))/2a): the four working modes.
+        (σ1, σ2), the signs in θ = 2·atan((−b + σ√(b² − 4ac))/2a): the four working modes.  ``assembly=``
+        chooses by the core's σ of each leg instead (``{"theta1": s1, "theta4": s4}``, +1 where the leg
+        turns counter-clockwise at its elbow: ``modes`` = (−s1, −s4); a leg not named keeps its mode).
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> [round(v, 12) for v in robot.forward(*robot.inverse(0.0, 0.2, modes=(+1, -1)), mode=+1)]
         [0.0, 0.2]
         """
         sigmas = _working_mode(modes)
+        if assembly is not None:
+            legs = self._cores["inverse"].assembly_sigma(assembly)
+            sigmas = (-legs.get("theta1", -sigmas[0]), -legs.get("theta4", -sigmas[1]))
         policy = failure_policy(on_failure)
         X, Y = require_broadcast(x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
         with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach

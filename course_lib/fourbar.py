@@ -17,6 +17,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import (
+    InvalidArgumentError,
     SingularJacobianError,
     failure_policy,
     older_failure_keywords,
@@ -29,10 +30,13 @@ from .errors import (
 from .motion import Motion
 from .planar import Unpacks, scalar_or_array, wrap_angle
 
-__all__ = ["BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRange", "CouplerPointMotion"]
+__all__ = ["ASSEMBLIES", "BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRange",
+           "CouplerPointMotion"]
 
 #: The two assembly circuits, named as in Norton's *Design of Machinery*.
 BRANCHES = ("open", "crossed")
+#: The assemblies by name, as the core's σ (``assembly=``): open has B left of the line A → O4 (σ = +1).
+ASSEMBLIES = {"open": {"theta4": +1}, "crossed": {"theta4": -1}}
 #: |AO4| below this (in lengths scaled by the longest) puts the crank pin A on O4.
 COINCIDENT = 1e-14
 #: A toggle angle this close (rad) to π or 0 is a full turn's change point (rounding), not a limit.
@@ -314,18 +318,26 @@ class FourBar:
         return omegas, alphas, singular
 
     @older_failure_keywords
-    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *,
+    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *, assembly=None,
               on_failure: str | None = None) -> FourBarSolution:
         """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²),
         broadcast.  ``UnreachableError`` where the loop cannot close, ``SingularJacobianError`` at a toggle
         while moving (the core's rule: σ_min(J̃) < SINGULAR) or where A is on O4 with coupler = rocker;
-        ``on_failure="nan"``: NaN there.
+        ``on_failure="nan"``: NaN there.  The assembly: ``assembly="open"`` or ``"crossed"``, or the core's
+        σ by either unknown (``{"theta4": +1}`` is open: B left of A → O4); ``branch=`` is its older name.
 
-        >>> crossed = FourBar(0.06, 0.18, 0.12, 0.20).solve(np.pi / 2, branch="crossed")
-        >>> round(crossed.theta3, 6), round(crossed.theta4, 6)
-        (-0.901761, -2.398416)
+        >>> crossed = FourBar(0.06, 0.18, 0.12, 0.20).solve(np.pi / 2, assembly="crossed")
+        >>> round(crossed.theta3, 6), round(crossed.theta4, 6), crossed.assembly["theta4"]
+        (-0.901761, -2.398416, -1)
         """
         require_choice("branch", branch, BRANCHES)
+        if assembly is not None:
+            sigma = self.mechanism.assembly_sigma(assembly, ASSEMBLIES)
+            chosen = "open" if sigma.get("theta4", 1) > 0 else "crossed"
+            if branch != "open" and branch != chosen:
+                raise InvalidArgumentError(f"branch and assembly disagree: give one; got branch={branch!r}, "
+                                           f"assembly={assembly!r}")
+            branch = chosen
         policy = failure_policy(on_failure)
         theta2 = _finite("theta2", theta2, "rad")
         omega2 = _finite("omega2", omega2, "rad/s")
@@ -390,7 +402,7 @@ class FourBar:
         return [v.reshape(shape) for v in values], unreachable.reshape(shape), singular.reshape(shape), \
             near.reshape(shape), int(first[0]) if first.size else None
 
-    def motion(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *,
+    def motion(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *, assembly=None,
                on_failure: str | None = None):
         """:meth:`solve` under the name the declarations use: its :class:`FourBarSolution` is a
         :class:`~course_lib.mechanism.Motion` of :attr:`mechanism`, to draw, animate or explore like any
@@ -400,7 +412,7 @@ class FourBar:
         >>> np.round(motion.position["theta4"], 6).tolist(), motion.converged.tolist()
         ([1.618433, 1.516178], [True, True])
         """
-        return self.solve(theta2, omega2, alpha2, branch=branch, on_failure=on_failure)
+        return self.solve(theta2, omega2, alpha2, branch=branch, assembly=assembly, on_failure=on_failure)
 
     @older_failure_keywords
     def joints(self, theta2, branch: str = "open", *, on_failure: str | None = None) -> np.ndarray:

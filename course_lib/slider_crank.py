@@ -17,6 +17,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import (
+    InvalidArgumentError,
     SingularJacobianError,
     failure_policy,
     report_unreachable,
@@ -28,10 +29,12 @@ from .errors import (
 from .motion import Motion
 from .planar import Unpacks
 
-__all__ = ["OffsetSliderCrank", "SliderCrankMotion", "BRANCHES"]
+__all__ = ["OffsetSliderCrank", "SliderCrankMotion", "BRANCHES", "ASSEMBLIES"]
 
 #: Assemblies of the slider-crank: slider pin to the right or to the left of the crank pin.
 BRANCHES = ("right", "left")
+#: The assemblies by name, as the core's σ (``assembly=``): left (the saw's) is σ = +1.
+ASSEMBLIES = {"left": {"x": +1}, "right": {"x": -1}}
 
 
 @cache
@@ -117,18 +120,27 @@ class OffsetSliderCrank:
         points = self.mechanism.joints(self.solve(theta2, branch=branch))
         return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
 
-    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "right", *,
+    def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "right", *, assembly=None,
               on_failure: str | None = None) -> SliderCrankMotion:
         """Position, velocity and acceleration of rod and slider for the crank's θ2 (rad), ω2 (rad/s),
         α2 (rad/s²), vectorized.  ``UnreachableError`` where |offset − crank·sin θ2| > rod,
         ``SingularJacobianError`` where the rod is perpendicular to the line (cos θ3 = 0: the declared
-        loop's J singular by the core's rule); ``on_failure="nan"``: NaN there instead.
+        loop's J singular by the core's rule); ``on_failure="nan"``: NaN there instead.  The assembly:
+        ``assembly="left"`` or ``"right"``, or the core's σ (``{"x": +1}`` is left); ``branch=`` is its
+        older name.
 
         >>> motion = OffsetSliderCrank(0.05, 0.2).solve(np.pi / 2, omega2=1.0)
         >>> round(float(motion.v), 6), round(float(motion.omega3), 6)
         (-0.05, 0.0)
         """
         require_choice("branch", branch, BRANCHES)
+        if assembly is not None:
+            sigma = self.mechanism.assembly_sigma(assembly, ASSEMBLIES).get("x", 1)
+            chosen = "left" if sigma > 0 else "right"
+            if branch != "right" and branch != chosen:
+                raise InvalidArgumentError(f"branch and assembly disagree: give one; got branch={branch!r}, "
+                                           f"assembly={assembly!r}")
+            branch = chosen
         policy = failure_policy(on_failure)
         theta2, omega2, alpha2 = require_broadcast(theta2=require_finite("theta2", theta2, unit="rad"),
                                                    omega2=require_finite("omega2", omega2, unit="rad/s"),

@@ -123,3 +123,51 @@ def test_several_inputs_keep_each_instants_sigma_in_any_order():
 def test_sigma_of_another_block_is_refused_by_name():
     with pytest.raises(InvalidGeometryError, match="two σ for one block"):
         two_loops().solve({th2: 0.5}, assembly={"theta5": 1, "theta6": -1})
+
+
+@pytest.mark.parametrize(("name", "sigma"), [("open", +1), ("crossed", -1)])
+def test_a_machine_takes_its_assembly_by_alias_or_by_sigma(name, sigma):
+    by_branch = WIPER.solve(THETA2, branch=name)
+    for assembly in (name, {"theta4": sigma}, {"theta3": sigma}):
+        chosen = WIPER.solve(THETA2, assembly=assembly)
+        assert np.array_equal(chosen.theta4, by_branch.theta4) and set(chosen.assembly["theta4"]) == {sigma}
+    crank = OffsetSliderCrank(0.075, 0.170, 0.045)
+    side = "left" if sigma > 0 else "right"
+    assert np.array_equal(crank.solve(THETA2, assembly={"x": sigma}).x, crank.solve(THETA2, branch=side).x)
+    assert np.array_equal(crank.solve(THETA2, assembly=side).x, crank.solve(THETA2, branch=side).x)
+
+
+@pytest.mark.parametrize(("name", "sigma"), [("arms up", +1), ("arms down", -1)])
+def test_the_five_bars_forward_assembly_is_the_side_of_P4_to_P2_everywhere(name, sigma):
+    P2, P4 = elbows(T1, T4)
+    left, right = circle_intersections(P2, 0.15, P4, 0.15)
+    reach = np.isfinite(left).all(axis=1)
+    for assembly in (name, {"x3": sigma}, {"y3": sigma}):
+        pen = ROBOT.forward(T1, T4, assembly=assembly, on_failure="nan")
+        P3 = np.stack([pen.x3, pen.y3], axis=-1)
+        assert np.abs(P3[reach] - (right if sigma > 0 else left)[reach]).max() < 1e-12
+        assert set(np.ravel(pen.assembly["x3"])[reach]) == {sigma}
+
+
+def test_the_five_bars_inverse_assembly_names_each_legs_sigma():
+    x3, y3 = RNG.uniform(-0.1, 0.1, 200), RNG.uniform(0.05, 0.22, 200)
+    for s1, s4 in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+        chosen = ROBOT.inverse(x3, y3, assembly={"theta1": s1, "theta4": s4}, on_failure="nan")
+        course = ROBOT.inverse(x3, y3, modes=(-s1, -s4), on_failure="nan")
+        assert np.array_equal(chosen.theta1, course.theta1, equal_nan=True)
+        assert np.array_equal(chosen.theta4, course.theta4, equal_nan=True)
+    one_leg = ROBOT.inverse(x3, y3, modes=(1, -1), assembly={"theta1": 1}, on_failure="nan")
+    assert np.array_equal(one_leg.theta4, ROBOT.inverse(x3, y3, modes=(1, -1), on_failure="nan").theta4,
+                          equal_nan=True)
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: WIPER.solve(1.0, assembly="up"), "assembly must be one of"),
+    (lambda: WIPER.solve(1.0, assembly={"theta2": 1}), "assembly must map"),
+    (lambda: WIPER.solve(1.0, branch="crossed", assembly="open"), "branch and assembly disagree"),
+    (lambda: ROBOT.forward(1.0, 2.0, mode=-1, assembly="arms up"), "mode and assembly"),
+    (lambda: ROBOT.inverse(0.0, 0.15, assembly={"x3": 1}), "assembly must map"),
+])
+def test_a_wrong_assembly_is_named(call, match):
+    with pytest.raises(InvalidGeometryError, match=match):
+        call()

@@ -181,6 +181,30 @@ class ClosedForms:
             chosen[block] = int(value)
         return chosen
 
+    def assembly_sigma(self, assembly, aliases: Mapping[str, Mapping[str, int]] | None = None
+                       ) -> dict[str, int]:
+        """σ of each closed-form block that ``assembly`` chooses, keyed by every unknown of the block: a
+        mapping of any unknown of a block (name or symbol) to σ = ±1, or one of a machine's ``aliases``
+        (name → such a mapping, e.g. the four-bar's ``"open"`` → ``{"theta4": +1}``).
+
+        >>> th2, th3, th4 = sp.symbols("theta2 theta3 theta4")
+        >>> loop = sp.Matrix([0.06*sp.cos(th2) + 0.18*sp.cos(th3) - 0.12*sp.cos(th4) - 0.2,
+        ...                   0.06*sp.sin(th2) + 0.18*sp.sin(th3) - 0.12*sp.sin(th4)])
+        >>> wiper = Mechanism([loop], [th3, th4], [th2])
+        >>> wiper.assembly_sigma({"theta3": -1}), wiper.assembly_sigma("open", {"open": {"theta4": 1}})
+        ({'theta3': -1, 'theta4': -1}, {'theta3': 1, 'theta4': 1})
+        """
+        aliases = {} if aliases is None else aliases
+        if isinstance(assembly, str):
+            if assembly not in aliases:
+                raise InvalidGeometryError(f"assembly must be one of {list(aliases)} or map an unknown of a "
+                                           f"block to σ = +1 or −1; got assembly={assembly!r}")
+            assembly = aliases[assembly]
+        chosen = self._assembly(assembly, self._closed_fns is not None)
+        blocks = self._block_of()
+        return {s.name: chosen[blocks[s.name]] for s in self.unknowns
+                if s.name in blocks and blocks[s.name] in chosen}
+
     def _closed(self, u, paths, target, tol, max_iter, notes, chosen=None, known=None
                 ) -> tuple[np.ndarray, np.ndarray, dict, dict | None]:
         """Positions (N, n) from the closed forms, each block's σ picked at the first instant from

@@ -23,9 +23,10 @@ import numpy as np
 from .errors import ConvergenceError, InvalidGeometryError, SingularJacobianError, require_choice
 
 __all__ = ["NewtonResult", "BatchNewtonResult", "newton", "newton_batch", "finite_difference_jacobian",
-           "hadamard_ratio", "is_singular", "linear_solver", "LinearStack", "singular_jacobian_text"]
+           "hadamard_ratio", "ill_conditioned", "is_singular", "linear_solver", "LinearStack",
+           "singular_jacobian_text"]
 
-#: J counts as singular when |det J| < Π‖row of J‖ / MAX_CONDITION (see :func:`hadamard_ratio`).
+#: Newton cannot step with J when |det J| < Π‖row of J‖ / MAX_CONDITION (see :func:`ill_conditioned`).
 MAX_CONDITION = 1e12
 #: The most updates a run may take: the history of one run stays small.
 MAX_ITERATIONS = 10_000
@@ -175,7 +176,8 @@ class LinearStack:
 
     @property
     def singular(self) -> np.ndarray:
-        """True per matrix that is singular or not finite (see :func:`is_singular`); computed once."""
+        """True per matrix too ill-conditioned to solve with, or not finite (see :func:`ill_conditioned`);
+        computed once."""
         if self._singular is None:
             with np.errstate(all="ignore"):
                 regular = self._regular()
@@ -216,7 +218,7 @@ class LinearStack:
 
 def hadamard_ratio(J: np.ndarray) -> np.ndarray:
     """|det J| / Π‖row of J‖ per matrix (N, n, n): 1 for orthogonal rows, 0 when singular, unchanged by
-    scaling a row; the library's one singularity test (:func:`is_singular`).
+    scaling a row; the measure of Newton's step test (:func:`ill_conditioned`).
 
     >>> float(hadamard_ratio(np.array([[[2.0, 0.0], [0.0, 3.0]]]))[0])
     1.0
@@ -224,13 +226,20 @@ def hadamard_ratio(J: np.ndarray) -> np.ndarray:
     return LinearStack(J).ratio
 
 
-def is_singular(J: np.ndarray) -> np.ndarray:
-    """True per matrix of a stack (N, n, n) that is singular or not finite (ratio ≤ 1/MAX_CONDITION).
+def ill_conditioned(J: np.ndarray) -> np.ndarray:
+    """Newton's step test, per matrix of a stack (N, n, n): True where J is too ill-conditioned to solve
+    J·Δx = −F with (Hadamard ratio ≤ 1/MAX_CONDITION) or not finite.  It knows nothing of a mechanism: a
+    mechanism's configuration is singular by the one rule of :mod:`course_lib.mechanism.singular`
+    (σ_min of J scaled by its typical sizes), which ``Motion.singular`` and ``Mechanism.is_singular`` give.
 
-    >>> is_singular(np.array([[[1.0, 1.0], [2.0, 2.0]], [[1.0, 0.0], [0.0, 1.0]]])).tolist()
+    >>> ill_conditioned(np.array([[[1.0, 1.0], [2.0, 2.0]], [[1.0, 0.0], [0.0, 1.0]]])).tolist()
     [True, False]
     """
     return LinearStack(J).singular
+
+
+#: The older name of :func:`ill_conditioned` (Newton's step test, not the mechanism's singularity rule).
+is_singular = ill_conditioned
 
 
 def linear_solver(J: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:

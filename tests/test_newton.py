@@ -311,13 +311,14 @@ def test_linear_solver_equals_numpy_solve(n):
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
 def test_linear_stack_solves_as_numpy_and_each_matrix_alone(n):
-    from course_lib.newton import LinearStack, is_singular
+    from course_lib.newton import LinearStack, ill_conditioned, is_singular
 
     rng = np.random.default_rng(20 + n)
     J, b = rng.normal(size=(40, n, n)) + 2 * np.eye(n), rng.normal(size=(40, n))
     J[5] = 0.0  # singular, flagged and left out below
     stack = LinearStack(J)
-    np.testing.assert_array_equal(stack.singular, is_singular(J))
+    np.testing.assert_array_equal(stack.singular, ill_conditioned(J))
+    assert is_singular is ill_conditioned  # the older name
     assert stack.singular.tolist() == [k == 5 for k in range(40)]
     good = LinearStack(J, ~stack.singular)
     x = good.solve(b[~stack.singular])

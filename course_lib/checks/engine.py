@@ -14,16 +14,54 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import InvalidArgumentError
 from ..planar import wrap_angle
 
-__all__ = ["ANGLE_TOL", "RELATIVE_TOL", "Precision", "FIGURES", "DECIMALS", "Feedback", "reads", "right",
-           "wrong", "vector", "number", "integer", "word", "fields", "choice", "close", "near",
+__all__ = ["ANGLE_TOL", "RELATIVE_TOL", "MOST_TYPED", "Precision", "FIGURES", "DECIMALS", "Feedback", "reads",
+           "right", "wrong", "vector", "number", "integer", "word", "fields", "choice", "close", "near",
            "angles_close", "in_degrees", "diagnose", "first", "angle_verdict", "plain", "judge_expression"]
 
 #: Absolute tolerance on angles (rad) and relative tolerance on other numbers, where a checker compares
 #: computed quantities (not a student's rounded numbers: those are judged by a :class:`Precision`).
 ANGLE_TOL = 1e-6
 RELATIVE_TOL = 1e-6
+
+
+#: The most numbers :meth:`Precision.typed` reads (each one is written up to 18 ways to count its digits).
+MOST_TYPED = 10_000
+
+
+def _integer_argument(name: str, value: Any, low: int, high: int) -> int:
+    """``value`` as an int from ``low`` to ``high``, or :class:`InvalidArgumentError` naming ``name``
+    (True/False, 4.5, "4" and None are not digit counts)."""
+    whole = isinstance(value, int | np.integer) and not isinstance(value, bool | np.bool_)
+    if not (whole and low <= value <= high):
+        raise InvalidArgumentError(f"{name} must be a whole number (an int) from {low} to {high}; "
+                                   f"got {value!r}")
+    return int(value)
+
+
+def _reals(value: Any) -> np.ndarray | None:
+    """``value`` as a float array of its own shape, or None when it is not real numbers (a string, a bool,
+    None, a complex number, a dict, a ragged list, …): text is never read as a number here."""
+    if _not_a_number(value):
+        return None
+    try:
+        array = np.asarray(value)
+        if array.dtype.kind == "O":
+            array = np.array([float(item) for item in array.ravel().tolist()]).reshape(array.shape)
+        return array.astype(float) if array.dtype.kind in "iuf" else None
+    except (TypeError, ValueError, OverflowError):
+        return None
+
+
+def _require_reals(name: str, value: Any) -> np.ndarray:
+    """``value`` as a float array, or :class:`InvalidArgumentError` naming ``name`` and what it is."""
+    array = _reals(value)
+    if array is None:
+        what = _not_a_number(value) or "something that is not real numbers"
+        raise InvalidArgumentError(f"{name} must be a number or numbers; got {value!r}, {what}")
+    return array
 
 
 @dataclass(frozen=True)
@@ -37,20 +75,52 @@ class Precision:
     (True, False, 3)
     >>> str(DECIMALS), DECIMALS.agrees(3.7635 - 2 * np.pi, 3.76346, angles=True)
     ('4 decimals', True)
+
+    ``digits`` is a whole number from 1 to 17 (a float64 holds no more) and ``decimals`` a bool; anything
+    else is refused by name.  Only numbers agree: text such as "1" never does.
+
+    >>> Precision(0)
+    Traceback (most recent call last):
+    ...
+    course_lib.errors.InvalidArgumentError: digits must be a whole number (an int) from 1 to 17; got 0
+    >>> FIGURES.agrees("1", 1.0), FIGURES.agrees(True, 1.0)
+    (False, False)
     """
 
     digits: int = 4
     decimals: bool = False
     scale: float | None = None  # significant figures of this size for every entry (a vector's length)
 
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "digits", _integer_argument("digits", self.digits, 1, 17))
+        if not isinstance(self.decimals, bool | np.bool_):
+            raise InvalidArgumentError(f"decimals must be True (count decimals) or False (count significant "
+                                       f"figures); got {self.decimals!r}")
+        object.__setattr__(self, "decimals", bool(self.decimals))
+        if self.scale is not None:
+            scale = _reals(self.scale)
+            if scale is None or scale.ndim:
+                raise InvalidArgumentError(f"scale must be None or one number (the size whose significant "
+                                           f"figures count); got {self.scale!r}")
+            object.__setattr__(self, "scale", float(scale))
+
     def __str__(self) -> str:
         return f"{self.digits} {'decimals' if self.decimals else 'significant figures'}"
 
+    def _digits(self, digits: int | None) -> int:
+        """The digits asked for: this precision's own, or ``digits`` (a checker asks for fewer, down to 2
+        under what is asked for an angle in degrees, so -17 to 17)."""
+        return self.digits if digits is None else _integer_argument("digits", digits, -17, 17)
+
     def unit(self, reference, digits: int | None = None) -> np.ndarray:
         """Half a unit of the last digit asked for, per entry of ``reference`` (with 2 % slack for a
-        reference that lies on a rounding boundary); a zero reference counts as one of size 1e-9."""
-        digits = self.digits if digits is None else digits
-        reference = np.abs(np.asarray(reference, float))
+        reference that lies on a rounding boundary); a zero reference counts as one of size 1e-9.
+
+        >>> FIGURES.unit([0.5, 120.0]).tolist(), DECIMALS.unit(2.5).tolist()
+        ([5.1e-05, 0.051000000000000004], 5.1e-05)
+        """
+        digits = self._digits(digits)
+        reference = np.abs(_require_reals("reference", reference))
         if self.decimals:
             return np.full(reference.shape, 0.51 * 10.0 ** -digits)
         size = reference if self.scale is None else np.full(reference.shape, abs(self.scale))
@@ -59,19 +129,47 @@ class Precision:
 
     def agrees(self, value, reference, angles=False, digits: int | None = None) -> bool:
         """Whether ``value`` is ``reference`` to this precision; ``angles`` (one bool, or one per entry)
-        marks the entries compared modulo 2π; None in a tuple ``reference`` stands for any value."""
-        angles = np.broadcast_to(np.asarray(angles, bool), np.shape(value))
-        value, reference, kept = _pairs(value, reference)
-        if value.shape != reference.shape:
+        marks the entries compared modulo 2π; None in a tuple ``reference`` stands for any value.  A
+        ``value`` that is not numbers, or not of the reference's shape, does not agree.
+
+        >>> FIGURES.agrees((0.5975, 9.0), (0.59746, None)), FIGURES.agrees([0.5975], 0.59746)
+        (True, False)
+        """
+        digits = self._digits(digits)
+        flags = np.asarray(angles)
+        if flags.dtype.kind != "b":
+            raise InvalidArgumentError(f"angles must be True/False, or one True/False per entry; "
+                                       f"got {angles!r}")
+        kept, shape = ..., None
+        if isinstance(reference, tuple) and any(r is None for r in reference):
+            kept, shape = [i for i, r in enumerate(reference) if r is not None], (len(reference),)
+            reference = [reference[i] for i in kept]
+        references = _require_reals("reference", reference)
+        shape = references.shape if shape is None else shape
+        values = _reals(value)
+        if values is None or values.shape != shape or values[kept].shape != references.shape:
             return False
-        gaps = value - reference
-        gaps = np.where(angles[kept], wrap_angle(gaps, nan_ok=True), gaps)
-        return bool(np.all(np.abs(gaps) <= self.unit(reference, digits)))
+        try:
+            flags = np.broadcast_to(flags, shape)
+        except ValueError:
+            raise InvalidArgumentError(f"angles must be one True/False, or one per entry of the reference "
+                                       f"(shape {shape}); got {angles!r}") from None
+        gaps = values[kept] - references
+        gaps = np.where(flags[kept], wrap_angle(gaps, nan_ok=True), gaps)
+        return bool(np.all(np.abs(gaps) <= self.unit(references, digits)))
 
     def of_size(self, vector) -> "Precision":
         """The same digits, counted on the size of ``vector`` for each entry (a component that should be 0,
-        as cos 90°, may then be any round-off)."""
-        return Precision(self.digits, self.decimals, float(np.abs(np.asarray(vector, float)).max()))
+        as cos 90°, may then be any round-off).
+
+        >>> FIGURES.of_size([0.0, 0.06]).agrees([1e-6, 0.06], [0.0, 0.06])
+        True
+        """
+        array = _require_reals("vector", vector)
+        if not array.size:
+            raise InvalidArgumentError(f"vector must hold at least one number (its size counts the digits); "
+                                       f"got {vector!r}")
+        return Precision(self.digits, self.decimals, float(np.abs(array).max()))
 
     def fewer(self, value, reference, angles=False) -> int:
         """The most digits, one or two fewer than asked (and at least 2), to which ``value`` is ``reference``;
@@ -80,11 +178,25 @@ class Precision:
                      if _try(lambda d=digits: self.agrees(value, reference, angles, d))), 0)
 
     def typed(self, value) -> int:
-        """How many digits (significant figures, or decimals) the numbers in ``value`` were written with."""
+        """How many digits (significant figures, or decimals) the numbers in ``value`` were written with;
+        at most :data:`MOST_TYPED` numbers (each is written up to 18 ways), more are refused by name.
+
+        >>> FIGURES.typed([0.597, 12.5]), DECIMALS.typed(3.14)
+        (3, 2)
+        """
+        try:  # the count first, before any per-number work
+            count = value.size if isinstance(value, np.ndarray) else np.size(value)
+        except (TypeError, ValueError):  # a ragged list: refused below, by what it is
+            count = 0
+        if count > MOST_TYPED:
+            raise InvalidArgumentError(f"value must hold at most {MOST_TYPED} numbers to count their digits; "
+                                       f"got {count} (shape {np.shape(value)})")
+        numbers = _require_reals("value", value)
+
         def digits(number: float) -> int:
             written = (f"{{:.{n}f}}" if self.decimals else f"{{:.{max(n - 1, 0)}e}}" for n in range(18))
             return next((n for n, text in enumerate(written) if float(text.format(number)) == number), 17)
-        return max((digits(float(number)) for number in np.ravel(value) if number != 0), default=0)
+        return max((digits(number) for number in numbers.ravel().tolist() if number != 0), default=0)
 
     def more_digits(self, value, reference, angles=False) -> "Feedback | None":
         """"Give more digits" feedback when ``value`` was written with fewer digits than asked and is

@@ -4,7 +4,9 @@ the offending input and its value, so a student learns *which* argument is wrong
 
 from __future__ import annotations
 
+import difflib
 import functools
+import inspect
 import numbers
 import warnings
 from collections.abc import Iterable, Mapping
@@ -15,7 +17,7 @@ import numpy as np
 __all__ = ["CourseLibError", "UnreachableError", "ConvergenceError", "SingularJacobianError",
            "InvalidGeometryError", "InvalidArgumentError", "require_positive", "require_finite",
            "require_broadcast", "require_choice", "report_unreachable", "failure_policy", "FAILURE_POLICIES",
-           "older_failure_keywords"]
+           "older_failure_keywords", "known_keywords"]
 
 #: What a call does where it fails (no assembly, a singular Jacobian): raise the named error, or give NaN.
 FAILURE_POLICIES = ("raise", "nan")
@@ -193,6 +195,40 @@ def older_failure_keywords(function):
                 raise InvalidArgumentError(f"on_failure and its older spelling disagree: give one; "
                                            f"got {shown}")
             kwargs["on_failure"] = next(iter(given.values()))
+        return function(*args, **kwargs)
+
+    return call
+
+
+def known_keywords(function):
+    """A call's misspelt keyword (``unknown=`` for ``unknowns=``) refused by ``InvalidArgumentError``
+    naming it and the keyword it is closest to, instead of Python's bare ``TypeError``.
+
+    >>> @known_keywords
+    ... def solve(inputs, *, guess=None):
+    ...     return guess
+    >>> try:
+    ...     solve(1.0, guesses=2.0)
+    ... except InvalidArgumentError as error:
+    ...     print(error)
+    solve takes no keyword guesses= (did you mean guess=?); it takes inputs, guess
+    """
+    parameters = inspect.signature(function).parameters
+    taken = [name for name, p in parameters.items() if name != "self"
+             and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+    known, anything = frozenset(taken), any(p.kind is p.VAR_KEYWORD for p in parameters.values())
+    called = function.__qualname__.split(".")[0] if function.__name__ == "__init__" else function.__name__
+
+    @functools.wraps(function)
+    def call(*args, **kwargs):
+        if not anything and not known.issuperset(kwargs):
+            wrong = next(name for name in kwargs if name not in known)
+            close = difflib.get_close_matches(wrong, taken, n=1, cutoff=0.6) or [
+                name for name in taken if wrong.startswith(name) or name.startswith(wrong)][:1]
+            hint = f" (did you mean {close[0]}=?)" if close else ""
+            who = type(args[0]).__name__ if function.__name__ == "__init__" and args else called
+            raise InvalidArgumentError(f"{who} takes no keyword {wrong}={hint}; "
+                                       f"it takes {', '.join(taken)}")
         return function(*args, **kwargs)
 
     return call

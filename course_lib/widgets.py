@@ -864,7 +864,7 @@ def mechanism_explorer(
     >>> th, x = sp.symbols("theta x")
     >>> crank = Mechanism([x - sp.cos(th)], [x], [th], points={"O": sp.Matrix([0, 0]),
     ...                   "A": sp.Matrix([sp.cos(th), sp.sin(th)]), "B": sp.Matrix([x, 0])},
-    ...                   links=[("O", "A"), ("A", "B")])
+    ...                   links=[("O", "A")])  # a Scotch yoke: A slides in B's vertical slot, no link
     >>> turn = crank.solve({th: np.radians(np.arange(0, 360, 10))}, guess={x: 1.0})
     >>> mechanism_explorer(crank, turn, ground=["O"], blocks=["B"]).update(theta_deg=60.0).lines[0]
     'x = 0.5'

@@ -127,7 +127,8 @@ def test_the_mechanism_explorer_draws_the_slider_where_the_law_of_cosines_puts_i
 def test_the_mechanism_explorer_reports_a_value_where_the_loop_cannot_close():
     short = SLIDER_CRANK.with_parameters({})  # the same declaration ...
     long_crank = Mechanism(short.equations.subs(CRANK, 0.2), short.unknowns, short.inputs,
-                           points={"O": sp.Matrix([0, 0]), "B": sp.Matrix([X, 0])}, links=[("O", "B")])
+                           points={"O": sp.Matrix([0, 0]), "A": 0.2 * sp.Matrix([sp.cos(TH), sp.sin(TH)]),
+                                   "B": sp.Matrix([X, 0])}, links=[("O", "A")], sliders=["B"])
     turn = long_crank.solve({TH: np.radians(np.arange(-30, 31, 5))}, guess={"phi": 0.0, X: 0.32})
     explorer = mechanism_explorer(long_crank, turn)
     readout = explorer.update(theta_deg=90.0)  # 0.2 m crank, 0.12 m rod: the rod cannot reach the line

@@ -514,8 +514,10 @@ def test_with_parameters_shares_the_derivation_and_changes_the_numbers():
     omega3 = norton_rates(theta2, closed.theta3, closed.theta4, 2.0, 0.0, (0.20, 0.06, 0.20, 0.12))[0]
     np.testing.assert_allclose(motion.velocity["theta3"], omega3, rtol=1e-12, atol=1e-12)
     assert other._derived is WIPER._derived and WIPER.parameters[l3] == 0.18
-    with pytest.raises(InvalidGeometryError, match=r"must give a number for each of \[l1, l2, l3, l4\]"):
-        WIPER.with_parameters({l1: 0.2})
+    partial = WIPER.with_parameters({l3: 0.20})  # the others keep their numbers
+    assert dict(partial.parameters) == dict(other.parameters)
+    with pytest.raises(InvalidGeometryError, match=r"some of \[l1, l2, l3, l4\] and nothing else"):
+        WIPER.with_parameters({"l5": 0.2})
     with pytest.raises(InvalidGeometryError, match=r"parameters\[l2\] must be finite"):
         WIPER.with_parameters({l1: 0.2, l2: np.nan, l3: 0.18, l4: 0.12})
 

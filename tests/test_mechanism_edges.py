@@ -377,7 +377,7 @@ def test_extra_entries_are_refused():
         FOLLOWER.solve({u: 0.1}, rates={"omega": 1.0}, guess={x: 1.0})
     with pytest.raises(InvalidGeometryError, match=r"guess has the key 'y'"):
         FOLLOWER.solve({u: 0.1}, guess={x: 1.0, "y": 2.0})
-    with pytest.raises(InvalidGeometryError, match=r"with_parameters|must give a number for each"):
+    with pytest.raises(InvalidGeometryError, match=r"some of \[L\] and nothing else; got \['L', 'M'\]"):
         TRAMMEL.with_parameters({"L": 0.2, "M": 1.0})
 
 

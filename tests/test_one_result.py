@@ -138,19 +138,20 @@ def test_the_declaration_names_its_ground_and_sliders_and_the_drawing_uses_them(
 def test_plates_are_shaded_polygons_on_their_corners():
     th, x = sp.symbols("theta x")
     A = sp.Matrix([sp.cos(th), sp.sin(th)])
+    P = A + 0.5 * sp.Matrix([-sp.sin(th), sp.cos(th)])  # on the crank, square to it: a rigid plate O, A, P
     crank = Mechanism([x - sp.cos(th)], [x], [th], points={"O": sp.zeros(2, 1), "A": A,
-                      "B": sp.Matrix([x, 0]), "P": A + sp.Matrix([0, 0.5])},
-                      links={"crank": ("O", "A"), "rod": ("A", "B")}, ground=["O"], sliders=["B"],
-                      plates={"coupler": ("A", "B", "P")}, styles={"rod": {"color": "black"}})
+                      "B": sp.Matrix([x, 0]), "P": P},
+                      links={"crank": ("O", "A"), "arm": ("A", "P")}, ground=["O"], sliders=["B"],
+                      plates={"crank plate": ("O", "A", "P")}, styles={"arm": {"color": "black"}})
     motion = crank.solve({th: [0.0, 1.0]}, guess={x: 1.0})
     ax = draw(crank, motion, frame=1)
-    (plate,) = [patch for patch in ax.patches if patch.get_gid() == "plate coupler"]
+    (plate,) = [patch for patch in ax.patches if patch.get_gid() == "plate crank plate"]
     corners = np.asarray(plate.get_xy())[:3]
-    assert np.allclose(corners, [[math.cos(1), math.sin(1)], [math.cos(1), 0.0],
-                                 [math.cos(1), math.sin(1) + 0.5]])
-    assert [line.get_color() for line in ax.lines if line.get_gid() == "rod"] == ["black"]
+    tip = [math.cos(1) - 0.5 * math.sin(1), math.sin(1) + 0.5 * math.cos(1)]
+    assert np.allclose(corners, [[0.0, 0.0], [math.cos(1), math.sin(1)], tip])
+    assert [line.get_color() for line in ax.lines if line.get_gid() == "arm"] == ["black"]
     joints = [line for line in ax.lines if line.get_marker() == "o"][0].get_xydata()
-    assert np.allclose(joints[-1], [math.cos(1), math.sin(1) + 0.5])  # P, a corner of the plate only
+    assert np.allclose(joints[-1], tip)  # P, a corner of the plate only
     assert animate(crank, motion).frame_count == 2
     assert explore(crank, motion).update(theta_deg=30.0).status == "ok"
 

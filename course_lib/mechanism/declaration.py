@@ -18,6 +18,7 @@ import sympy as sp
 
 from ..errors import (
     InvalidGeometryError,
+    known_keywords,
     require_finite,
 )
 from ..planar import scalar_or_array
@@ -107,6 +108,18 @@ def _number(name: str, value) -> float:
     if array.ndim:
         raise InvalidGeometryError(f"{name} must be one number; got {value!r}")
     return float(array)
+
+
+def _plain(name: str, value):
+    """An input, rate or guess as numpy can read it: sympy numbers (sp.pi / 3), alone or in a list, become
+    floats (see :func:`_number`); anything else is left for ``require_finite`` to judge."""
+    if isinstance(value, sp.Basic):
+        return _number(name, value)
+    if isinstance(value, list | tuple):
+        flat = np.array(value, dtype=object)
+        if flat.dtype == object and any(isinstance(v, sp.Basic) for v in flat.ravel()):
+            return np.array([_number(name, v) for v in flat.ravel()], dtype=float).reshape(flat.shape)
+    return value
 
 
 def _keyed(argument: str, mapping, symbols, required: bool = True) -> dict[str, object]:
@@ -237,6 +250,7 @@ def _broadcast(array, shape) -> np.ndarray:
 class Declaration:
     """What was declared, checked when made: the loops' rows, unknowns, inputs, parameters and drawing."""
 
+    @known_keywords
     def __init__(self, loops, unknowns, inputs, parameters: Mapping | None = None, *,
                  points: Mapping | None = None, links: Sequence = (), ground: Sequence[str] = (),
                  sliders: Sequence[str] = (), plates: Mapping[str, Sequence[str]] | None = None,
@@ -331,29 +345,26 @@ class Declaration:
                                    "unknowns; declare independent loops")
 
     def with_parameters(self, parameters: Mapping) -> Mechanism:
-        """The same loops with other numbers for all the parameters (keyed by symbol or name): nothing
-        is derived again.
+        """The same loops with other numbers for some or all of the parameters (keyed by symbol or name;
+        the others keep theirs): nothing is derived again.
 
-        >>> x, th, a = sp.symbols("x theta a")
-        >>> crank = Mechanism([x - a * sp.cos(th)], [x], [th], {a: 1.0})
+        >>> x, th, a, b = sp.symbols("x theta a b")
+        >>> crank = Mechanism([x - a * sp.cos(th) - b], [x], [th], {a: 1.0, b: 0.5})
         >>> crank.with_parameters({"a": 3.0}).residual([0.0], [0.0]).tolist()
-        [-3.0]
+        [-3.5]
         """
         if not isinstance(parameters, Mapping):
-            raise InvalidGeometryError(f"parameters must map each of {list(self.parameters)} to a number; "
+            raise InvalidGeometryError(f"parameters must map some of {list(self.parameters)} to numbers; "
                                        f"got {parameters!r}")
         by_name = {s.name: s for s in self.parameters}
-        values = {}
+        values = dict(self.parameters)
         for key, value in parameters.items():
             name = key.name if isinstance(key, sp.Symbol) else key
             if name not in by_name:
-                raise InvalidGeometryError(f"parameters must give a number for each of "
+                raise InvalidGeometryError(f"parameters must give numbers for some of "
                                            f"{list(self.parameters)} and nothing else; "
                                            f"got {list(parameters)}")
             values[by_name[name]] = _number(f"parameters[{name}]", value)
-        if set(values) != set(self.parameters):
-            raise InvalidGeometryError(f"parameters must give a number for each of {list(self.parameters)} "
-                                       f"and nothing else; got {list(parameters)}")
         other = copy.copy(self)
         other.parameters = MappingProxyType({k: values[k] for k in self.parameters})
         other._values = tuple(other.parameters.values())

@@ -17,6 +17,7 @@ from ..errors import (
 from ..motion import Motion
 from .compiled import _vector
 from .declaration import _derived, _keyed
+from .singular import NEAR_SINGULAR
 
 
 class Points:
@@ -35,6 +36,49 @@ class Points:
         q, u = self.unknowns, self.inputs
         return self._compile(terms, q, self._rates_of(q, 1), self._rates_of(q, 2), u, self._rates_of(u, 1),
                              self._rates_of(u, 2))
+
+    def _check_rigid(self, q: np.ndarray, u: np.ndarray) -> None:
+        """Every declared link (and every side of a plate) keeps its length along the motion, else the named
+        error: its length's rate, d|PQ|/dt = (P − Q)·(Ṗ − Q̇)/|PQ|, is checked at up to four solved, regular
+        instants for each input turning at unit rate — the points' declaration differentiated by the core.
+        Checked once per declaration (a point written with the wrong unknown stretches its links)."""
+        with np.errstate(all="ignore"):
+            J = self._J(q, u)
+            regular = np.flatnonzero(self._smallest(J) >= NEAR_SINGULAR)  # rates well determined
+        if not len(regular):
+            return
+        self._numeric["rigid"] = True
+        pick = regular[np.linspace(0, len(regular) - 1, min(4, len(regular))).astype(int)]
+        q, u = q[pick], u[pick]
+        n, m = len(self.unknowns), len(self.inputs)
+        pairs = dict(self.links.named())
+        for plate, corners in self.plates.items():
+            sides = zip(corners, corners[1:] + corners[:1], strict=True)
+            pairs |= {f"plate {plate!r} side {a}{b}": (a, b) for a, b in sides}
+        names = list(self.points)
+        for j, input_ in enumerate(self.inputs):
+            u_rate = np.zeros((len(u), m))
+            u_rate[:, j] = 1.0
+            q_rate, _, _ = self.rates(q, u, u_rate)
+            zeros_n, zeros_m = np.zeros((len(u), n)), np.zeros((len(u), m))
+            terms = self._point_rate_fn(self._values, q, q_rate, zeros_n, u, u_rate, zeros_m)
+            xy = self._point_fn(self._values, q, u)
+            where = {name: (_vector(xy, 2 * k, 2), _vector(terms, 4 * k, 2)) for k, name in enumerate(names)}
+            speeds = np.max([np.linalg.norm(v, axis=-1) for _, v in where.values()], axis=0)
+            sizes = np.max([np.linalg.norm(p - where[names[0]][0], axis=-1) for p, _ in where.values()],
+                           axis=0)
+            for link, (a, b) in pairs.items():
+                (pa, va), (pb, vb) = where[a], where[b]
+                gap = np.linalg.norm(pa - pb, axis=-1)
+                rate = np.einsum("ij,ij->i", pa - pb, va - vb) / np.where(gap > 0, gap, 1.0)
+                bad = np.abs(rate) > 1e-7 * (speeds + sizes)
+                if bad.any():
+                    k = int(np.argmax(bad))
+                    raise InvalidGeometryError(
+                        f"links: {link} ({a}–{b}) changes length as the mechanism moves: |{a}{b}| = "
+                        f"{gap[k]:.6g} at {self._where(u, k)}, changing at {rate[k]:.3g} per unit of "
+                        f"{input_.name}; a link keeps its length, so points[{a!r}] or points[{b!r}] is not "
+                        f"where the loops put it (an unknown written for another?)")
 
     def point_motion(self, motion: Motion, rates: Mapping | None = None, accelerations: Mapping | None = None
                      ) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:

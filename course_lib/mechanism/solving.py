@@ -17,6 +17,7 @@ from ..errors import (
     InvalidGeometryError,
     SingularJacobianError,
     UnreachableError,
+    known_keywords,
     require_broadcast,
     require_choice,
     require_finite,
@@ -27,13 +28,14 @@ from ..newton import (
     newton,
 )
 from ..planar import scalar_or_array
-from .declaration import _broadcast, _keyed
+from .declaration import _broadcast, _keyed, _plain
 from .singular import NEAR_SINGULAR, SINGULAR
 
 
 class Solving:
     """``solve``: a motion from the inputs, and the one result it returns."""
 
+    @known_keywords
     def solve(self, inputs: Mapping, rates: Mapping | None = None, accelerations: Mapping | None = None,
               guess: Mapping | None = None, *, assembly: Mapping | None = None, tol: float = 1e-10,
               max_iter: int = 50, on_failure: str = "raise") -> Motion:
@@ -74,11 +76,13 @@ class Solving:
                 if np.ndim(value) != 0 and np.size(value) != 1 or isinstance(value, str | bytes):
                     raise InvalidGeometryError(f"guess must give one number per unknown; got guess[{name}]="
                                                f"{value!r}")
-            seed = np.array([float(require_finite(f"guess[{k}]", v).ravel()[0]) for k, v in q_given.items()])
+            seed = np.array([float(require_finite(f"guess[{k}]", _plain(f"guess[{k}]", v)).ravel()[0])
+                             for k, v in q_given.items()])
         named = {}
         for argument, given in (("inputs", u_given), ("rates", rate_given), ("accelerations", acc_given)):
             for name in (s.name for s in self.inputs):
-                named[f"{argument}[{name}]"] = require_finite(f"{argument}[{name}]", given.get(name, 0.0))
+                where = f"{argument}[{name}]"
+                named[where] = require_finite(where, _plain(where, given.get(name, 0.0)))
         try:
             arrays = np.broadcast_arrays(*named.values())
         except ValueError:
@@ -87,6 +91,15 @@ class Solving:
                                        f"got shapes {shapes}") from None
         shape, m = arrays[0].shape, len(self.inputs)
         u, u_rate, u_acc = (np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in range(3))
+        if not len(u):  # an empty sweep: an empty motion
+            nothing = MappingProxyType({s.name: np.empty(shape) for s in self.unknowns})
+            asked = rates is not None or accelerations is not None
+            return Motion(position=nothing, velocity=nothing if asked else None,
+                          acceleration=nothing if asked else None, converged=np.empty(shape, bool),
+                          singular=np.empty(shape, bool), iterations=np.empty(shape, int),
+                          inputs=MappingProxyType(dict(zip((s.name for s in self.inputs), arrays[:m],
+                                                           strict=True))),
+                          near_singular=np.empty(shape, bool))
         paths, notes, result, assembly = self._paths(u), [], None, None
         known, at_q = {}, None  # the cos and sin of the inputs, computed once; of q, where q is final
         stuck = np.zeros(len(u), bool)
@@ -136,6 +149,8 @@ class Solving:
                                                f"{result.message}", result=result)
                 q, iterations = self._march(u, paths, start, tol, max_iter, notes)
             converged = np.isfinite(q).all(axis=1)
+            if "rigid" not in self._numeric and self.links and converged.any():
+                self._check_rigid(q[converged], u[converged])
             safe = q if converged.all() else np.where(converged[:, None], q, 0.0)
             want_rates = rates is not None or accelerations is not None
             at_q = at_q if at_q is not None and safe is q else dict(known)

@@ -7,7 +7,12 @@ import pytest
 import sympy as sp
 from geometry import fourbar_pins
 
-from course_lib.errors import InvalidArgumentError, InvalidGeometryError
+from course_lib.errors import (
+    InvalidArgumentError,
+    InvalidGeometryError,
+    SingularJacobianError,
+    UnreachableError,
+)
 from course_lib.mechanism import Mechanism
 
 th2, th3, th4 = sp.symbols("theta2 theta3 theta4")
@@ -83,3 +88,31 @@ def test_with_parameters_takes_a_partial_update():
     _, B_circles = fourbar_pins(0.20, 0.06, 0.20, 0.12, 1.0, "open")
     pins = longer.joints(longer.solve({th2: 1.0}, assembly={"theta3": 1}))
     assert np.abs(pins["B"] - B_circles).max() < 1e-12
+
+
+def six_bar(l6):
+    """Two loops sharing θ4 (a Watt six-bar); loop 2's output dyad C–D–O6 of lengths 0.05 and ``l6``."""
+    th5, th6 = sp.symbols("theta5 theta6")
+
+    def R(length, angle):
+        return length * sp.Matrix([sp.cos(angle), sp.sin(angle)])
+
+    O4, O6 = sp.Matrix([0.20, 0]), sp.Matrix([0.36, 0])
+    C = O4 + R(0.12, th4 - 0.26)
+    return Mechanism([R(0.06, th2) + R(0.18, th3) - O4 - R(0.12, th4), C + R(0.05, th5) - O6 - R(l6, th6)],
+                     [th3, th4, th5, th6], [th2])
+
+
+def test_a_loop_that_cannot_close_is_named():
+    with pytest.raises(UnreachableError, match=r"cannot be closed at theta2=0\.0 .*, in loops\[1\]:"):
+        six_bar(0.03).solve({th2: [0.0, 0.5]})  # |C O6| > 0.05 + 0.03 everywhere
+
+
+def test_the_loop_at_a_limit_is_named_where_the_rates_are_singular():
+    # choose l6 so that at θ2 = 1 the output dyad is stretched straight: C, D, O6 on one line
+    _, B_pin = fourbar_pins(0.20, 0.06, 0.18, 0.12, 1.0, "open")
+    theta4 = np.arctan2(B_pin[1], B_pin[0] - 0.20)
+    C = np.array([0.20, 0.0]) + 0.12 * np.array([np.cos(theta4 - 0.26), np.sin(theta4 - 0.26)])
+    l6 = np.linalg.norm(C - np.array([0.36, 0.0])) - 0.05
+    with pytest.raises(SingularJacobianError, match=r"J is singular at theta2=1\.0 .*, in loops\[1\]:"):
+        six_bar(l6).solve({th2: 1.0}, rates={th2: 1.0}, assembly={"theta3": 1})

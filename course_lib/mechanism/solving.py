@@ -163,7 +163,7 @@ class Solving:
                 q_rate, q_acc, _ = self._rates(safe, u, u_rate, u_acc, singular | ~converged, (J, F_u), at_q)
         self._notes(notes, converged, singular, near, u)
         if on_failure == "raise":
-            self._report(~converged, singular & want_rates, u, closed)
+            self._report(~converged, singular & want_rates, u, closed, q)
         velocity = acceleration = None
         if want_rates:
             velocity, acceleration = self._by_name(q_rate, shape), self._by_name(q_acc, shape)
@@ -189,25 +189,57 @@ class Solving:
                 first = int(np.flatnonzero(mask)[0])
                 notes.append(f"{what} at {self._where(u, first)} ({int(mask.sum())} of {mask.size} instants)")
 
-    def _report(self, bad, singular, u, closed) -> None:
-        """Raise the named error of the first bad instant (see :meth:`solve`)."""
+    def _report(self, bad, singular, u, closed, q) -> None:
+        """Raise the named error of the first bad instant (see :meth:`solve`), naming the loop that failed."""
         if not (bad.any() or singular.any()):
             return
         first = int(np.flatnonzero(bad | singular)[0])
         where = self._where(u, first)
         count = f"({int((bad | singular).sum())} of {bad.size} instants, first at index {first})"
         if singular[first]:
-            raise SingularJacobianError(f"J is singular at {where} {count}: the mechanism is at a toggle, "
-                                        f"limit or change point (σ_min(J̃) < {SINGULAR:.0e}), where the rates "
-                                        "are undefined; ask for positions only, or move the input off it")
+            loop = self._failing(q, u, first, True)
+            raise SingularJacobianError(f"J is singular at {where} {count}{loop}: the mechanism is at a "
+                                        f"toggle, limit or change point (σ_min(J̃) < {SINGULAR:.0e}), where "
+                                        "the rates are undefined; ask for positions only, or move the input "
+                                        "off it")
+        loop = self._failing(q, u, first, False)
         if closed:
-            raise UnreachableError(f"the loops cannot be closed at {where} {count}: the closed form has no "
-                                   "real root there (B² − 4AC < 0), so no assembly exists", mask=bad)
+            raise UnreachableError(f"the loops cannot be closed at {where} {count}{loop}: the closed form "
+                                   "has no real root there (B² − 4AC < 0), so no assembly exists", mask=bad)
         if first == 0:
-            raise ConvergenceError(f"Newton did not converge at {where} from the guess {count}: "
+            raise ConvergenceError(f"Newton did not converge at {where} from the guess {count}{loop}: "
                                    "no assembly near the guess, or none at all")
-        raise UnreachableError(f"the loops cannot be closed at {where} {count}, continuing from the previous "
-                               "instant: the mechanism cannot follow the input there", mask=bad)
+        raise UnreachableError(f"the loops cannot be closed at {where} {count}{loop}, continuing from the "
+                               "previous instant: the mechanism cannot follow the input there", mask=bad)
+
+    def _failing(self, q, u, k, singular) -> str:
+        """The declared loops at fault at instant ``k``, as ", in loops[i]" ("" for one loop): where J is
+        singular, those of the block whose own part of J̃ is nearest singular; where no position was
+        found, the closed-form block with no root, or else the rows furthest from closing at the nearest
+        solved instant's position."""
+        rows_of = {row: k_loop for k_loop, rows in enumerate(self._loops) for row in rows}
+        scale_rows, scale_columns = self._scales
+        with np.errstate(all="ignore"):
+            if singular:  # the block (rows solved together) whose own scaled J is nearest singular
+                J = self._J(q[k:k + 1], u[k:k + 1])[0] / scale_rows[:, None] / scale_columns[None, :]
+                rows = min(self._structure["blocks"], key=lambda block: np.linalg.svd(
+                    J[np.ix_(*block)], compute_uv=False)[-1])[0]
+            else:
+                missing = [j for j in range(len(self.unknowns)) if not np.isfinite(q[k, j])]
+                blocks = self._structure["blocks"]
+                if len(missing) < len(self.unknowns) or len(blocks) == 1:
+                    rows = next((r for r, columns in blocks if set(columns) & set(missing)), [])
+                else:
+                    solved = np.flatnonzero(np.isfinite(q).all(axis=1))
+                    if not len(solved):
+                        return ""
+                    near = solved[np.argmin(np.abs(solved - k))]
+                    residual = np.abs(self._F(q[near:near + 1], u[k:k + 1])[0]) / scale_rows
+                    rows = np.flatnonzero(residual >= 0.5 * residual.max())
+        loops = sorted({rows_of[int(r)] for r in rows})
+        if not loops or len(loops) == len(self._loops) == 1:
+            return "" if not loops else f", in loops[{loops[0]}]"
+        return ", in " + " and ".join(f"loops[{i}]" for i in loops)
 
     def motion_of(self, position: Mapping, inputs: Mapping, velocity: Mapping | None = None,
                   acceleration: Mapping | None = None, *, converged=None, singular=None, near_singular=None,

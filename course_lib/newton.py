@@ -20,7 +20,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ConvergenceError, InvalidGeometryError, SingularJacobianError, require_choice
+from .errors import (
+    ConvergenceError,
+    InvalidArgumentError,
+    InvalidGeometryError,
+    SingularJacobianError,
+    require_choice,
+)
 
 __all__ = ["NewtonResult", "BatchNewtonResult", "newton", "newton_batch", "finite_difference_jacobian",
            "hadamard_ratio", "ill_conditioned", "is_singular", "linear_solver", "LinearStack",
@@ -262,16 +268,16 @@ def _settings(tol, max_iter, residual_tol, on_failure) -> tuple[float, int, floa
     def number(name, value, allow_inf=False):
         real = isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
         if not (real and value > 0 and (np.isfinite(value) or (allow_inf and value == np.inf))):
-            raise InvalidGeometryError(f"{name} must be a positive number; got {value!r}")
+            raise InvalidArgumentError(f"{name} must be a positive number; got {value!r}")
         return float(value)
 
     tol = number("tol", tol)
     residual_tol = tol if residual_tol is None else number("residual_tol", residual_tol, allow_inf=True)
     integer = isinstance(max_iter, int | np.integer | float | np.floating) and not isinstance(max_iter, bool)
     if not (integer and np.isfinite(max_iter) and int(max_iter) == max_iter and max_iter >= 1):
-        raise InvalidGeometryError(f"max_iter must be a positive integer; got {max_iter!r}")
+        raise InvalidArgumentError(f"max_iter must be a positive integer; got {max_iter!r}")
     if max_iter > MAX_ITERATIONS:
-        raise InvalidGeometryError(f"max_iter must be at most {MAX_ITERATIONS:,} (Newton converges in a "
+        raise InvalidArgumentError(f"max_iter must be at most {MAX_ITERATIONS:,} (Newton converges in a "
                                    f"handful of updates or not at all); got max_iter={max_iter!r}")
     return tol, int(max_iter), residual_tol
 

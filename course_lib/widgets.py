@@ -32,7 +32,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon
 from PIL import Image as PILImage
 
-from .errors import CourseLibError, InvalidGeometryError
+from .errors import CourseLibError, InvalidArgumentError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
 from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _ground_symbol, _motion_background, _Quantizer
 
@@ -128,7 +128,7 @@ class Explorer:
         """
         unknown = sorted(set(state) - set(self.controls))
         if unknown:
-            raise InvalidGeometryError(f"unknown explorer input {unknown[0]!r}; "
+            raise InvalidArgumentError(f"unknown explorer input {unknown[0]!r}; "
                                        f"valid inputs: {', '.join(self.controls)}")
         checked = [(key, *_control_value(key, self.controls[key], value)) for key, value in state.items()]
         self._holding = True
@@ -600,15 +600,15 @@ def saw_explorer(
 
     count = _plain_number(frames)
     if count is None or not 2 <= count <= 10_000 or count != int(count):
-        raise InvalidGeometryError(f"frames must be a whole number from 2 to 10000; got {frames!r}")
+        raise InvalidArgumentError(f"frames must be a whole number from 2 to 10000; got {frames!r}")
     turn = first_turn_time()
     end = 2 * turn if t_end is None else _number_argument("t_end", t_end, "a time in seconds")
     if not 0 < end <= 100:
-        raise InvalidGeometryError(f"t_end must be a time in seconds, > 0 and at most 100; got {t_end!r}")
+        raise InvalidArgumentError(f"t_end must be a time in seconds, > 0 and at most 100; got {t_end!r}")
     t = _number_argument("t", t, "s", 0.0, end)
     interval = _number_argument("interval_ms", interval_ms, "milliseconds per frame")
     if interval <= 0:
-        raise InvalidGeometryError(f"interval_ms must be a positive time in ms; got {interval_ms!r}")
+        raise InvalidArgumentError(f"interval_ms must be a positive time in ms; got {interval_ms!r}")
     dt = end / int(count)
     time_slider = _slider("time t (s)", t, 0.0, end, dt, ".3f")
     play = widgets.Play(min=0, max=int(count), step=1, interval=int(round(interval)), description="play")
@@ -891,7 +891,7 @@ def mechanism_explorer(
     if not np.any(motion.converged):
         raise InvalidGeometryError("motion must have a solved instant to start from; none converged")
     if readout is not None and not callable(readout):
-        raise InvalidGeometryError(f"readout must be a function of the instant, or None; got {readout!r}")
+        raise InvalidArgumentError(f"readout must be a function of the instant, or None; got {readout!r}")
     width, height = _figure_size(size)
     if len(mechanism.inputs) != 1 or not mechanism.links:
         raise InvalidGeometryError(f"mechanism must have one input and declared links; got inputs "

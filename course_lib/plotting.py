@@ -359,6 +359,7 @@ def _stage(ax, links, paths, trace, labels, *, ground, blocks, plates, styles) -
 
 def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Sequence = (),
          trace: Sequence = (), blocks: Sequence = (), labels: Mapping | bool | None = None,
+         link_labels: Mapping | bool | None = None,
          styles: Mapping[str, Mapping] | None = None, plates: Mapping[str, Sequence] | None = None,
          title: str | None = None,
          size: tuple[float, float] = (4.2, 3.0)) -> Axes:
@@ -368,12 +369,15 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
     dotted path.  ``links`` may be a declaration (a ``Mechanism``, or a machine such as ``FourBar``) and
     ``points`` a ``Motion`` of it: ``draw(wiper, wiper.solve(0.7))``, with the declaration's ground
     pivots, sliders, plates and styles unless given.  ``labels``: point key → text, or True for every
-    point's own name.  Each link's line carries its name as ``gid``.
+    point's own name; ``link_labels``: link name → text, or True for every link's own name, written beside
+    the link's middle (its ``gid`` is "label " + the link's name).  Each link's line carries its name as
+    ``gid``.
 
     >>> import matplotlib; matplotlib.use("Agg")
-    >>> ax = draw({"crank": ("O", "A")}, {"O": (0, 0), "A": (0.03, 0.04)}, ground=["O"], title="one")
-    >>> ax.lines[0].get_xydata().tolist(), ax.get_title()
-    ([[0.0, 0.0], [0.03, 0.04]], 'one')
+    >>> ax = draw({"crank": ("O", "A")}, {"O": (0, 0), "A": (0.03, 0.04)}, ground=["O"], title="one",
+    ...           link_labels=True)
+    >>> ax.lines[0].get_xydata().tolist(), ax.get_title(), [t.get_text() for t in ax.texts]
+    ([[0.0, 0.0], [0.03, 0.04]], 'one', ['crank'])
     """
     links, points, options = _declared(links, points, {"ground": ground, "blocks": blocks, "plates": plates,
                                                        "styles": styles})
@@ -388,10 +392,34 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
         ax = plt.figure(figsize=_figure_size(size), layout="constrained").add_subplot()
     _axes(ax)
     artist = _stage(ax, links, paths, trace, labels, **options)
-    artist.move({key: path[frame] for key, path in paths.items()})
+    at = {key: path[frame] for key, path in paths.items()}
+    artist.move(at)
+    _name_links(ax, artist, at, link_labels)
     if title is not None:
         ax.set_title(title)
     return ax
+
+
+def _name_links(ax, artist, at, link_labels) -> None:
+    """Each link's text (``link_labels``: link name → text, or True for its own name) beside its middle,
+    offset square to the link by the artist's label offset."""
+    if link_labels is None or link_labels is False:
+        return
+    if link_labels is True:
+        link_labels = {name: name for name in artist.links}
+    if not isinstance(link_labels, Mapping) or not set(link_labels) <= set(artist.links):
+        raise InvalidArgumentError(f"link_labels must map link names {list(artist.links)} to texts, or be "
+                                   f"True (their names); got {link_labels!r}")
+    for name, text in link_labels.items():
+        start, end = (np.asarray(at[key], dtype=float) for key in artist.links[name])
+        along = end - start
+        length = float(np.hypot(*along))
+        normal = np.array([-along[1], along[0]]) / length if length > 0 else np.array([0.0, 1.0])
+        x, y = (start + end) / 2 + artist.label_offset * normal
+        # the text's near edge towards the link: it never lies across it
+        ha = "left" if normal[0] > 0.3 else "right" if normal[0] < -0.3 else "center"
+        va = "bottom" if normal[1] > 0.3 else "top" if normal[1] < -0.3 else "center"
+        ax.text(x, y, str(text), ha=ha, va=va, fontsize=8, color="0.25", gid=f"label {name}")
 
 
 def _figure_size(size) -> tuple[float, float]:

@@ -191,3 +191,20 @@ def test_labels_true_names_every_point_where_it_is():
     assert np.linalg.norm(placed["A"] - A) < 0.02  # beside its point, offset by a few per cent of the span
     with pytest.raises(CourseLibError, match="labels"):
         draw(WIPER, WIPER.solve(0.3), labels="yes")
+
+
+def test_draw_names_the_links_beside_their_middles():
+    motion = WIPER.solve(np.radians(60.0))
+    ax = draw(WIPER, motion, link_labels=True)
+    A = 0.06 * np.array([math.cos(math.radians(60.0)), math.sin(math.radians(60.0))])
+    texts = {text.get_gid(): text for text in ax.texts if (text.get_gid() or "").startswith("label ")}
+    assert set(texts) == {"label crank", "label coupler", "label rocker", "label ground"}
+    crank = texts["label crank"]
+    assert crank.get_text() == "crank"
+    middle = A / 2
+    offset = np.array(crank.get_position()) - middle
+    assert abs(offset @ A) < 1e-12 and np.linalg.norm(offset) > 0  # beside the middle, square to the link
+    renamed = draw(WIPER, motion, link_labels={"coupler": "l3"})
+    assert [t.get_text() for t in renamed.texts if t.get_gid() == "label coupler"] == ["l3"]
+    with pytest.raises(CourseLibError, match="link_labels must map link names"):
+        draw(WIPER, motion, link_labels={"no such": "x"})

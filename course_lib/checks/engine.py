@@ -199,10 +199,37 @@ class Precision:
         return max((digits(number) for number in numbers.ravel().tolist() if number != 0), default=0)
 
     def more_digits(self, value, reference, angles=False) -> "Feedback | None":
-        """"Give more digits" feedback when ``value`` was written with fewer digits than asked and is
-        ``reference`` to those; else None (a number written in full but off is not a rounding)."""
-        if self.typed(value) < self.digits and (digits := self.fewer(value, reference, angles)):
-            kind = "decimals" if self.decimals else "significant figures"
+        """"Give more digits" feedback when some entries of ``value`` were written with fewer digits than
+        asked and are ``reference`` to those, while the entries written in full are right as asked; else
+        None (a number written in full but off is not a rounding).  Each entry counts its own digits.
+
+        >>> FIGURES.more_digits((1.535, 78.2), (1.5354, 78.18))
+        ✘ Not yet: right to 3 significant figures; the task asks for 4 significant figures: give more digits.
+        >>> FIGURES.more_digits((1.536, 78.2), (1.5354, 78.18)) is None  # 1.536 is written in full, and off
+        True
+        """
+        kind = "decimals" if self.decimals else "significant figures"
+        values = _reals(value)
+        references = (list(reference) if isinstance(reference, tuple | list)
+                      or isinstance(reference, np.ndarray) and reference.ndim == 1 else None)
+        if values is None or values.ndim != 1 or references is None or len(references) != values.size:
+            if self.typed(value) < self.digits and (digits := self.fewer(value, reference, angles)):
+                return wrong(f"right to {digits} {kind}; the task asks for {self}: give more digits.")
+            return None
+        typed = [self.typed(number) if number != 0 else self.digits for number in values.tolist()]
+        short = {i for i, count in enumerate(typed) if count < self.digits}
+        if not short:
+            return None
+
+        def only(kept):  # the reference with the other entries free
+            return tuple(r if i in kept else None for i, r in enumerate(references))
+
+        full = set(range(values.size)) - short
+        if full and not self.agrees(value, only(full), angles):
+            return None
+        digits = next((d for d in range(self.digits - 1, max(self.digits - 3, 1), -1)
+                       if self.agrees(value, only(short), angles, d)), 0)
+        if digits:
             return wrong(f"right to {digits} {kind}; the task asks for {self}: give more digits.")
         return None
 

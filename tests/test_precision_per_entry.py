@@ -1,0 +1,43 @@
+"""Each entry of an answer counts its own digits: an answer with one entry written short (and right to its
+digits) is told to give more digits, never sent to its method; an entry written in full but off still is.
+References computed here: the motor's T = √(6π/A) and final speed (2/3)·A·T, a tip's velocity ω k̂ × R."""
+
+import math
+
+import numpy as np
+import pytest
+
+from course_lib import checks
+
+MORE = "give more digits"
+
+
+def motor(alpha_max):
+    T = math.sqrt(6 * math.pi / alpha_max)
+    return T, 2 / 3 * alpha_max * T * 60 / (2 * math.pi)  # s, rpm
+
+
+@pytest.mark.parametrize(("answer", "says"), [
+    ((1.535, 78.2), MORE),        # rpm to 3 figures, T in full
+    ((1.54, 78.18), MORE),        # T to 3 figures, rpm in full
+    ((1.535, 78.18), "Correct"),
+])
+def test_the_motor_start_counts_each_entrys_digits(answer, says):
+    T, rpm = motor(8.0)
+    assert (round(T, 3), round(rpm, 2)) == (1.535, 78.18)  # the answers above are these, rounded
+    assert says in checks.check_motor_start(answer, alpha_max=8.0).message
+
+
+def test_an_entry_written_in_full_but_off_is_not_a_rounding():
+    feedback = checks.check_motor_start((1.536, 78.2), alpha_max=8.0)  # 1.536: four figures, and wrong
+    assert not feedback.ok and MORE not in feedback.message
+
+
+def test_a_velocity_with_one_component_short_is_told_to_give_more_digits():
+    omega, angle = -12.0, math.radians(135.0)
+    v = omega * 0.080 * np.array([-math.sin(angle), math.cos(angle)])  # ω k̂ × R
+    full = tuple(float(f"{c:.4g}") for c in v)
+    short = (full[0], float(f"{v[1]:.3g}"))
+    assert checks.check_point_velocity(full, 0.080, 135.0, 12.0, clockwise=True).ok
+    feedback = checks.check_point_velocity(short, 0.080, 135.0, 12.0, clockwise=True)
+    assert not feedback.ok and MORE in feedback.message

@@ -41,3 +41,21 @@ def test_a_velocity_with_one_component_short_is_told_to_give_more_digits():
     assert checks.check_point_velocity(full, 0.080, 135.0, 12.0, clockwise=True).ok
     feedback = checks.check_point_velocity(short, 0.080, 135.0, 12.0, clockwise=True)
     assert not feedback.ok and MORE in feedback.message
+
+
+@pytest.mark.parametrize(("answer", "says"), [
+    ((78.18, 1.535), "the right numbers in another order"),
+    ((1535.0, 78.18), "entry 1 is the right value in milli-units"),
+])
+def test_units_and_order_are_recognised_before_any_method_hint(answer, says):
+    assert (round(motor(8.0)[0], 3), round(motor(8.0)[1], 2)) == (1.535, 78.18)
+    feedback = checks.check_motor_start(answer, alpha_max=8.0)
+    assert not feedback.ok and says in feedback.message
+
+
+def test_a_velocity_in_mm_per_s_or_in_another_order_is_named():
+    omega, angle = 12.0, math.radians(30.0)
+    v = omega * 0.080 * np.array([-math.sin(angle), math.cos(angle)])  # ω k̂ × R, counter-clockwise
+    swapped = checks.check_point_velocity((v[1], v[0]), 0.080, 30.0, 12.0, clockwise=False)
+    in_mm = checks.check_point_velocity(tuple(1000 * v), 0.080, 30.0, 12.0, clockwise=False)
+    assert "swapped" in swapped.message and "mm/s" in in_mm.message  # the checker's own words speak first

@@ -467,11 +467,56 @@ def diagnose(answer: Any, matches: "Callable[[Any, Any], bool] | Precision", rul
             references = candidate if isinstance(candidate, list) else [candidate]
             hints = (_try(lambda r=r: precision.more_digits(answer, r, angles)) for r in references)
             hint = next((hint for hint in hints if hint is not None), None)
+            # the right numbers in other units or another order, unless a rule of the checker says so itself
+            if hint is None and not any(_names_units(verdict) and _holds(matches, answer, c)
+                                        for c, verdict in rules[1:]):
+                hints = (_try(lambda r=r: _recognise(answer, r, precision, angles)) for r in references)
+                hint = next((wrong(hint) for hint in hints if hint is not None), None)
             if hint is not None and not any(  # close to the answer, and not a known mistake's value
                     not isinstance(c, types.FunctionType) and not _partial(c) and _holds(matches, answer, c)
                     for c, _ in rules[1:]):
                 return hint
     return wrong(otherwise)
+
+
+def _names_units(verdict) -> bool:
+    """Whether a rule's hint is itself about units or order (then it speaks, not the general reading)."""
+    text = (verdict.message if isinstance(verdict, Feedback) else str(verdict)).lower()
+    return any(word in text for word in ("mm", "millimet", "degree", "order", "swap", "rpm", "ms ", "milli"))
+
+
+#: Units a student may have used instead of SI: (factor from SI, what it looks like).
+_OTHER_UNITS = ((1e3, "in milli-units (mm, ms or mm/s: 1000 times the SI value)"),
+                (180 / np.pi, "in degrees (or deg/s, deg/s²) where the task asks for radians"),
+                (30 / np.pi, "in rpm where the task asks for rad/s"),
+                (np.pi / 30, "in rad/s where the task asks for rpm"),
+                (1e-3, "in kilo-units, or SI where milli-units (mm, ms) are asked: 1/1000 of the value"))
+
+
+def _recognise(answer, reference, precision: Precision, angles=False) -> str | None:
+    """What makes a wrong answer the right numbers after all: an entry (or all) in other units, or the
+    entries in another order; None when neither does.  Entries are counted from 1."""
+    if isinstance(reference, tuple) and any(r is None for r in reference):
+        return None
+    values, references = _reals(answer), _reals(reference)
+    if values is None or references is None or values.shape != references.shape or values.ndim > 1:
+        return None
+    flat = np.atleast_1d(values).astype(float)
+    size = flat.size
+    for factor, looks in _OTHER_UNITS:
+        if precision.agrees(flat / factor, np.atleast_1d(references), angles):
+            return f"{'your answer is' if size == 1 else 'every entry is'} the right value {looks}."
+        for i in range(size if size > 1 else 0):
+            scaled = flat.copy()
+            scaled[i] /= factor
+            if precision.agrees(scaled, references, angles):
+                return f"entry {i + 1} is the right value {looks}."
+    if 1 < size <= 6:
+        for order in itertools.permutations(range(size)):
+            if list(order) != list(range(size)) and precision.agrees(flat[list(order)], references, angles):
+                return ("these are the right numbers in another order: give them in the order the task "
+                        "lists them.")
+    return None
 
 
 def _partial(candidate) -> bool:

@@ -59,3 +59,13 @@ def test_a_velocity_in_mm_per_s_or_in_another_order_is_named():
     swapped = checks.check_point_velocity((v[1], v[0]), 0.080, 30.0, 12.0, clockwise=False)
     in_mm = checks.check_point_velocity(tuple(1000 * v), 0.080, 30.0, 12.0, clockwise=False)
     assert "swapped" in swapped.message and "mm/s" in in_mm.message  # the checker's own words speak first
+
+
+@pytest.mark.parametrize(("root", "says"), [
+    (2.0946, "right to 4 decimals"), (2.09455, "right to 5 decimals"), (2.094551, "Correct"),
+    (2.1, "does not satisfy"),
+])
+def test_newtons_root_to_fewer_decimals_is_told_to_give_more_digits(root, says):
+    wallis = max(r.real for r in np.roots([1, 0, -2, -5]) if abs(r.imag) < 1e-12)  # x³ − 2x − 5 = 0
+    assert round(wallis, 6) == 2.094551
+    assert says in checks.check_newton_iterations((root, 4)).message

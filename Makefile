@@ -25,7 +25,7 @@ NBVAL := --nbval --nbval-current-env --nbval-sanitize-with tests/sanitize.cfg --
 # make test-pythons: the versions it tests (each in a venv of its own, .venv/pythons/X.Y)
 PYTHONS ?= 3.11 3.12 3.13
 
-.PHONY: FORCE lab test test-portable test-pythons execute exercises bench clean site nbgrader dist
+.PHONY: FORCE lab check test test-portable test-pythons execute exercises bench clean site nbgrader dist
 
 $(STUDENT_STAMP): environment.txt pyproject.toml $(PYTHON_STAMP)
 	$(PIP) -r environment.txt
@@ -98,6 +98,12 @@ lab: $(STUDENT_STAMP)
 	mkdir -p $(VENV)/share/jupyter/lab/settings
 	cp tools/lab-settings/overrides.json $(VENV)/share/jupyter/lab/settings/overrides.json
 	$(BIN)/jupyter lab $(LAB_ROOT) --ServerApp.root_dir=notebooks --LabApp.default_url=/lab/tree/00_start_here.ipynb $(LAB_ARGS)
+
+# a student's check that one notebook runs top to bottom without an error (the student set alone):
+# make check NOTEBOOK=notebooks/exercises/ex01_vector_loops_and_mobility.ipynb
+check: $(STUDENT_STAMP)
+	@test -n "$(NOTEBOOK)" || { echo "name the notebook: make check NOTEBOOK=notebooks/exercises/ex01_vector_loops_and_mobility.ipynb" >&2; exit 2; }
+	$(BIN)/python -m pytest -p no:cacheprovider --nbval-lax --nbval-current-env -o addopts= $(NOTEBOOK)
 
 test: $(DEV_STAMP)
 	$(BIN)/ruff check .

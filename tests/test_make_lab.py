@@ -69,12 +69,19 @@ def test_make_lab_installs_the_student_set_and_make_test_the_whole_set(tmp_path)
 
     lab, test = planned("lab"), planned("test")
     assert "-r environment.txt" in lab and "environment-dev.txt" not in lab
+    check = subprocess.run(["make", "-n", "--no-print-directory", "check", f"VENV={tmp_path / 'venv'}",
+                            "NOTEBOOK=notebooks/exercises/ex01_vector_loops_and_mobility.ipynb"],
+                           cwd=ROOT, capture_output=True, text=True, check=True).stdout
+    assert "-r environment.txt" in check and "environment-dev.txt" not in check  # the student set alone
+    assert "--nbval-lax" in check and "ex01_vector_loops_and_mobility.ipynb" in check
     assert "-r environment-dev.txt" in test and ".installed-dev" in test
     dev = (ROOT / "environment-dev.txt").read_text(encoding="utf-8").splitlines()
     assert "-r environment.txt" in dev  # the whole set is the student set plus the tools
     student = (ROOT / "environment.txt").read_text(encoding="utf-8")
-    for tool in ("pytest", "nbval", "hypothesis", "ruff", "playwright", "jupyter-book", "nbgrader"):
+    for tool in ("hypothesis", "ruff", "playwright", "jupyter-book", "nbgrader"):
         assert f"\n{tool}==" not in student and any(line.startswith(f"{tool}==") for line in dev), tool
+    for tool in ("pytest", "nbval"):  # a student checks their own notebook runs clean: make check
+        assert f"\n{tool}==" in student and not any(line.startswith(f"{tool}==") for line in dev), tool
 
 
 @pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")

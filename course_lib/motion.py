@@ -84,6 +84,28 @@ class Motion:
                     return None if values is None else values[key]
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
+    __iter__ = None  # values by name, not by position (a machine's result unpacks as its own values)
+
+    def __getitem__(self, key):
+        """A value by its name or sympy Symbol: ``motion["theta4"]`` is ``motion.theta4`` (an unknown's or
+        input's value, or a machine's name for a rate); another name is refused, listing the names.
+
+        >>> motion = Motion(position={"x": 1.0}, velocity=None, acceleration=None, converged=True,
+        ...                 singular=False, iterations=0, inputs={"s": 0.5})
+        >>> motion["x"], motion["s"]
+        (1.0, 0.5)
+        """
+        name = getattr(key, "name", key)
+        if isinstance(name, str):
+            try:
+                return getattr(self, name)
+            except AttributeError:
+                pass
+        from .errors import InvalidArgumentError
+
+        names = [*self.position, *self.inputs, *type(self)._names]
+        raise InvalidArgumentError(f"no value named {key!r} in this motion; its names are {names}")
+
     def __array__(self, dtype=None, copy=None) -> np.ndarray:
         """The position as one array, (unknowns, ...) in the declared order; a machine's result converts
         to its own values instead (``np.array(solution)``).

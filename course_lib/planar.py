@@ -121,6 +121,18 @@ class Unpacks:
         return len(self._values)
 
     def __getitem__(self, index):
+        """A value by position (``result[1]``) or by its name (``result["theta4"]``, or its sympy Symbol)."""
+        name = getattr(index, "name", index)
+        if isinstance(name, str):
+            if name in self._values or hasattr(type(self), "_names") and name in type(self)._names:
+                return getattr(self, name)
+            try:
+                return getattr(self, name)
+            except AttributeError:
+                from .errors import InvalidArgumentError
+
+                raise InvalidArgumentError(f"no value named {name!r} here; the values are "
+                                           f"{list(self._values)}") from None
         return tuple(self)[index]
 
     def __array__(self, dtype=None, copy=None) -> np.ndarray:

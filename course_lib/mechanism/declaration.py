@@ -277,6 +277,10 @@ class Declaration:
         self.links = _links(links, self.points)
         self.ground, self.sliders, self.plates, self.styles = _drawing(
             self.points, self.links, ground, sliders, plates, styles)
+        inner = sorted(s.name for s in found | set(moving) if s.name.startswith("_"))
+        if inner:
+            raise InvalidGeometryError(f"symbols named with a leading underscore are the core's own (its "
+                                       f"compiled cos and sin): rename {', '.join(inner)}")
         used = self.equations.free_symbols
         for argument, symbols in (("unknowns", self.unknowns), ("inputs", self.inputs)):
             for symbol in symbols:
@@ -298,6 +302,10 @@ class Declaration:
                                            f"got the key {key!r}")
             if name in moving_names:
                 clash.add(name)
+            elif name in by_name and by_name[name] in values:
+                twice = [f"{k!r}: {v!r}" for k, v in given.items() if getattr(k, "name", k) == name]
+                raise InvalidGeometryError(f"parameters gives {name} twice (as a symbol and by its name): "
+                                           f"{', '.join(twice)}; give it once")
             elif name not in by_name:
                 unused.add(name)
             else:

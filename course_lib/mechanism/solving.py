@@ -25,9 +25,11 @@ from ..errors import (
 from ..motion import Deferred, Motion
 from ..newton import (
     NewtonResult,
+    _settings,
     newton,
 )
 from ..planar import scalar_or_array
+from .closed_forms import RESIDUAL
 from .declaration import _broadcast, _keyed, _plain
 from .singular import NEAR_SINGULAR, SINGULAR
 
@@ -63,6 +65,7 @@ class Solving:
         ([2.0, 1.0], [0.25, 0.5], [-0.03125, -0.25])
         """
         require_choice("on_failure", on_failure, FAILURE_POLICIES)
+        tol, max_iter, _ = _settings(tol, max_iter, None, "raise")
         u_given = _keyed("inputs", inputs, self.inputs)
         rate_given = _keyed("rates", {} if rates is None else rates, self.inputs, required=False)
         acc_given = _keyed("accelerations", {} if accelerations is None else accelerations, self.inputs,
@@ -82,6 +85,10 @@ class Solving:
         for argument, given in (("inputs", u_given), ("rates", rate_given), ("accelerations", acc_given)):
             for name in (s.name for s in self.inputs):
                 where = f"{argument}[{name}]"
+                if isinstance(given.get(name), np.ma.MaskedArray):
+                    raise InvalidGeometryError(f"{where} must be a plain array, not a masked one (its masked "
+                                               f"entries would be solved too): give the values to solve; got "
+                                               f"{given[name]!r}"[:400])
                 named[where] = require_finite(where, _plain(where, given.get(name, 0.0)))
         try:
             arrays = np.broadcast_arrays(*named.values())
@@ -247,7 +254,8 @@ class Solving:
                   newton: NewtonResult | None = None, kind: type[Motion] = Motion, **extra) -> Motion:
         """A :class:`Motion` of this mechanism from values found another way (a machine's own closed form):
         ``position`` and the rates keyed by the unknowns' names, ``inputs`` by the inputs', broadcast
-        together.  ``converged`` defaults to "every unknown finite"; ``singular`` and ``near_singular`` to
+        together.  ``converged`` defaults to "every unknown finite and the loops closed there" (each row's
+        residual within 1e-8 of its typical size); ``singular`` and ``near_singular`` to
         the core's rule where converged; ``iterations`` (default 0) and ``newton`` say how it was found.
         ``kind``: a machine's own :class:`Motion` (its result type, with its names for the values and its
         ``extra`` fields).
@@ -276,6 +284,14 @@ class Solving:
         def part(prefix, names, given):
             return None if given is None else {k: arrays[f"{prefix}[{k}]"] for k in names}
 
+        if converged is None:  # found another way: a position that does not close the loops is not found
+            q = np.stack(np.broadcast_arrays(*(arrays[f"position[{k}]"] for k in unknowns)), axis=-1)
+            u = np.stack(np.broadcast_arrays(*(arrays[f"inputs[{k}]"] for k in inputs_named)), axis=-1)
+            shape = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
+            q, u = (np.broadcast_to(a, shape + a.shape[-1:]).reshape(-1, a.shape[-1]) for a in (q, u))
+            with np.errstate(all="ignore"):
+                residual = np.abs(self._F(np.where(np.isfinite(q), q, 0.0), u)) / self._scales[0]
+            converged = (np.isfinite(q).all(axis=1) & (residual.max(axis=1) <= RESIDUAL)).reshape(shape)
         return self._motion(
             part("position", unknowns, position), part("inputs", inputs_named, inputs),
             part("velocity", unknowns, velocity), part("acceleration", unknowns, acceleration),

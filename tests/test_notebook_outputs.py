@@ -115,3 +115,26 @@ def test_no_lesson_cell_raises_on_purpose(path):
         assert "raises-exception" not in cell.metadata.get("tags", []), f"cell {index} is tagged to fail"
         assert not any(output.output_type == "error" for output in cell.get("outputs", [])), \
             f"cell {index} keeps an error output"
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "notebooks").glob("**/*.ipynb")), ids=_name)
+def test_display_maths_stands_as_its_own_paragraph(path):
+    """A $$…$$ block between lines of text breaks the website's and the PDF's formulas (stray $, text set as
+    maths): every display-maths block has a blank line (or the cell's edge) before and after it."""
+    notebook = nbformat.read(path, as_version=4)
+    for index, cell in enumerate(notebook.cells):
+        if cell.cell_type != "markdown":
+            continue
+        lines, inside = cell.source.split("\n"), False
+        for k, line in enumerate(lines):
+            text = line.strip()
+            opens = not inside and text.startswith("$$")
+            closes = (opens and len(text) > 2 and text.endswith("$$")) or (inside and text.endswith("$$"))
+            if opens:
+                assert k == 0 or not lines[k - 1].strip(), f"cell {index}: text right before {text[:40]!r}"
+                inside = not closes
+            elif closes:
+                inside = False
+            if closes:
+                after = lines[k + 1].strip() if k + 1 < len(lines) else ""
+                assert not after, f"cell {index}: text right after {text[-40:]!r}"

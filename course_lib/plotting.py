@@ -616,10 +616,21 @@ def animation_html(fig: Figure, update: Callable[[int], object], frames: int, in
     if dpi is not None:
         fig.set_dpi(_dpi(dpi))
     chosen = [int(k) for k in np.arange(min(frames, max_frames)) * frames // min(frames, max_frames)]
+    width, height = fig.get_size_inches()
+    pixels = width * height * fig.dpi**2 * len(chosen)
+    if pixels > MOST_PIXELS:  # checked before any drawing: an animation answers within seconds
+        raise InvalidArgumentError(
+            f"an animation of {len(chosen)} frames of {width:g}×{height:g} in at {fig.dpi:g} dpi is "
+            f"{pixels / 1e6:.0f} million pixels, more than the {MOST_PIXELS / 1e6:.0f} million drawn within "
+            f"seconds: lower dpi, size or max_frames")
     frames_drawn, backgrounds = _render_frames(fig, update, chosen)
     if "matplotlib.pyplot" in sys.modules:  # (a figure pyplot does not manage needs no closing)
         sys.modules["matplotlib.pyplot"].close(fig)
     return _player(frames_drawn, backgrounds, interval * (frames / len(chosen)))
+
+
+#: The most pixels an animation draws (all its frames together): 48 frames of 4.2×3 in at 200 dpi, ~3 s.
+MOST_PIXELS = 25e6
 
 
 def _count(name: str, value) -> None:

@@ -280,6 +280,9 @@ def reads(parse: Callable[[Any], Any] | None = None):
             if answer is None or answer is Ellipsis or blanks:
                 return Feedback(False, "No answer yet: build your answer in the cell above, then run this "
                                        "check.")
+            oversized = _oversized(answer)
+            if oversized:  # judged by size before any work, so a check answers within moments
+                return wrong(oversized)
             try:
                 with np.errstate(all="ignore"):
                     value = parse(answer) if parse else answer
@@ -477,6 +480,31 @@ def diagnose(answer: Any, matches: "Callable[[Any, Any], bool] | Precision", rul
                     for c, _ in rules[1:]):
                 return hint
     return wrong(otherwise)
+
+
+#: The most nodes a sympy answer may hold: every task's formula is far smaller.
+MOST_NODES = 5000
+
+
+def _oversized(answer) -> str | None:
+    """Why an answer is too large to be any task's (a sympy expression of more than MOST_NODES nodes, or more
+    than MOST_TYPED numbers), said before any work on it; None for an answer of a reasonable size."""
+    if (getattr(type(answer), "__module__", None) or "").startswith("sympy"):
+        import sympy as sp
+
+        nodes = 0
+        for nodes, _ in enumerate(sp.preorder_traversal(answer), start=1):
+            if nodes > MOST_NODES:
+                return (f"this expression holds more than {MOST_NODES} terms and symbols; the task's answer "
+                        "is a short formula of the symbols it names.")
+        return None
+    try:
+        count = int(answer.size if isinstance(answer, np.ndarray) else np.size(answer))
+    except Exception:  # an answer numpy cannot size is judged (and refused) by the checker's own reading
+        return None
+    if count > MOST_TYPED:
+        return f"this answer holds {count:,} numbers; the task asks for a few: give just those."
+    return None
 
 
 def _names_units(verdict) -> bool:

@@ -337,14 +337,11 @@ class FiveBar:
         True
         """
         sigma = int(require_choice("mode", mode, (1, -1)))
-        if assembly is not None:
-            sigma = self.mechanism.assembly_sigma(assembly, FORWARD_ASSEMBLIES).get("x3", 1)
-            if mode != 1:
-                raise InvalidArgumentError(f"mode and assembly both choose the assembly: give one; got "
-                                           f"mode={mode!r}, assembly={assembly!r}")
-            p2x, _, p4x, _ = self._cranks(*require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
-                                                            theta4=require_finite("theta4", theta4, "rad")))
-            sigma = np.where(p2x - p4x >= 0, sigma, -sigma)  # the course's σ that is this side of P4 → P2
+        if assembly is not None and mode != 1:  # mode (the course's larger-Y3 σ) is no name of the core's σ
+            raise InvalidArgumentError(f"mode and assembly both choose the assembly: give one; got "
+                                       f"mode={mode!r}, assembly={assembly!r}")
+        side = None if assembly is None else FORWARD_ASSEMBLIES[self.mechanism.assembly_named(
+            assembly, FORWARD_ASSEMBLIES, "arms up", "arms up")]["x3"]
         policy = failure_policy(on_failure)
         theta1, theta4 = require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                                            theta4=require_finite("theta4", theta4, "rad"))
@@ -352,6 +349,8 @@ class FiveBar:
         c4, s4 = np.cos(theta4), np.sin(theta4)
         p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
         D = p2x - p4x
+        if side is not None:  # the core's σ: the course's σ that puts P3 on this side of P4 → P2
+            sigma = np.where(D >= 0, side, -side)
         E = p2y - p4y
         K = (p2x**2 + p2y**2 - p4x**2 - p4y**2 - self.l2**2 + l3**2) / 2  # D·X3 + E·Y3 = K
         course = np.abs(D) >= np.abs(E)

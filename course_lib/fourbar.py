@@ -17,7 +17,6 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import (
-    InvalidArgumentError,
     SingularJacobianError,
     failure_policy,
     older_failure_keywords,
@@ -331,13 +330,7 @@ class FourBar:
         (-0.901761, -2.398416, -1)
         """
         require_choice("branch", branch, BRANCHES)
-        if assembly is not None:
-            sigma = self.mechanism.assembly_sigma(assembly, ASSEMBLIES)
-            chosen = "open" if sigma.get("theta4", 1) > 0 else "crossed"
-            if branch != "open" and branch != chosen:
-                raise InvalidArgumentError(f"branch and assembly disagree: give one; got branch={branch!r}, "
-                                           f"assembly={assembly!r}")
-            branch = chosen
+        branch = self.mechanism.assembly_named(assembly, ASSEMBLIES, branch, "open")
         policy = failure_policy(on_failure)
         theta2 = _finite("theta2", theta2, "rad")
         omega2 = _finite("omega2", omega2, "rad/s")

@@ -124,8 +124,6 @@ class Unpacks:
         """A value by position (``result[1]``) or by its name (``result["theta4"]``, or its sympy Symbol)."""
         name = getattr(index, "name", index)
         if isinstance(name, str):
-            if name in self._values or hasattr(type(self), "_names") and name in type(self)._names:
-                return getattr(self, name)
             try:
                 return getattr(self, name)
             except AttributeError:

@@ -17,7 +17,6 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import (
-    InvalidArgumentError,
     SingularJacobianError,
     failure_policy,
     report_unreachable,
@@ -134,13 +133,7 @@ class OffsetSliderCrank:
         (-0.05, 0.0)
         """
         require_choice("branch", branch, BRANCHES)
-        if assembly is not None:
-            sigma = self.mechanism.assembly_sigma(assembly, ASSEMBLIES).get("x", 1)
-            chosen = "left" if sigma > 0 else "right"
-            if branch != "right" and branch != chosen:
-                raise InvalidArgumentError(f"branch and assembly disagree: give one; got branch={branch!r}, "
-                                           f"assembly={assembly!r}")
-            branch = chosen
+        branch = self.mechanism.assembly_named(assembly, ASSEMBLIES, branch, "right")
         policy = failure_policy(on_failure)
         theta2, omega2, alpha2 = require_broadcast(theta2=require_finite("theta2", theta2, unit="rad"),
                                                    omega2=require_finite("omega2", omega2, unit="rad/s"),

@@ -23,6 +23,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import (
+    InvalidArgumentError,
     InvalidGeometryError,
 )
 from ..planar import scalar_or_array
@@ -111,9 +112,11 @@ class ClosedForms:
     def _block_of(self) -> dict[str, str]:
         """Each unknown of a closed-form block (by name) → the name that keys its block internally (the
         block's first unknown as the half-angle route orders it)."""
-        return {s.name: form.unknowns[0].name for form in self._structure["forms"]
-                if form is not None and not (form.kind == "length" and form.quadratic[0] == 0)
-                for s in form.unknowns}
+        if self._closed_fns is None:
+            return {}
+        return {s.name: form.unknowns[0].name
+                for form, (_, _, linear, _) in zip(self._structure["forms"], self._closed_fns, strict=True)
+                if not linear for s in form.unknowns}
 
     def _assembly_at(self, position: Mapping, inputs: Mapping, shape) -> dict[str, np.ndarray] | None:
         """σ = −sign(det J_b) of each closed-form block at values found another way (a machine's own
@@ -121,16 +124,13 @@ class ClosedForms:
         where J_b is singular or the position not found); None where some block has no closed form."""
         if self._closed_fns is None:
             return None
-        q = np.stack([np.broadcast_to(position[s.name], shape) for s in self.unknowns], axis=-1)
-        u = np.stack([np.broadcast_to(inputs[s.name], shape) for s in self.inputs], axis=-1)
-        q, u = q.reshape(-1, len(self.unknowns)), u.reshape(-1, len(self.inputs))
-        found = np.isfinite(q).all(axis=1)
+        q, u, found = self._flat(position, inputs, shape)
         out = {}
         with np.errstate(all="ignore"):
             for form, fns in zip(self._structure["forms"], self._closed_fns, strict=True):
                 if fns[2]:  # a linear block: one solution, no σ
                     continue
-                det = fns[3](self._values, np.where(np.isfinite(q), q, 0.0), u)[0]
+                det = fns[3](self._values, q, u)[0]
                 sigma = np.where(found, -np.sign(det), 0).astype(int).reshape(shape)
                 out.update({s.name: scalar_or_array(sigma) for s in form.unknowns})
         return {s.name: out[s.name] for s in self.unknowns if s.name in out}
@@ -161,7 +161,7 @@ class ClosedForms:
         """``solve``'s ``assembly``: σ = ±1 by the name (or symbol) of any unknown of a block."""
         if assembly is None:
             return {}
-        keys = self._block_of() if closed else {}
+        keys = self._block_of()
         if not isinstance(assembly, Mapping) or not closed:
             raise InvalidGeometryError(f"assembly must map an unknown of each closed-form block "
                                        f"({sorted(keys) or 'none here: give a guess instead'}) to σ = +1 or "
@@ -204,6 +204,29 @@ class ClosedForms:
         blocks = self._block_of()
         return {s.name: chosen[blocks[s.name]] for s in self.unknowns
                 if s.name in blocks and blocks[s.name] in chosen}
+
+    def assembly_named(self, assembly, aliases: Mapping[str, Mapping[str, int]], older: str, default: str,
+                       keyword: str = "branch") -> str:
+        """A machine's assembly by its own name: ``assembly`` (one of ``aliases``, or σ by any unknown, read
+        by :meth:`assembly_sigma`) turned into the alias it is, or ``older`` (the value of the machine's older
+        ``keyword``, whose default is ``default``) when ``assembly`` is None; the two disagreeing is refused.
+
+        >>> th2, th3, th4 = sp.symbols("theta2 theta3 theta4")
+        >>> loop = sp.Matrix([0.06*sp.cos(th2) + 0.18*sp.cos(th3) - 0.12*sp.cos(th4) - 0.2,
+        ...                   0.06*sp.sin(th2) + 0.18*sp.sin(th3) - 0.12*sp.sin(th4)])
+        >>> names = {"open": {"theta4": 1}, "crossed": {"theta4": -1}}
+        >>> Mechanism([loop], [th3, th4], [th2]).assembly_named({"theta3": -1}, names, "open", "open")
+        'crossed'
+        """
+        if assembly is None:
+            return older
+        sigma = self.assembly_sigma(assembly, aliases)
+        chosen = next(name for name, sigmas in aliases.items()
+                      if all(sigma.get(key, value) == value for key, value in sigmas.items()))
+        if older != default and older != chosen:
+            raise InvalidArgumentError(f"{keyword} and assembly disagree: give one; got {keyword}={older!r}, "
+                                       f"assembly={assembly!r}")
+        return chosen
 
     def _closed(self, u, paths, target, tol, max_iter, notes, chosen=None, known=None
                 ) -> tuple[np.ndarray, np.ndarray, dict, dict | None]:

@@ -432,6 +432,15 @@ class Declaration:
     def _rates_of(self, symbols, order: int) -> list[sp.Symbol]:
         return [self.rate_symbols[s][order - 1] for s in symbols]
 
+    def _flat(self, position: Mapping, inputs: Mapping, shape) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Values by name (each broadcast to ``shape``) as flat q (N, n) — not finite taken as 0 — and u
+        (N, m), with the mask of the instants whose every unknown is finite."""
+        q = np.stack([np.broadcast_to(position[s.name], shape) for s in self.unknowns], axis=-1)
+        u = np.stack([np.broadcast_to(inputs[s.name], shape) for s in self.inputs], axis=-1)
+        q, u = q.reshape(-1, len(self.unknowns)), u.reshape(-1, len(self.inputs))
+        found = np.isfinite(q).all(axis=1)
+        return (q if found.all() else np.where(np.isfinite(q), q, 0.0)), u, found
+
     def _checked(self, **arrays) -> list[np.ndarray]:
         """Each named array as floats (finite, or NaN: not assembled) whose last axis holds the declared
         count (q…: the unknowns, u…: the inputs, x: 3n), broadcast together on the leading axes; else the

@@ -135,8 +135,6 @@ class Singularity:
 
     def _smallest_where(self, position, inputs, shape) -> np.ndarray:
         """σ_min(J̃) (shape ``shape``) at the declared values by name (unknowns not finite taken as 0)."""
-        q = np.stack([np.broadcast_to(position[s.name], shape) for s in self.unknowns], axis=-1)
-        u = np.stack([np.broadcast_to(inputs[s.name], shape) for s in self.inputs], axis=-1)
-        q, u = q.reshape(-1, len(self.unknowns)), u.reshape(-1, len(self.inputs))
+        q, u, _ = self._flat(position, inputs, shape)
         with np.errstate(all="ignore"):
-            return self._smallest(self._J(np.where(np.isfinite(q), q, 0.0), u)).reshape(shape)
+            return self._smallest(self._J(q, u)).reshape(shape)

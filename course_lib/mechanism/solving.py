@@ -285,13 +285,12 @@ class Solving:
             return None if given is None else {k: arrays[f"{prefix}[{k}]"] for k in names}
 
         if converged is None:  # found another way: a position that does not close the loops is not found
-            q = np.stack(np.broadcast_arrays(*(arrays[f"position[{k}]"] for k in unknowns)), axis=-1)
-            u = np.stack(np.broadcast_arrays(*(arrays[f"inputs[{k}]"] for k in inputs_named)), axis=-1)
-            shape = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
-            q, u = (np.broadcast_to(a, shape + a.shape[-1:]).reshape(-1, a.shape[-1]) for a in (q, u))
+            shape = np.shape(next(iter(arrays.values())))  # broadcast together above
+            q, u, found = self._flat(part("position", unknowns, position),
+                                     part("inputs", inputs_named, inputs), shape)
             with np.errstate(all="ignore"):
-                residual = np.abs(self._F(np.where(np.isfinite(q), q, 0.0), u)) / self._scales[0]
-            converged = (np.isfinite(q).all(axis=1) & (residual.max(axis=1) <= RESIDUAL)).reshape(shape)
+                residual = np.abs(self._F(q, u)) / self._scales[0]
+            converged = (found & (residual.max(axis=1) <= RESIDUAL)).reshape(shape)
         return self._motion(
             part("position", unknowns, position), part("inputs", inputs_named, inputs),
             part("velocity", unknowns, velocity), part("acceleration", unknowns, acceleration),

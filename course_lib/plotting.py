@@ -361,7 +361,7 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
          trace: Sequence = (), blocks: Sequence = (), labels: Mapping | bool | None = None,
          link_labels: Mapping | bool | None = None,
          styles: Mapping[str, Mapping] | None = None, plates: Mapping[str, Sequence] | None = None,
-         title: str | None = None,
+         title: str | None = None, alpha: float = 1.0,
          size: tuple[float, float] = (4.2, 3.0)) -> Axes:
     """A still of one instant in one call, on ``ax`` (default: a new figure's), returned: the linkage (as
     :class:`LinkageArtist`, in the vocabulary of :func:`animate_linkage`) at ``points`` — key → (x, y),
@@ -370,8 +370,8 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
     ``points`` a ``Motion`` of it: ``draw(wiper, wiper.solve(0.7))``, with the declaration's ground
     pivots, sliders, plates and styles unless given.  ``labels``: point key → text, or True for every
     point's own name; ``link_labels``: link name → text, or True for every link's own name, written beside
-    the link's middle (its ``gid`` is "label " + the link's name).  Each link's line carries its name as
-    ``gid``.
+    the link's middle (its ``gid`` is "label " + the link's name); ``alpha`` (0 to 1) fades the whole
+    drawing, e.g. a seed drawn under a solution.  Each link's line carries its name as ``gid``.
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> ax = draw({"crank": ("O", "A")}, {"O": (0, 0), "A": (0.03, 0.04)}, ground=["O"], title="one",
@@ -386,15 +386,22 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
     whole = isinstance(frame, int | np.integer) and not isinstance(frame, bool | np.bool_)
     if not whole or not -count <= frame < count:
         raise InvalidArgumentError(f"frame must be a whole number from 0 to {count - 1}; got {frame!r}")
+    number = _numbers("alpha", alpha, "a number from 0 to 1")
+    if number.ndim or not 0 <= number <= 1:
+        raise InvalidArgumentError(f"alpha must be a number from 0 to 1; got {alpha!r}")
     if ax is None:
         import matplotlib.pyplot as plt
 
         ax = plt.figure(figsize=_figure_size(size), layout="constrained").add_subplot()
     _axes(ax)
+    before = set(ax.get_children())
     artist = _stage(ax, links, paths, trace, labels, **options)
     at = {key: path[frame] for key, path in paths.items()}
     artist.move(at)
     _name_links(ax, artist, at, link_labels)
+    if number < 1:  # only what this call drew
+        for child in set(ax.get_children()) - before:
+            child.set_alpha(float(number))
     if title is not None:
         ax.set_title(title)
     return ax

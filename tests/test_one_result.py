@@ -208,3 +208,14 @@ def test_draw_names_the_links_beside_their_middles():
     assert [t.get_text() for t in renamed.texts if t.get_gid() == "label coupler"] == ["l3"]
     with pytest.raises(CourseLibError, match="link_labels must map link names"):
         draw(WIPER, motion, link_labels={"no such": "x"})
+
+
+def test_draw_fades_only_what_it_drew():
+    ax = draw({"crank": ("O", "A")}, {"O": (0.0, 0.0), "A": (0.03, 0.04)}, ground=["O"])
+    first = set(ax.get_children())
+    draw({"crank": ("O", "A")}, {"O": (0.0, 0.0), "A": (0.04, 0.03)}, ax, alpha=0.3)
+    faded = [child for child in set(ax.get_children()) - first]
+    assert faded and all(child.get_alpha() == 0.3 for child in faded)
+    assert all(child.get_alpha() != 0.3 for child in first)
+    with pytest.raises(CourseLibError, match="alpha must be a number from 0 to 1"):
+        draw({"crank": ("O", "A")}, {"O": (0.0, 0.0), "A": (0.04, 0.03)}, alpha=2)

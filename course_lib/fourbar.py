@@ -17,16 +17,14 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import (
-    SingularJacobianError,
     failure_policy,
     older_failure_keywords,
-    report_unreachable,
     require_broadcast,
     require_choice,
     require_finite,
     require_positive,
 )
-from .motion import Motion
+from .motion import Deferred, Motion, recast
 from .planar import Unpacks, scalar_or_array, wrap_angle
 
 __all__ = ["ASSEMBLIES", "BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRange",
@@ -42,11 +40,6 @@ COINCIDENT = 1e-14
 TOGGLE_TOL = 1e-7
 #: A discriminant below −(this)·(B² + (A − C)²) cannot close; above, it is rounding and counts as 0.
 DISCRIMINANT_TOL = 1e-12
-#: A block whose smallest discriminant proves |sin(θ3 − θ4)| above this (and σ_min(J̃) above twice
-#: ``SINGULAR``) skips the toggle test.
-TOGGLE_FREE = 1e-3
-#: Crank angles per block of an array solve (the memory beyond the results stays flat).
-BLOCK = 1 << 16
 
 
 def _finite(name: str, value, unit: str):
@@ -57,6 +50,47 @@ def _finite(name: str, value, unit: str):
 
 
 @cache
+def _unit_lengths(*lengths: float) -> tuple[float, ...]:
+    """The lengths divided by the longest: the same angles and rates, no overflow or underflow."""
+    longest = max(lengths)
+    return tuple(length / longest for length in lengths)
+
+
+def _kernel(parameters, known, sigma: int):
+    """The block θ3, θ4 in closed form (the kernel registered on the declaration, see
+    :meth:`~course_lib.mechanism.Mechanism.with_kernel`): Norton's half-angle quadratic A t² + B t + C = 0
+    in t = tan(θ4/2) times 2·l2·l4, with the lengths divided by the longest (no overflow); σ = +1 (open)
+    is Norton's minus sign.  θ3, θ4 in (−π, π], NaN where the loop cannot close or where A lies on O4
+    with coupler = rocker (B anywhere on a circle: the level 0 there, the position not determined); the
+    level B² − 4AC over B² + (A − C)²."""
+    l1, l2, l3, l4 = _unit_lengths(*(parameters[name] for name in ("l1", "l2", "l3", "l4")))
+    theta2 = known["theta2"]
+    k3 = l2**2 - l3**2 + l4**2 + l1**2
+    cos2, sin2 = np.cos(theta2), np.sin(theta2)
+    A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
+    B = -4 * l2 * l4 * sin2
+    C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
+    discriminant, scale = B * B - 4 * A * C, (A - C) * (A - C) + B * B  # scale = 16 l4² |AO4|²
+    # below −(tolerance)·scale the loop cannot close, above it is rounding
+    lost = discriminant < -DISCRIMINANT_TOL * scale
+    anywhere = np.zeros(np.shape(theta2), bool)
+    if abs(l3 - l4) < COINCIDENT:  # A on O4 with coupler = rocker: B anywhere on a circle
+        anywhere = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2)) < COINCIDENT
+    root = np.sqrt(np.where(lost | anywhere, np.nan, np.maximum(discriminant, 0.0)))
+    # t = y/x with (y, x) = (−B ± √Δ, 2A) or, the same root, (2C, −B ∓ √Δ): take the larger pair
+    root = -root if sigma > 0 else root  # Norton's minus sign for the open assembly
+    y1, x1, y2, x2 = -B + root, 2 * A, 2 * C, -B - root
+    first = np.abs(y1) + np.abs(x1) >= np.abs(y2) + np.abs(x2)
+    y, x = np.where(first, y1, y2), np.where(first, x1, x2)
+    norm = x * x + y * y  # θ4 = 2·atan2(y, x), by the double-angle formulas
+    cos4, sin4 = (x * x - y * y) / norm, 2 * x * y / norm
+    coupler_x, coupler_y = l4 * cos4 + l1 - l2 * cos2, l4 * sin4 - l2 * sin2  # R3 = B − A, of length l3
+    # scale 0: A = C, B = 0, the constant equation A = 0 (every θ4, or none)
+    level = np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0), np.where(A == 0, 0.0, -1.0))
+    level = np.where(anywhere, 0.0, level)
+    return {"theta3": np.arctan2(coupler_y, coupler_x), "theta4": np.arctan2(sin4, cos4)}, level
+
+
 def _declaration(coupler: bool = False):
     """The loop R2 + R3 − R4 − R1 = 0 on the core: unknowns θ3, θ4, input θ2, parameters l1 … l4; with
     ``coupler``, also the coupler point P = A + p·(cos(θ3 + δ), sin(θ3 + δ)) and the plate A, B, P."""
@@ -199,7 +233,8 @@ class FourBar:
         >>> list(loop.points), loop.links.names
         (['O2', 'A', 'B', 'O4'], ('crank', 'coupler', 'rocker', 'ground'))
         """
-        return _declaration().with_parameters({"l1": self.l1, "l2": self.l2, "l3": self.l3, "l4": self.l4})
+        return _declaration().with_parameters({"l1": self.l1, "l2": self.l2, "l3": self.l3,
+                                               "l4": self.l4}).with_kernel("theta4", _kernel)
 
     def loop_residual(self, theta2, theta3, theta4) -> np.ndarray:
         """R2 + R3 − R4 − R1 as (x, y) components, shape (..., 2); zero when the loop closes.
@@ -222,108 +257,18 @@ class FourBar:
                                        theta4=require_finite("theta4", theta4, "rad")), -1)
         return self.mechanism.jacobian(q, np.zeros(q.shape[:-1] + (1,)))
 
-    @cached_property
-    def _unit_mechanism(self):
-        """:attr:`mechanism` with the lengths of :meth:`_unit_lengths`: the same angles and rates."""
-        l1, l2, l3, l4 = self._unit_lengths()
-        return _declaration().with_parameters({"l1": l1, "l2": l2, "l3": l3, "l4": l4})
-
-    def _unit_lengths(self) -> tuple[float, float, float, float]:
-        """l1 … l4 divided by the longest: the same angles and rates, no overflow or underflow."""
-        longest = max(self.l1, self.l2, self.l3, self.l4)
-        return self.l1 / longest, self.l2 / longest, self.l3 / longest, self.l4 / longest
-
-    def _positions(self, theta2: np.ndarray, branch: str):
-        """θ3, θ4, the unreachable and undetermined masks, (cos, sin) of θ2, θ3, θ4 and the discriminant
-        for crank angles θ2 (1-D).  Norton's A, B, C times 2·l2·l4 (the same roots, no ratio of lengths
-        that could overflow)."""
-        l1, l2, l3, l4 = self._unit_lengths()
-        k3 = l2**2 - l3**2 + l4**2 + l1**2
-        cos2, sin2 = np.cos(theta2), np.sin(theta2)
-        A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
-        B = -4 * l2 * l4 * sin2
-        C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
-        discriminant = B * B - 4 * A * C
-        # B² + (A − C)² = 16 l4² |AO4|²: below −(tolerance)·that the loop cannot close, above it is rounding
-        unreachable = discriminant < -DISCRIMINANT_TOL * ((A - C) * (A - C) + B * B)
-        undetermined = np.zeros(theta2.shape, bool)
-        if abs(l3 - l4) < COINCIDENT:  # A on O4 with coupler = rocker: B anywhere on a circle
-            distance_AO4 = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2))
-            undetermined = distance_AO4 < COINCIDENT
-            unreachable &= ~undetermined
-        root = np.sqrt(np.where(unreachable | undetermined, np.nan, np.maximum(discriminant, 0.0)))
-        # t = y/x with (y, x) = (−B ± √Δ, 2A) or, the same root, (2C, −B ∓ √Δ): take the larger pair
-        root = -root if branch == "open" else root  # Norton's minus sign
-        y1, x1, y2, x2 = -B + root, 2 * A, 2 * C, -B - root
-        first = np.abs(y1) + np.abs(x1) >= np.abs(y2) + np.abs(x2)
-        y, x = np.where(first, y1, y2), np.where(first, x1, x2)
-        norm = x * x + y * y  # θ4 = 2·atan2(y, x), by the double-angle formulas
-        cos4, sin4 = (x * x - y * y) / norm, 2 * x * y / norm
-        coupler_x, coupler_y = l4 * cos4 + l1 - l2 * cos2, l4 * sin4 - l2 * sin2  # R3 = B − A, of length l3
-        theta3, theta4 = np.arctan2(coupler_y, coupler_x), np.arctan2(sin4, cos4)
-        return theta3, theta4, unreachable, undetermined, (cos2, sin2, coupler_x / l3, coupler_y / l3, cos4,
-                                                             sin4), discriminant
-
-    @cached_property
-    def _free_levels(self) -> tuple[float, float]:
-        """The smallest discriminants of a block that prove no toggle in it (|sin(θ3 − θ4)| ≥ TOGGLE_FREE
-        and the core's σ_min(J̃) ≥ 2·SINGULAR) and none near one (σ_min(J̃) ≥ 2·NEAR_SINGULAR): σ_min ≥
-        |det J̃| / ‖J̃‖_F, with ‖J̃‖_F bounded by the lengths and the core's scales, and B² − 4AC =
-        16 l3² l4² sin²(θ3 − θ4) (rounding below 1e-12)."""
-        from .mechanism.singular import NEAR_SINGULAR, SINGULAR  # the core (sympy) only when solving
-
-        _, _, l3, l4 = self._unit_lengths()
-        rows, columns = self._unit_mechanism._scales
-        frobenius = math.sqrt((l3**2 / columns[0] ** 2 + l4**2 / columns[1] ** 2)
-                              * (1 / rows[0] ** 2 + 1 / rows[1] ** 2))
-        per_sigma = 2 * rows[0] * rows[1] * columns[0] * columns[1] * frobenius / (l3 * l4)
-        return (max(16 * l3**2 * l4**2 * max(TOGGLE_FREE, SINGULAR * per_sigma) ** 2, 1e-9),
-                max(16 * l3**2 * l4**2 * (NEAR_SINGULAR * per_sigma) ** 2, 1e-9))
-
-    def _near(self, theta2, theta3, theta4) -> np.ndarray:
-        """True where the core's rule finds J near singular (σ_min(J̃) < NEAR_SINGULAR), False where the
-        position is not found."""
-        from .mechanism.singular import NEAR_SINGULAR
-
-        smallest = self._unit_mechanism._smallest_where({"theta3": theta3, "theta4": theta4},
-                                                        {"theta2": theta2}, np.shape(theta3))
-        return (smallest < NEAR_SINGULAR) & np.isfinite(theta3)
-
-    def _core_rates(self, q, u, u_rate, u_acceleration, trig, toggle):
-        """(ω3, ω4), (α3, α4), each (n, 2), and the singular mask, from the declared loop with the closed
-        form's (cos, sin); ``toggle`` None: the core's rule decides where J is singular."""
-        pairs = {"theta2": trig[:2], "theta3": trig[2:4], "theta4": trig[4:]}
-        return self._unit_mechanism.rates(q, u, u_rate, u_acceleration, trig=pairs, singular=toggle)
-
-    def _rates(self, theta2, omega2, alpha2, theta3, theta4, trig, smallest: float):
-        """(ω3, ω4), (α3, α4), each (n, 2), and the singular mask: NaN at a toggle while moving (where the
-        core's rule finds J singular; not tested where ``smallest``, the smallest discriminant, proves there
-        is none) and where the position is not found."""
-        cos3 = trig[2]
-        moving = np.logical_or(np.not_equal(omega2, 0), np.not_equal(alpha2, 0))
-        if not moving.any():  # at rest: no rates to solve for, nothing singular
-            rest = np.where(np.isnan(cos3), np.nan, 0.0)[:, None].repeat(2, axis=1)  # NaN: no position
-            return rest, rest.copy(), np.zeros(theta2.shape, bool)
-        toggle_free = smallest >= self._free_levels[0]
-        omegas, alphas, toggle = self._core_rates(
-            np.stack([theta3, theta4], axis=-1), theta2[:, None], np.reshape(omega2, (-1, 1)),
-            np.reshape(alpha2, (-1, 1)), trig, np.zeros(theta2.shape, bool) if toggle_free else None)
-        toggle = toggle & ~np.isnan(cos3)  # the core's rule, where the loop closes
-        singular = toggle & moving
-        if toggle.any():  # a toggle at rest: b = 0, so the rates are 0; moving: NaN
-            at_rest = toggle & ~moving
-            omegas[at_rest], alphas[at_rest] = 0.0, 0.0
-            omegas[singular], alphas[singular] = np.nan, np.nan
-        return omegas, alphas, singular
-
     @older_failure_keywords
     def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *, assembly=None,
               on_failure: str | None = None) -> FourBarSolution:
         """θ3, θ4, ω3, ω4, α3, α4 for crank angle θ2 (rad), speed ω2 (rad/s), acceleration α2 (rad/s²),
-        broadcast.  ``UnreachableError`` where the loop cannot close, ``SingularJacobianError`` at a toggle
-        while moving (the core's rule: σ_min(J̃) < SINGULAR) or where A is on O4 with coupler = rocker;
-        ``on_failure="nan"``: NaN there.  The assembly: ``assembly="open"`` or ``"crossed"``, or the core's
-        σ by either unknown (``{"theta4": +1}`` is open: B left of A → O4); ``branch=`` is its older name.
+        broadcast: the core's solve of :attr:`mechanism` (whose block θ3, θ4 is solved by the course's
+        closed form, :func:`_kernel`), the same :class:`~course_lib.mechanism.Motion` as
+        ``self.mechanism.solve`` with the course's names added.  ``UnreachableError`` where the loop cannot
+        close, ``SingularJacobianError`` at a toggle while moving (the core's rule: σ_min(J̃) < SINGULAR);
+        ``on_failure="nan"``: NaN there.  At rest (ω2 = α2 = 0) the rates are 0.  The assembly:
+        ``assembly="open"`` or ``"crossed"``, or the core's σ by either unknown (``{"theta4": +1}`` is
+        open: B left of A → O4); ``branch=`` is its older name.  Angles follow the core's rule: the first
+        instant's in [−π, π], each next within a turn of its neighbour.
 
         >>> crossed = FourBar(0.06, 0.18, 0.12, 0.20).solve(np.pi / 2, assembly="crossed")
         >>> round(crossed.theta3, 6), round(crossed.theta4, 6), crossed.assembly["theta4"]
@@ -335,65 +280,15 @@ class FourBar:
         theta2 = _finite("theta2", theta2, "rad")
         omega2 = _finite("omega2", omega2, "rad/s")
         alpha2 = _finite("alpha2", alpha2, "rad/s^2")
-        try:
-            shape = np.broadcast_shapes(*(np.shape(v) for v in (theta2, omega2, alpha2)))
-        except ValueError:
-            require_broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)  # raises, naming the shapes
-            raise
-        values, unreachable, singular, near, first_undetermined = self._solve_blocks(
-            theta2, omega2, alpha2, shape, branch)
-        any_unreachable, any_singular = unreachable.any(), singular.any()
-        if any_unreachable:
-            what = f"the four-bar loop cannot close ({branch} branch: no real root of the half-angle " \
-                "quadratic)"
-            report_unreachable(np.reshape(unreachable, shape), {"theta2": theta2}, what, policy)
-        if policy == "raise" and any_singular:  # undetermined, else a toggle while moving
-            first = int(np.flatnonzero(singular)[0]) if first_undetermined is None else first_undetermined
-            at = [np.broadcast_to(v, shape)[np.unravel_index(first, shape)] for v in (theta2, omega2, alpha2)]
-            if first_undetermined is not None:
-                raise SingularJacobianError(
-                    f"at theta2={at[0]:.6g} the crank pin A lands on O4 and coupler = rocker, so B "
-                    "may be anywhere on a circle of radius l3: the position is not determined (a change "
-                    "point; any other theta2 is fine)", x=float(at[0]))
-            count = f" ({int(singular.sum())} of {singular.size} inputs, first at index {first})" if shape \
-                else ""
-            raise SingularJacobianError(
-                f"the loop Jacobian is singular at theta2={at[0]:.6g} (coupler and rocker "
-                f"collinear: a toggle position), so omega3, omega4 are undefined for "
-                f"omega2={at[1]:.6g}, alpha2={at[2]:.6g}{count}", x=float(at[0]))
-        return self.mechanism._motion(
-            {"theta3": values[0], "theta4": values[1]}, {"theta2": theta2},
-            {"theta3": values[2], "theta4": values[3]}, {"theta3": values[4], "theta4": values[5]},
-            converged=~np.isnan(values[0]), singular=singular, near_singular=near, kind=FourBarSolution,
-            unreachable=scalar_or_array(unreachable), branch=branch)
-
-    def _solve_blocks(self, theta2, omega2, alpha2, shape, branch: str):
-        """The six values, unreachable, singular, near (each of ``shape``) and the flat index of the first
-        undetermined position; solved ``BLOCK`` angles at a time, so the memory beyond the results stays
-        flat."""
-        angles = np.broadcast_to(theta2, shape).ravel()
-        speed, acceleration = (v if np.ndim(v) == 0 else np.broadcast_to(v, shape).ravel()
-                               for v in (omega2, alpha2))
-        size = angles.size
-        values = np.empty((6, size))  # θ3, θ4, ω3, ω4, α3, α4
-        unreachable, singular, near, undetermined = np.zeros((4, size), bool)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            for start in range(0, size, BLOCK):
-                block = slice(start, start + BLOCK)
-                theta3, theta4, unreachable[block], undetermined[block], trig, discriminant = self._positions(
-                    angles[block], branch)
-                smallest = discriminant.min()
-                omegas, alphas, singular[block] = self._rates(
-                    angles[block], speed if np.ndim(speed) == 0 else speed[block],
-                    acceleration if np.ndim(acceleration) == 0 else acceleration[block], theta3, theta4, trig,
-                    smallest)
-                values[:, block] = theta3, theta4, *omegas.T, *alphas.T
-                if smallest < self._free_levels[1]:
-                    near[block] = self._near(angles[block], theta3, theta4)
-        singular |= undetermined
-        first = np.flatnonzero(undetermined)
-        return [v.reshape(shape) for v in values], unreachable.reshape(shape), singular.reshape(shape), \
-            near.reshape(shape), int(first[0]) if first.size else None
+        require_broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)
+        moving = bool(np.any(omega2) or np.any(alpha2))
+        motion = self.mechanism.solve({"theta2": theta2}, {"theta2": omega2} if moving else None,
+                                      {"theta2": alpha2} if moving else None, assembly=ASSEMBLIES[branch],
+                                      on_failure=policy)
+        # unreachable: not found, and not because the position is not determined (counted singular)
+        unreachable = Deferred(lambda: scalar_or_array(~np.asarray(motion.converged)
+                                                       & ~np.asarray(motion.singular)))
+        return recast(motion, FourBarSolution, at_rest=not moving, unreachable=unreachable, branch=branch)
 
     def motion(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "open", *, assembly=None,
                on_failure: str | None = None):
@@ -496,7 +391,7 @@ class FourBar:
         >>> r.full_rotation, [round(a, 6) for a in r.toggle_angles]
         (False, [-1.333578, 1.333578])
         """
-        l1, l2, l3, l4 = self._unit_lengths()
+        l1, l2, l3, l4 = _unit_lengths(self.l1, self.l2, self.l3, self.l4)
 
         def toggle(reach):  # θ2 in [0, π] where |AO4| = reach, or None when |AO4| never equals it
             # 1 ∓ cos θ2 as products of differences, accurate even where θ2 is near 0 or π

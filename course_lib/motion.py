@@ -6,7 +6,7 @@ rule of :mod:`course_lib.mechanism.singular` (``SINGULAR``, ``NEAR_SINGULAR``).
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from types import MappingProxyType
 from typing import TYPE_CHECKING, ClassVar
 
@@ -116,3 +116,24 @@ class Motion:
         [[0.1, 0.2], [1.5, 1.5]]
         """
         return np.array(np.broadcast_arrays(*(np.asarray(v) for v in self.position.values())), dtype=dtype)
+
+
+def recast(motion: Motion, kind: type[Motion], *, at_rest: bool = False, **extra) -> Motion:
+    """``motion`` as a machine's own :class:`Motion` (``kind``, a subclass), the same values with the
+    machine's ``extra`` fields; ``at_rest``: ``motion`` was solved without rates, which are then 0 where the
+    position was found (NaN elsewhere).
+
+    >>> motion = Motion(position={"x": 1.0}, velocity=None, acceleration=None, converged=True,
+    ...                 singular=False, iterations=0, inputs={"s": 0.5})
+    >>> recast(motion, Motion, at_rest=True).velocity["x"]
+    0.0
+    """
+    values = {field.name: object.__getattribute__(motion, field.name) for field in fields(Motion)}
+    if at_rest:  # one read-only array of 0 (NaN where not found), shared by every rate
+        still = np.where(values["converged"], 0.0, np.nan)
+        still = float(still) if still.ndim == 0 else still
+        if not isinstance(still, float):
+            still.flags.writeable = False
+        rest = MappingProxyType({name: still for name in motion.position})
+        values["velocity"] = values["acceleration"] = rest
+    return kind(**values, **extra)

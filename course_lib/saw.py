@@ -29,6 +29,7 @@ from .errors import (
     failure_policy,
     older_failure_keywords,
     report_unreachable,
+    require_broadcast,
     require_choice,
     require_finite,
     require_positive,
@@ -91,15 +92,27 @@ class Saw:
         return _core(self)
 
     def motion(self, theta2, omega2=0.0, alpha2=0.0, *, on_failure: str | None = None):
-        """The course's closed form (:func:`analytic`) as a :class:`SawMotion`, a
-        :class:`~course_lib.mechanism.Motion` of :attr:`mechanism` (position r1, θ1, θ3 and their rates;
-        input θ2), to draw, animate or explore.
+        """A :class:`SawMotion`, a :class:`~course_lib.mechanism.Motion` of :attr:`mechanism` (position r1,
+        θ1, θ3 and their rates; input θ2), to draw, animate or explore: the position by the course's
+        closed form (eqs. 20–21 of :func:`analytic`), the rates by the core from the declared loop (J·q̇ =
+        −F_u·ω2 and its derivative; the same as the course's eqs. 22–28).  Raises as :func:`analytic`.
 
         >>> motion = Saw().motion([0.0, 1.0], omega2=6.0)
-        >>> np.round(motion.position["theta3"], 6).tolist(), motion.velocity["r1"].shape
-        ([2.873694, 3.248327], (2,))
+        >>> np.round(motion.position["theta3"], 6).tolist(), np.round(motion.velocity["theta3"], 6).tolist()
+        ([2.873694, 3.248327], [2.744974, 1.438397])
         """
-        return _saw_motion(self, analytic(theta2, omega2, alpha2, saw=self, on_failure=on_failure), theta2)
+        policy = failure_policy(on_failure)
+        theta2, omega2, alpha2 = require_broadcast(theta2=require_finite("theta2", theta2, unit="rad"),
+                                                   omega2=require_finite("omega2", omega2, unit="rad/s"),
+                                                   alpha2=require_finite("alpha2", alpha2, unit="rad/s²"))
+        q = analytic(theta2, saw=self, on_failure=policy)[..., :3]
+        u = theta2[..., None]
+        with np.errstate(invalid="ignore"):
+            q_rate, q_acc, _ = self.mechanism.rates(np.where(np.isnan(q), 0.0, q), u, omega2[..., None],
+                                                    alpha2[..., None])
+        lost = np.isnan(q[..., :1])
+        values = np.concatenate([q, np.where(lost, np.nan, q_rate), np.where(lost, np.nan, q_acc)], axis=-1)
+        return _saw_motion(self, values, theta2)
 
     def joints(self, theta2) -> np.ndarray:
         """O2, A and C (m), shape (..., 3, 2): :func:`joint_positions` of this saw.

@@ -2,10 +2,11 @@
 
 The crank (``crank``, θ2) turns about the origin O2; the rod (``rod``, θ3 from the crank pin A to the
 slider pin C, lesson 00's name for it) drives C = A + rod·(cos θ3, sin θ3) = (x, offset) along the line
-y = ``offset``, with x = crank·cos θ2 ± √(rod² − (offset − crank·sin θ2)²): ``branch="right"`` (θ3 in
-(−π/2, π/2)) or ``"left"`` (θ3 in (π/2, 3π/2), the course's power saw, :mod:`course_lib.saw` with
+y = ``offset``, with x = crank·cos θ2 ± √(rod² − (offset − crank·sin θ2)²): ``assembly="right"`` (C right
+of A: cos θ3 > 0) or ``"left"`` (cos θ3 < 0, the course's power saw, :mod:`course_lib.saw` with
 x = r1 cos θ1).  The machine is one declaration (:attr:`OffsetSliderCrank.mechanism`: the loop, the
-points O2, A, C and the links crank, rod), which gives the rates and the singularity rule (the core's).
+points O2, A, C and the links crank, rod), solved by the core (its closed form registered as the
+block's kernel), which gives the rates and the singularity rule.
 """
 
 from __future__ import annotations
@@ -17,15 +18,13 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import (
-    SingularJacobianError,
     failure_policy,
-    report_unreachable,
     require_broadcast,
     require_choice,
     require_finite,
     require_positive,
 )
-from .motion import Motion
+from .motion import Motion, recast
 from .planar import Unpacks
 
 __all__ = ["OffsetSliderCrank", "SliderCrankMotion", "BRANCHES", "ASSEMBLIES"]
@@ -34,6 +33,20 @@ __all__ = ["OffsetSliderCrank", "SliderCrankMotion", "BRANCHES", "ASSEMBLIES"]
 BRANCHES = ("right", "left")
 #: The assemblies by name, as the core's σ (``assembly=``): left (the saw's) is σ = +1.
 ASSEMBLIES = {"left": {"x": +1}, "right": {"x": -1}}
+
+
+def _kernel(parameters, known, sigma: int):
+    """The block θ3, x in closed form (the kernel registered on the declaration, see
+    :meth:`~course_lib.mechanism.Mechanism.with_kernel`): the rod rises h = offset − crank·sin θ2 from A to
+    C and runs ∓√(rod² − h²) along the line, σ = +1 (left, the saw's) the minus sign; θ3 = atan2(h, run),
+    x = crank·cos θ2 + run.  NaN where |h| > rod; the level 1 − (h / rod)² (the derived closed form's)."""
+    crank, rod, offset = parameters["crank"], parameters["rod"], parameters["offset"]
+    theta2 = known["theta2"]
+    height = offset - crank * np.sin(theta2)
+    level = 1.0 - (height / rod) ** 2
+    run = np.sqrt(np.where(level < -1e-12, np.nan, rod * rod * np.maximum(level, 0.0)))
+    run = -run if sigma > 0 else run
+    return {"theta3": np.arctan2(height, run), "x": crank * np.cos(theta2) + run}, level
 
 
 @cache
@@ -98,7 +111,8 @@ class OffsetSliderCrank:
         >>> list(mechanism.points), mechanism.links.names
         (['O2', 'A', 'C'], ('crank', 'rod'))
         """
-        return _declaration().with_parameters({"crank": self.crank, "rod": self.rod, "offset": self.offset})
+        return _declaration().with_parameters({"crank": self.crank, "rod": self.rod,
+                                               "offset": self.offset}).with_kernel("theta3", _kernel)
 
     def motion(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "right", *, on_failure: str | None = None):
         """:meth:`solve` under the name the declarations use: its :class:`SliderCrankMotion` is a
@@ -122,11 +136,14 @@ class OffsetSliderCrank:
     def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "right", *, assembly=None,
               on_failure: str | None = None) -> SliderCrankMotion:
         """Position, velocity and acceleration of rod and slider for the crank's θ2 (rad), ω2 (rad/s),
-        α2 (rad/s²), vectorized.  ``UnreachableError`` where |offset − crank·sin θ2| > rod,
-        ``SingularJacobianError`` where the rod is perpendicular to the line (cos θ3 = 0: the declared
-        loop's J singular by the core's rule); ``on_failure="nan"``: NaN there instead.  The assembly:
-        ``assembly="left"`` or ``"right"``, or the core's σ (``{"x": +1}`` is left); ``branch=`` is its
-        older name.
+        α2 (rad/s²), vectorized: the core's solve of :attr:`mechanism` (its block θ3, x solved by the
+        closed form :func:`_kernel`), the same :class:`~course_lib.mechanism.Motion` as
+        ``self.mechanism.solve`` with the course's names added.  ``UnreachableError`` where
+        |offset − crank·sin θ2| > rod, ``SingularJacobianError`` while moving where the rod is
+        perpendicular to the line (cos θ3 = 0: J singular by the core's rule); ``on_failure="nan"``: NaN
+        there instead.  At rest (ω2 = α2 = 0) the rates are 0.  The assembly: ``assembly="left"`` or
+        ``"right"``, or the core's σ (``{"x": +1}`` is left); ``branch=`` is its older name.  Angles
+        follow the core's rule: the first instant's in [−π, π], each next within a turn of its neighbour.
 
         >>> motion = OffsetSliderCrank(0.05, 0.2).solve(np.pi / 2, omega2=1.0)
         >>> round(float(motion.v), 6), round(float(motion.omega3), 6)
@@ -138,30 +155,8 @@ class OffsetSliderCrank:
         theta2, omega2, alpha2 = require_broadcast(theta2=require_finite("theta2", theta2, unit="rad"),
                                                    omega2=require_finite("omega2", omega2, unit="rad/s"),
                                                    alpha2=require_finite("alpha2", alpha2, unit="rad/s²"))
-        a2, b3 = self.crank, self.rod
-        s2, c2 = np.sin(theta2), np.cos(theta2)
-        height = self.offset - a2 * s2  # vertical rise of the rod from A to B
-        unreachable = np.abs(height) > b3
-        report_unreachable(unreachable, {"theta2": theta2},
-                           f"the rod ({b3:g} m) cannot reach the slider line y = {self.offset:g} m", policy)
-        reach = np.sqrt(np.where(unreachable, np.nan, np.maximum(b3**2 - height**2, 0.0)))  # horizontal run
-        run = reach if branch == "right" else -reach
-        x = a2 * c2 + run
-        theta3 = np.arctan2(height, run)
-        if branch == "left":
-            theta3 = np.mod(theta3, 2 * np.pi)  # keep θ3 in (π/2, 3π/2)
-        with np.errstate(invalid="ignore"):
-            velocity, acceleration, singular = self.mechanism.rates(
-                np.stack([theta3, x], axis=-1), theta2[..., None], omega2[..., None], alpha2[..., None],
-                trig={"theta2": (c2, s2), "theta3": (run / b3, height / b3)})
-        perpendicular = singular & ~unreachable
-        if policy == "raise" and np.any(perpendicular):
-            first = float(theta2[perpendicular].ravel()[0])
-            raise SingularJacobianError(f"the rod is perpendicular to the slider line at theta2={first:.6g} "
-                                        "(cos(theta3) = 0): the velocity equations are singular there",
-                                        x=first)
-        (omega3, v), (alpha3, a) = np.moveaxis(velocity, -1, 0), np.moveaxis(acceleration, -1, 0)
-        return self.mechanism._motion({"theta3": theta3, "x": x}, {"theta2": theta2},
-                                        {"theta3": omega3, "x": v}, {"theta3": alpha3, "x": a},
-                                        converged=~unreachable, singular=perpendicular,
-                                        kind=SliderCrankMotion)
+        moving = bool(np.any(omega2) or np.any(alpha2))
+        motion = self.mechanism.solve({"theta2": theta2}, {"theta2": omega2} if moving else None,
+                                      {"theta2": alpha2} if moving else None, assembly=ASSEMBLIES[branch],
+                                      on_failure=policy)
+        return recast(motion, SliderCrankMotion, at_rest=not moving)

@@ -87,7 +87,7 @@ def test_broadcasting():
 
 def test_unreachable_and_singular():
     short = OffsetSliderCrank(crank=0.075, rod=0.1, offset=0.045)
-    with pytest.raises(UnreachableError, match="theta2=-1.5708"):
+    with pytest.raises(UnreachableError, match="theta2=-1.5707963"):
         short.solve([0.0, -np.pi / 2])
     toggle = OffsetSliderCrank(crank=0.075, rod=0.12, offset=0.045)
     with pytest.raises(SingularJacobianError, match="theta2"):

@@ -16,8 +16,11 @@ One room of :class:`~course_lib.mechanism.Mechanism`, which is all of them toget
 
 from __future__ import annotations
 
+import copy
 import itertools
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from types import MappingProxyType
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
@@ -28,15 +31,57 @@ from ..errors import (
 )
 from ..planar import scalar_or_array
 from ..symbolic import LoopForm, is_angle, reduce_loop
+from .compiled import _BLOCK
 from .continuation import MAX_CHANGE, _unwrap_to
 from .declaration import _derived
 
+if TYPE_CHECKING:
+    from . import Mechanism
+
+#: A discriminant below −LEVEL·(its scale) has no real root; above, it is rounding and counts as 0.
+LEVEL = 1e-12
 #: A closed-form or continued position is accepted where |F_i| / (typical size of row i) stays below this.
 RESIDUAL = 1e-8
 
 
 class ClosedForms:
     """The blocks, their closed forms by the half-angle route, and each block's σ along a sweep."""
+
+    #: Registered kernels: a block's key (see ``_block_of``) → the solver the core calls for that block.
+    _kernels: Mapping = MappingProxyType({})
+
+    def with_kernel(self, unknown, kernel: Callable) -> Mechanism:
+        """The same declaration with ``kernel`` registered as the solver of the closed-form block of
+        ``unknown`` (its name or symbol): a hand-vectorised closed form the core calls instead of the one it
+        derives, for speed, with everything else (σ, change points, angles kept continuous, rates,
+        singularity, failures) the core's own.  ``kernel(parameters, known, sigma)`` gets the parameters
+        and the values already known (inputs, and unknowns of earlier blocks) by name, each (N,), and
+        σ = ±1 (the meaning of :mod:`~course_lib.mechanism.closed_forms`); it returns the block's unknowns
+        by name, each (N,), NaN where the block cannot close, and the level Δ / scale per instant: the
+        half-angle quadratic's b² − 4ac over b² + (a − c)² (0 where the two assemblies meet, < 0 where the
+        block cannot close).  A kernel must agree with the derived closed form; test it.
+
+        >>> x, s = sp.symbols("x s")
+        >>> arc = Mechanism([sp.cos(x) - s], [x], [s])  # σ = −sign(∂F/∂x) = sign(sin x)
+        >>> def kernel(parameters, known, sigma):
+        ...     return {"x": sigma * np.arccos(known["s"])}, 1 - known["s"] ** 2
+        >>> fast = arc.with_kernel("x", kernel)
+        >>> [round(m.solve({s: 0.5}, assembly={x: sign}).position["x"], 6)
+        ...  for m in (arc, fast) for sign in (1, -1)]
+        [1.047198, -1.047198, 1.047198, -1.047198]
+        """
+        blocks = self._block_of()
+        name = getattr(unknown, "name", unknown)
+        if not isinstance(name, str) or name not in blocks:
+            raise InvalidArgumentError(f"unknown must name an unknown of a closed-form block with two "
+                                       f"assemblies ({sorted(blocks) or 'none here'}); "
+                                       f"got unknown={unknown!r}")
+        if not callable(kernel):
+            raise InvalidArgumentError(f"kernel must be a function (parameters, known, sigma) → (values by "
+                                       f"name, level); got kernel={kernel!r}")
+        other = copy.copy(self)
+        other._kernels = MappingProxyType({**self._kernels, blocks[name]: kernel})
+        return other
 
     @_derived
     def _structure(self) -> dict:
@@ -144,7 +189,7 @@ class ClosedForms:
         # for an angle, (a, b, c) = (C − A, 2B, C + A) of A cos θ + B sin θ + C:
         # Δ ≤ b² + (a − c)² = 4(A² + B²)
         scale = b * b + ((a - c) ** 2 if kind == "angle" else np.abs(4 * a * c))
-        bad = ~(discriminant >= -1e-12 * scale)
+        bad = ~(discriminant >= -LEVEL * scale)
         root = np.sqrt(np.maximum(discriminant, 0.0))
         two_a, two_c = 2 * a, 2 * c
         size_a, size_c = np.abs(two_a), np.abs(two_c)
@@ -155,7 +200,10 @@ class ClosedForms:
             wrong = bad | ((np.abs(y) + np.abs(x)) == 0)
             value = 2 * np.arctan2(y, x) if kind == "angle" else y / x
             out.append(np.where(wrong, np.nan, value))
-        return out[0], out[1], np.where(scale > 0, discriminant / scale, 0.0)
+        # scale 0: b = 0 and a = c (an angle) or a·c = 0 (a length); the level 0 where a root remains (a
+        # double one, or every v where every coefficient is 0: the position not determined), else −1
+        return out[0], out[1], np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0),
+                                        np.where((discriminant < 0) | ((a == 0) & (c != 0)), -1.0, 0.0))
 
     def _assembly(self, assembly: Mapping | None, closed: bool) -> dict[str, int]:
         """``solve``'s ``assembly``: σ = ±1 by the name (or symbol) of any unknown of a block."""
@@ -229,24 +277,32 @@ class ClosedForms:
         return chosen
 
     def _closed(self, u, paths, target, tol, max_iter, notes, chosen=None, known=None
-                ) -> tuple[np.ndarray, np.ndarray, dict, dict | None]:
+                ) -> tuple[np.ndarray, np.ndarray, dict, dict | None, np.ndarray]:
         """Positions (N, n) from the closed forms, each block's σ picked at the first instant from
         ``target`` (the Newton solution, or the guess) and kept along the paths except where the two
         assemblies meet (a change point, reported in ``notes``); then cross-checked by the residual.
         ``known``: the inputs' cos and sin (see _compile), shared; also returned: those of the positions
-        too, where every position is found and none was corrected (else None)."""
+        too, where every position is found and none was corrected (else None), and the instants whose
+        position is not determined (a quadratic with every coefficient 0)."""
         known = {} if known is None else known
         N, n = len(u), len(self.unknowns)
-        q, sigmas = np.full((N, n), np.nan), {}
+        q, sigmas, undetermined = np.full((N, n), np.nan), {}, np.zeros(N, bool)
         structure = self._structure
         for form, (coefficients, second, linear, orientation) in zip(structure["forms"], self._closed_fns,
                                                                      strict=True):
             first = self.unknowns.index(form.unknowns[0])
+            kernel = self._kernels.get(form.unknowns[0].name)
+            if kernel is not None:
+                sigmas[form.unknowns[0].name], level = self._kernel_block(kernel, form, q, u, paths, target,
+                                                                          chosen, notes)
+                undetermined |= np.isnan(q[:, first]) & (level >= -LEVEL)
+                continue
             a, b, c = coefficients(self._values, q, u, known=known)
             if linear:
                 q[:, first] = -c / b
             else:
                 plus, minus, level = self._roots(a, b, c, form.kind)
+                undetermined |= np.isnan(plus) & (level >= -LEVEL)  # 0·v² + 0·v + 0: every v solves it
                 # σ of the root +√Δ: −sign(det J_b) there (the other root's is the opposite)
                 at_plus = q.copy()
                 at_plus[:, first] = plus
@@ -256,16 +312,17 @@ class ClosedForms:
                 side = np.where(side == 0, 1.0, side)
                 name = form.unknowns[0].name
                 wanted = (chosen or {}).get(name)
-                if wanted is None:
-                    wanted = self._pick(plus, minus, paths, target, first, side)
-                root = wanted * side  # +1: the root +√Δ, −1: the other
-                self._follow(root, plus, minus, level, paths, u, first, notes)
+                root = (wanted or self._pick(plus, minus, paths, target, first, side)) * side  # +1: +√Δ
+                if wanted is None:  # σ named by assembly= holds at every instant; else it follows the motion
+                    self._follow(root, plus, minus, level, paths, u, first, notes)
                 q[:, first] = np.where(root > 0, plus, minus)
                 sigmas[name] = (root * side).astype(int)
             if form.second is not None:
                 q[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, q, u, known)
         self._continuous(q, paths, target)
         iterations = np.zeros(N, int)
+        if len(self._kernels) == len(structure["forms"]):  # every block a registered kernel: no cross-check
+            return q, iterations, sigmas, None, undetermined
         rows = self._scales[0]
         finite = np.isfinite(q).all(axis=1)
         everywhere = bool(finite.all())
@@ -277,7 +334,60 @@ class ClosedForms:
             polished, fixed, count = self._correct(q[k], u[k], tol, max_iter)
             iterations[k] = count
             q[k] = polished if fixed and self._distance(polished, q[k]) <= MAX_CHANGE else np.nan
-        return q, iterations, sigmas, at_q if everywhere and not len(doubt) else None
+        return q, iterations, sigmas, at_q if everywhere and not len(doubt) else None, undetermined
+
+    def _kernel_block(self, kernel, form, q, u, paths, target, chosen, notes) -> np.ndarray:
+        """The block of ``form`` solved by its registered ``kernel`` into ``q``: σ from ``chosen``, else the
+        assembly nearer ``target``, else +1, swapped at a change point as for a derived closed form (the
+        other assembly computed only where the two come near); returns σ and the level per instant."""
+        columns = [self.unknowns.index(s) for s in form.unknowns]
+        first, name = columns[0], form.unknowns[0].name
+        known = {s.name: u[:, j] for j, s in enumerate(self.inputs)} | {
+            s.name: q[:, j] for j, s in enumerate(self.unknowns) if s not in form.unknowns}
+        parameters = {s.name: value for s, value in self.parameters.items()}
+
+        def solved(sigma, where=None):
+            """The block's values (N', k) and level (N',) for σ, at the instants ``where`` (all: None),
+            _BLOCK instants per call (the kernel's temporaries stay in the cache)."""
+            at = {k: v if where is None else v[where] for k, v in known.items()}
+            size = len(u) if where is None else int(np.count_nonzero(where))
+            block, level = np.empty((size, len(columns))), np.empty(size)
+            for start in range(0, size, _BLOCK):
+                part = slice(start, start + _BLOCK)
+                values, levels = kernel(parameters, {k: v[part] for k, v in at.items()}, sigma)
+                count = len(block[part])
+                try:
+                    for j, s in enumerate(form.unknowns):
+                        block[part, j] = np.broadcast_to(np.asarray(values[s.name], float), (count,))
+                    level[part] = np.broadcast_to(np.asarray(levels, float), (count,))
+                except (KeyError, TypeError, ValueError) as error:
+                    raise InvalidArgumentError(f"the kernel of {name} must return the values of "
+                                               f"{[s.name for s in form.unknowns]} by name and the level, "
+                                               f"each of {count} instants; got {error!r}") from None
+            return block, level
+
+        named = (chosen or {}).get(name)
+        wanted = 1 if named is None else named
+        block, level = solved(wanted)
+        if named is None and target is not None:
+            other, _ = solved(-1)
+            wanted = self._pick(block[:, 0], other[:, 0], paths, target, first, np.ones(len(u)))
+            if wanted == -1:
+                block, other = other, block
+        root = np.ones(len(u))
+        if named is None and u.shape[1] == 1 and len(u) > 2:  # the other assembly near where they meet
+            near = ~(level >= 0.1)
+            near[1:] |= near[:-1].copy()
+            near[:-1] |= near[1:].copy()
+            other_first = np.full(len(u), np.nan)
+            if near.any():
+                other_first[near] = solved(-wanted, near)[0][:, 0]
+            self._follow(root, block[:, 0], other_first, level, paths, u, first, notes)
+        if (root < 0).any():
+            other, _ = solved(-wanted)
+            block = np.where(root[:, None] > 0, block, other)
+        q[:, columns] = block
+        return (wanted * root).astype(int), level
 
     def _second(self, form, second, q, u, known=None) -> np.ndarray:
         """The block's second unknown from its first (already in ``q``)."""
@@ -303,8 +413,8 @@ class ClosedForms:
         """Swap the root (``root``: +1 the root +√Δ, −1 the other, per instant) where the two assemblies
         meet between instants (a change point): there the other root continues the motion smoothly (a
         secant from the two instants before predicts it), and σ changes."""
-        if u.shape[1] > 1:  # several inputs: no order of neighbours to follow; each instant keeps its σ
-            return
+        if u.shape[1] > 1 or not (level < 0.1).any():  # several inputs: no order of neighbours to follow,
+            return  # each instant keeps its σ; nowhere near each other: the assemblies do not meet
         name, is_angle_ = self.unknowns[first].name, self.unknowns[first] in self._structure["angles"]
         for path in paths:
             for _ in range(64):
@@ -335,13 +445,16 @@ class ClosedForms:
                              "continues on the smooth one (σ swapped there)")
 
     def _continuous(self, q, paths, target) -> None:
-        """Angles unwrapped along each path, the first instant's within π of ``target`` (if any)."""
-        columns = [j for j, s in enumerate(self.unknowns)
-                   if s in self._structure["angles"] and np.isfinite(q[0, j])]
+        """Angles unwrapped along each path, the first instant's within π of ``target`` (in [−π, π]
+        without one)."""
+        angles = [j for j, s in enumerate(self.unknowns) if s in self._structure["angles"]]
+        columns = [j for j in angles if np.isfinite(q[0, j])]
+        if len(columns) < len(angles):  # no first instant to follow from: each in [−π, π]
+            lost = [j for j in angles if j not in columns]
+            q[:, lost] = _unwrap_to(q[:, lost], 0.0)
         if not columns:
             return
-        if target is not None:
-            q[0, columns] = _unwrap_to(q[0, columns], target[columns])
+        q[0, columns] = _unwrap_to(q[0, columns], 0.0 if target is None else target[columns])
         for path in paths:
             ordered = len(path) > 1 and path[0] == 0 and path[-1] == len(path) - 1 \
                 and bool((np.diff(path) == 1).all())
@@ -353,7 +466,10 @@ class ClosedForms:
             if not finite.all():
                 rows, values = path[finite], values[finite]
             # each step within π: whole turns taken off, counted along the path
-            turns = np.cumsum(np.round(np.diff(values, axis=0) / (2 * np.pi)), axis=0)
+            steps = np.diff(values, axis=0)
+            if not (np.abs(steps) > np.pi).any():
+                continue
+            turns = np.cumsum(np.round(steps / (2 * np.pi)), axis=0)
             moved = (turns != 0).any(axis=0)
             for k in np.flatnonzero(moved):
                 kept = values[1:, k] - 2 * np.pi * turns[:, k]

@@ -23,6 +23,16 @@ from .singular import SINGULAR
 class Rates:
     """Velocities and accelerations at known positions, by linear solves block by block."""
 
+    def _unit_rows(self, J: np.ndarray):
+        """J, or J̃ = J with rows and columns divided by their typical sizes where those are extreme (lengths
+        of 1e±50 and beyond, whose determinants would overflow or underflow), and those sizes (or None): the
+        solve is then J̃·(columns·x) = b / rows."""
+        rows, columns = self._scales
+        sizes = np.r_[rows, columns]
+        if ((sizes >= 1e-50) & (sizes <= 1e50)).all():
+            return J, None
+        return J / rows[:, None] / columns[None, :], (rows, columns)
+
     def _block_stacks(self, J: np.ndarray) -> list:
         """Per block of a stack J (N, n, n): its rows, columns, the columns solved before it, its diagonal
         block prepared for solving (:class:`LinearStack`) and the coupling to the earlier columns."""
@@ -78,14 +88,17 @@ class Rates:
         else:
             singular = _broadcast(np.asarray(singular, dtype=bool), shape).ravel()
         any_singular = singular.any()
+        J, unit = self._unit_rows(J)
+        rows, columns = unit or (1.0, 1.0)
         if any_singular:
             J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
         stacks = self._block_stacks(J)
         q_rate = self._solve_blocks(J, sum(F_u[:, :, j] * -u_rate[:, j, None]
-                                           for j in range(u_rate.shape[1])), stacks)
+                                           for j in range(u_rate.shape[1])) / rows, stacks) / columns
         q_acc = None
         if u_acceleration is not None:
-            q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, arrays[3], known), stacks)
+            q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, arrays[3], known) / rows,
+                                       stacks) / columns
             if any_singular:
                 q_acc[singular] = np.nan
             q_acc = q_acc.reshape(shape + q_acc.shape[-1:])
@@ -98,10 +111,12 @@ class Rates:
         """q̇ and q̈ (N, n) at solved positions from (J, F_u) there, NaN where ``singular`` (``known``: the
         cos and sin already computed at q and u, see _compile)."""
         J, F_u = terms
+        J, unit = self._unit_rows(J)
+        rows, columns = unit or (1.0, 1.0)
         if singular.any():
             J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
         stacks = self._block_stacks(J)
-        q_rate = self._solve_blocks(J, np.einsum("nij,nj->ni", F_u, -u_rate), stacks)
-        q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, u_acc, known), stacks)
+        q_rate = self._solve_blocks(J, np.einsum("nij,nj->ni", F_u, -u_rate) / rows, stacks) / columns
+        q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, u_acc, known) / rows, stacks) / columns
         q_rate[singular], q_acc[singular] = np.nan, np.nan
         return q_rate, q_acc, singular

@@ -16,6 +16,14 @@ SINGULAR = 1e-6
 #: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
 NEAR_SINGULAR = 1e-3
 
+def _rms(values: np.ndarray, axis) -> np.ndarray:
+    """Root mean square over ``axis``, computed on values divided by their largest size (no overflow or
+    underflow, at lengths from 1e-300 to 1e300 alike)."""
+    peak = np.abs(values).max(axis=axis, keepdims=True)
+    safe = np.where(peak > 0, peak, 1.0)
+    return (safe * np.sqrt(((values / safe) ** 2).mean(axis=axis, keepdims=True))).squeeze(axis)
+
+
 class Singularity:
     """The one singularity rule: typical sizes at the generic point and σ_min(J̃)."""
 
@@ -50,10 +58,10 @@ class Singularity:
             else:
                 units = self._column_units(J)
                 J = J / units
-                rows = np.sqrt((J * J).mean(axis=(0, 2)))
+                rows = _rms(J, (0, 2))
                 rows = np.where(rows > 0, rows, 1.0)
                 scaled = J / rows[:, None]
-                columns = np.sqrt((scaled * scaled).mean(axis=(0, 1)))
+                columns = _rms(scaled, (0, 1))
                 columns = np.where(columns > 0, columns, 1.0) * units
             self._numeric["scales"] = (rows, columns)
         return self._numeric["scales"]
@@ -68,7 +76,7 @@ class Singularity:
         units = np.ones(len(self.unknowns))
         if not lengths or len(lengths) == len(units):
             return units
-        size = np.sqrt((J * J).mean(axis=0))
+        size = _rms(J, 0)
         i, j = np.nonzero(size > 0)
         fit = np.zeros((len(i), len(units) + 1))
         fit[np.arange(len(i)), i] = 1.0

@@ -30,6 +30,7 @@ from ..newton import (
 )
 from ..planar import scalar_or_array
 from .closed_forms import RESIDUAL
+from .compiled import _BLOCK
 from .declaration import _broadcast, _keyed, _plain
 from .singular import NEAR_SINGULAR, SINGULAR
 
@@ -54,8 +55,10 @@ class Solving:
         steps subdivided and Newton's steps limited, so no instant lands on another assembly).  A sweep of
         one input is followed from its first instant outward, in increasing and in decreasing order of the
         input (the order the values come in does not matter), σ changing only at a change point, where the
-        message names it; with several inputs each instant keeps its σ.  Angles stay within a turn of their
-        neighbours.  Raises, unless
+        message names it; with several inputs, or a σ named by ``assembly``, each instant keeps its σ.
+        Angles: the first instant's in [−π, π] (within π of the guess, given one), each next within a turn
+        of its neighbour; a closed form that every angle solves (the position not determined) counts as
+        singular, not found.  Raises, unless
         ``on_failure="nan"``: ``SingularJacobianError`` (rates asked where J is singular, or a singular
         seed), ``ConvergenceError`` (no root from the guess), ``UnreachableError`` (no assembly).
 
@@ -97,7 +100,9 @@ class Solving:
             raise InvalidGeometryError(f"inputs, rates and accelerations must broadcast to one shape; "
                                        f"got shapes {shapes}") from None
         shape, m = arrays[0].shape, len(self.inputs)
-        u, u_rate, u_acc = (np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in range(3))
+        u = np.stack(arrays[:m], axis=-1).reshape(-1, m)
+        u_rate, u_acc = ((np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in (1, 2))
+                         if rates is not None or accelerations is not None else (None, None))
         if not len(u):  # an empty sweep: an empty motion
             nothing = MappingProxyType({s.name: np.empty(shape) for s in self.unknowns})
             asked = rates is not None or accelerations is not None
@@ -108,6 +113,7 @@ class Solving:
                                                            strict=True))),
                           near_singular=np.empty(shape, bool))
         paths, notes, result, assembly = self._paths(u), [], None, None
+        undetermined = np.zeros(len(u), bool)
         known, at_q = {}, None  # the cos and sin of the inputs, computed once; of q, where q is final
         stuck = np.zeros(len(u), bool)
         with np.errstate(all="ignore"):
@@ -119,14 +125,16 @@ class Solving:
                 if result is not None and not result.converged:
                     notes.append(f"Newton from the guess did not converge at {self._where(u, 0)} "
                                  f"({result.message}); the closed form gave the assembly nearest the guess")
-                q, iterations, sigma, at_q = self._closed(u, paths, target, tol, max_iter, notes, chosen,
-                                                          known)
+                q, iterations, sigma, at_q, undetermined = self._closed(u, paths, target, tol, max_iter,
+                                                                        notes, chosen, known)
+                stuck |= undetermined
                 if shape == () and result is not None:
                     iterations[0] = result.iterations
                 blocks = self._block_of()
                 found = np.isfinite(q).all(axis=1)
-                assembly = {s.name: scalar_or_array(np.where(found, sigma[blocks[s.name]], 0).reshape(shape))
-                            for s in self.unknowns if s.name in blocks}
+                by_block = {block: scalar_or_array(np.where(found, values, 0).astype(np.int8).reshape(shape))
+                            for block, values in sigma.items()}  # one array per block, shared by its unknowns
+                assembly = {s.name: by_block[blocks[s.name]] for s in self.unknowns if s.name in blocks}
                 left = sorted({blocks[name] for name in blocks} - set(chosen)) if chosen else []
                 if left:
                     notes.append("assembly= chose no σ for the block of " + ", ".join(
@@ -161,16 +169,31 @@ class Solving:
             safe = q if converged.all() else np.where(converged[:, None], q, 0.0)
             want_rates = rates is not None or accelerations is not None
             at_q = at_q if at_q is not None and safe is q else dict(known)
-            J, F_u = (self._rate_terms(safe, u, at_q, same_point=True) if want_rates
-                      else (self._J(safe, u, at_q), None))
-            smallest = self._smallest(J)
-            singular = converged & ~(smallest >= SINGULAR) | stuck
-            near = converged & ~(smallest >= NEAR_SINGULAR)
-            if want_rates:
-                q_rate, q_acc, _ = self._rates(safe, u, u_rate, u_acc, singular | ~converged, (J, F_u), at_q)
-        self._notes(notes, converged, singular, near, u)
+            masks = {}
+
+            def singular_and_near(smallest=None):  # the core's rule, once: with the rates, else when read
+                if not masks:
+                    if smallest is None:
+                        with np.errstate(all="ignore"):
+                            smallest = self._smallest(self._J(safe, u, at_q))
+                    masks["singular"] = converged & ~(smallest >= SINGULAR) | stuck
+                    masks["near"] = converged & ~(smallest >= NEAR_SINGULAR)
+                    self._notes(notes, converged, masks["singular"], masks["near"], u, undetermined)
+                return masks
+
+            if want_rates:  # _BLOCK instants at a time: the temporaries stay in the cache, the memory flat
+                q_rate, q_acc, smallest = np.empty(q.shape), np.empty(q.shape), np.empty(len(u))
+                for start in range(0, len(u), _BLOCK):
+                    part = slice(start, start + _BLOCK)
+                    known_part = {key: value[part] for key, value in at_q.items()}
+                    J, F_u = self._rate_terms(safe[part], u[part], known_part, same_point=True)
+                    smallest[part] = self._smallest(J)
+                    bad = ~converged[part] | ~(smallest[part] >= SINGULAR) | stuck[part]
+                    q_rate[part], q_acc[part], _ = self._rates(safe[part], u[part], u_rate[part], u_acc[part],
+                                                               bad, (J, F_u), known_part)
+                singular = singular_and_near(smallest)["singular"]
         if on_failure == "raise":
-            self._report(~converged, singular & want_rates, u, closed, q)
+            self._report(~converged, singular if want_rates else undetermined, u, closed, q, undetermined)
         velocity = acceleration = None
         if want_rates:
             velocity, acceleration = self._by_name(q_rate, shape), self._by_name(q_acc, shape)
@@ -178,31 +201,45 @@ class Solving:
         def shaped(values):
             return scalar_or_array(values.reshape(shape))
 
+        def later(value):  # computed now where the rates needed it, else when first read
+            return value() if masks else Deferred(value)
+
         inputs_used = {s.name: scalar_or_array(a) for s, a in zip(self.inputs, arrays[:m], strict=True)}
         return Motion(position=self._by_name(q, shape), velocity=velocity, acceleration=acceleration,
-                      converged=shaped(converged), singular=shaped(singular), iterations=shaped(iterations),
+                      converged=shaped(converged), iterations=shaped(iterations),
+                      singular=later(lambda: shaped(singular_and_near()["singular"])),
+                      near_singular=later(lambda: shaped(singular_and_near()["near"])),
                       inputs=MappingProxyType(inputs_used), newton=result if shape == () else None,
-                      near_singular=shaped(near), message="; ".join(notes),
+                      message=later(lambda: singular_and_near() and "; ".join(notes)),
                       assembly=None if assembly is None else MappingProxyType(assembly))
 
-    def _notes(self, notes, converged, singular, near, u) -> None:
+    def _notes(self, notes, converged, singular, near, u, undetermined) -> None:
         """The singular and near-singular instants and the limits met, added to ``notes`` in words."""
-        for mask, what in ((singular, f"J is singular (σ_min(J̃) < {SINGULAR:.0e}: a toggle, limit or change "
-                                      "point; the rates are undefined)"),
+        for mask, what in ((singular & ~undetermined, f"J is singular (σ_min(J̃) < {SINGULAR:.0e}: a toggle, "
+                                                      "limit or change point; the rates are undefined)"),
                            (near & ~singular, f"near a singular configuration (σ_min(J̃) < "
                                                f"{NEAR_SINGULAR:.0e}: the rates are large and sensitive)"),
-                           (~converged, "no assembly (beyond a limit position, or not reached)")):
+                           (undetermined, "the position is not determined (every value of a closed form "
+                                          "solves it: a change point)"),
+                           (~converged & ~undetermined, "no assembly (beyond a limit position, or not "
+                                                        "reached)")):
             if mask.any():
                 first = int(np.flatnonzero(mask)[0])
                 notes.append(f"{what} at {self._where(u, first)} ({int(mask.sum())} of {mask.size} instants)")
 
-    def _report(self, bad, singular, u, closed, q) -> None:
+    def _report(self, bad, singular, u, closed, q, undetermined) -> None:
         """Raise the named error of the first bad instant (see :meth:`solve`), naming the loop that failed."""
         if not (bad.any() or singular.any()):
             return
         first = int(np.flatnonzero(bad | singular)[0])
         where = self._where(u, first)
         count = f"({int((bad | singular).sum())} of {bad.size} instants, first at index {first})"
+        if undetermined[first]:
+            loop = self._failing(q, u, first, False)
+            raise SingularJacobianError(f"the position is not determined at {where} {count}{loop}: every "
+                                        "value of the closed form closes the loops there (a change point, "
+                                        "such as a pin on a pivot between two equal links), so neither the "
+                                        "position nor the rates are defined; move the input off it")
         if singular[first]:
             loop = self._failing(q, u, first, True)
             raise SingularJacobianError(f"J is singular at {where} {count}{loop}: the mechanism is at a "

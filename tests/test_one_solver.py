@@ -1,0 +1,190 @@
+"""One solver: a machine's solve is the core's solve of its declaration.  The same Motion to the bit
+from ``FourBar.solve`` and ``FourBar(...).mechanism.solve``; the kernel registered on the declaration
+(the course's closed form, for speed) against the closed form the core derives from the declared loop
+with no kernel; the assembly names against cross products computed here; the core's rules (σ named
+by ``assembly=`` held, a closed form every angle solves reported as not determined, lengths of any
+scale) met by the kernel route and the derived route alike.
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from geometry import fourbar_pins
+
+from course_lib.errors import InvalidArgumentError, SingularJacobianError
+from course_lib.fourbar import ASSEMBLIES, FourBar, _declaration
+from course_lib.motion import Motion
+from course_lib.slider_crank import ASSEMBLIES as SLIDER_ASSEMBLIES
+from course_lib.slider_crank import OffsetSliderCrank
+from course_lib.slider_crank import _declaration as slider_declaration
+
+RNG = np.random.default_rng(2026)
+#: Random linkages: lengths spread over three decades, every Grashof class among them.
+LINKAGES = [FourBar(*lengths) for lengths in np.exp(RNG.uniform(np.log(1e-3), 0.0, (40, 4)))]
+SWEEP = np.r_[np.linspace(-7.0, 7.0, 301), RNG.uniform(-4.0, 4.0, 50)]
+
+
+def derived(linkage: FourBar):
+    """The four-bar's declaration with its lengths and no kernel: the core's own closed form."""
+    return _declaration().with_parameters({"l1": linkage.l1, "l2": linkage.l2, "l3": linkage.l3,
+                                           "l4": linkage.l4})
+
+
+def same_bits(a, b) -> bool:
+    """Equal arrays or numbers, NaN where the other is NaN, to the bit."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and a.dtype == b.dtype and np.array_equal(a, b, equal_nan=a.dtype.kind == "f")
+
+
+def assert_same_motion(machine: Motion, core: Motion) -> None:
+    for field in dataclasses.fields(Motion):
+        mine, theirs = getattr(machine, field.name), getattr(core, field.name)
+        if isinstance(mine, dict) or hasattr(mine, "keys"):
+            assert list(mine) == list(theirs), field.name
+            assert all(same_bits(mine[k], theirs[k]) for k in mine), field.name
+        elif field.name in ("message", "newton"):
+            assert mine == theirs, field.name
+        else:
+            assert same_bits(mine, theirs), field.name
+
+
+@pytest.mark.parametrize("assembly", ["open", "crossed"])
+@pytest.mark.parametrize("linkage", LINKAGES[:12] + [FourBar(0.06, 0.18, 0.12, 0.20), FourBar(1, 1, 1, 1)])
+def test_the_machine_solve_is_its_declaration_solve_to_the_bit(linkage, assembly):
+    for theta2, omega2, alpha2 in ((SWEEP, 10.0, -3.0), (0.7, 2.0, 0.5), (SWEEP[:40], SWEEP[:40], 1.0)):
+        machine = linkage.solve(theta2, omega2, alpha2, assembly=assembly, on_failure="nan")
+        core = linkage.mechanism.solve({"theta2": theta2}, {"theta2": omega2}, {"theta2": alpha2},
+                                       assembly=ASSEMBLIES[assembly], on_failure="nan")
+        assert type(core) is Motion and isinstance(machine, Motion)
+        assert_same_motion(machine, core)
+
+
+@pytest.mark.parametrize("sigma", [+1, -1])
+def test_the_registered_kernel_agrees_with_the_closed_form_the_core_derives(sigma):
+    checked = 0
+    for linkage in LINKAGES:
+        kernel = linkage.mechanism.solve({"theta2": SWEEP}, {"theta2": 10.0}, {"theta2": 5.0},
+                                         assembly={"theta4": sigma}, on_failure="nan")
+        core = derived(linkage).solve({"theta2": SWEEP}, {"theta2": 10.0}, {"theta2": 5.0},
+                                      assembly={"theta4": sigma}, on_failure="nan")
+        assert np.array_equal(kernel.converged, core.converged)
+        found = np.asarray(kernel.converged) & ~np.asarray(core.near_singular)
+        for name in ("theta3", "theta4"):
+            assert np.abs(kernel.position[name] - core.position[name])[kernel.converged].max(
+                initial=0.0) < 1e-12
+            scale = 1.0 + np.abs(core.acceleration[name][found])
+            assert (np.abs(kernel.velocity[name] - core.velocity[name])[found] / scale).max(initial=0) < 1e-9
+            assert (np.abs(kernel.acceleration[name] - core.acceleration[name])[found] / scale).max(
+                initial=0.0) < 1e-9
+        assert same_bits(kernel.assembly["theta4"], core.assembly["theta4"])
+        checked += int(np.count_nonzero(found))
+    assert checked > 500  # instants away from toggles where both routes close the loop: not a vacuous test
+
+
+@pytest.mark.parametrize(("assembly", "sigma"), [("open", +1), ("crossed", -1)])
+def test_the_assembly_names_are_the_side_of_b_a_cross_product_decides(assembly, sigma):
+    # open: B left of the directed line A → O4, computed here from two circles and a cross product
+    for linkage in LINKAGES[:20]:
+        motion = linkage.solve(SWEEP, assembly=assembly, on_failure="nan")
+        found = np.asarray(motion.converged)
+        A, B = fourbar_pins(linkage.l1, linkage.l2, linkage.l3, linkage.l4, SWEEP[found], assembly)
+        to_O4, to_B = np.array([linkage.l1, 0.0]) - A, B - A
+        cross = to_O4[:, 0] * to_B[:, 1] - to_O4[:, 1] * to_B[:, 0]
+        clear = np.abs(cross) > 1e-9 * linkage.l3 * linkage.l4  # not at a toggle, where B is on the line
+        assert set(np.sign(cross[clear])) <= {sigma}
+        assert set(np.ravel(motion.assembly["theta4"])[found]) <= {sigma} and motion.assembly is not None
+        joints = linkage.mechanism.joints(motion)
+        assert np.abs(joints["B"][found] - B).max(initial=0.0) < 1e-9 * max(linkage.l3, linkage.l4, 1e-3)
+
+
+def test_a_named_assembly_holds_through_a_change_point_a_guess_follows_the_motion():
+    rhombus = FourBar(1, 1, 1, 1)  # A passes O4 at θ2 = 0: a change point
+    theta2 = np.linspace(0.3, 2 * np.pi - 0.3, 60)
+    for assembly, sigma in (("open", 1), ("crossed", -1)):
+        held = rhombus.solve(theta2, assembly=assembly)
+        assert set(np.ravel(held.assembly["theta4"])) == {sigma} and "change point" not in held.message
+    followed = rhombus.mechanism.solve({"theta2": theta2}, guess={"theta3": 0.0, "theta4": 0.3})
+    assert np.abs(np.angle(np.exp(1j * (followed.position["theta4"] - theta2)))).max() < 1e-9  # θ4 = θ2
+
+
+def test_a_closed_form_every_angle_solves_is_not_determined_by_either_route():
+    for mechanism in (FourBar(1, 1, 1, 1).mechanism, derived(FourBar(1, 1, 1, 1))):
+        with pytest.raises(SingularJacobianError, match="not determined at theta2=0.0"):
+            mechanism.solve({"theta2": [0.5, 0.0]})
+        motion = mechanism.solve({"theta2": [0.5, 0.0]}, on_failure="nan")
+        assert motion.converged.tolist() == [True, False] and motion.singular.tolist() == [False, True]
+        assert "not determined" in motion.message
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-50, 1e50, 1e300])
+def test_any_scale_of_the_lengths_gives_the_same_angles_and_rates(scale):
+    # the kernel works in lengths divided by the longest; the derived closed form's discriminant is of
+    # degree four in the lengths, within a double's range from lengths of 1e-50 to 1e50
+    reference = FourBar(0.06, 0.18, 0.12, 0.20).solve(1.0, 10.0, 3.0)
+    scaled = FourBar(0.06 * scale, 0.18 * scale, 0.12 * scale, 0.20 * scale)
+    for mechanism in (scaled.mechanism, derived(scaled))[:1 if abs(np.log10(scale)) > 50 else 2]:
+        motion = mechanism.solve({"theta2": 1.0}, {"theta2": 10.0}, {"theta2": 3.0}, assembly={"theta4": 1})
+        for part in ("position", "velocity", "acceleration"):
+            for name in ("theta3", "theta4"):
+                assert getattr(motion, part)[name] == pytest.approx(getattr(reference, part)[name], rel=1e-12)
+
+
+@pytest.mark.parametrize(("unknown", "kernel", "message"), [
+    ("theta2", lambda p, k, s: None, "unknown must name"),
+    ("theta4", "not callable", "kernel must be a function"),
+])
+def test_a_bad_kernel_registration_is_refused_by_name(unknown, kernel, message):
+    with pytest.raises(InvalidArgumentError, match=message):
+        derived(FourBar(1, 2, 3, 4)).with_kernel(unknown, kernel)
+
+
+def test_a_kernel_that_returns_the_wrong_names_is_named():
+    broken = derived(FourBar(0.06, 0.18, 0.12, 0.20)).with_kernel("theta3", lambda p, k, s: ({"x": 1.0}, 1.0))
+    with pytest.raises(InvalidArgumentError, match="kernel of theta4 must return the values of"):
+        broken.solve({"theta2": 0.3})
+
+
+# ------------------------------------------------------------------ the offset slider-crank
+SLIDERS = [OffsetSliderCrank(*lengths) for lengths in
+           np.c_[np.exp(RNG.uniform(np.log(1e-2), 0.0, (12, 2))), RNG.uniform(-0.5, 0.5, 12)]]
+
+
+def derived_slider(slider: OffsetSliderCrank):
+    return slider_declaration().with_parameters({"crank": slider.crank, "rod": slider.rod,
+                                                 "offset": slider.offset})
+
+
+@pytest.mark.parametrize("assembly", ["left", "right"])
+@pytest.mark.parametrize("slider", SLIDERS[:6] + [OffsetSliderCrank(0.075, 0.170, 0.045)])
+def test_the_slider_crank_solve_is_its_declaration_solve_to_the_bit(slider, assembly):
+    for theta2, omega2, alpha2 in ((SWEEP, 10.0, -3.0), (0.7, 2.0, 0.5)):
+        machine = slider.solve(theta2, omega2, alpha2, assembly=assembly, on_failure="nan")
+        core = slider.mechanism.solve({"theta2": theta2}, {"theta2": omega2}, {"theta2": alpha2},
+                                      assembly=SLIDER_ASSEMBLIES[assembly], on_failure="nan")
+        assert_same_motion(machine, core)
+
+
+@pytest.mark.parametrize(("assembly", "side"), [("left", -1), ("right", +1)])
+def test_the_slider_kernel_agrees_with_the_derived_closed_form_and_its_side_with_circles(assembly, side):
+    checked = 0
+    for slider in SLIDERS:
+        sigma = SLIDER_ASSEMBLIES[assembly]["x"]
+        kernel = slider.mechanism.solve({"theta2": SWEEP}, {"theta2": 10.0}, {"theta2": 5.0},
+                                        assembly={"x": sigma}, on_failure="nan")
+        core = derived_slider(slider).solve({"theta2": SWEEP}, {"theta2": 10.0}, {"theta2": 5.0},
+                                            assembly={"x": sigma}, on_failure="nan")
+        assert np.array_equal(kernel.converged, core.converged)
+        found = np.asarray(kernel.converged) & ~np.asarray(core.near_singular)
+        # C where the circle of radius rod about A meets y = offset, on the named side of A, computed here
+        ax, ay = slider.crank * np.cos(SWEEP), slider.crank * np.sin(SWEEP)
+        run = side * np.sqrt(slider.rod**2 - (slider.offset - ay) ** 2)
+        assert np.abs(kernel.position["x"] - (ax + run))[found].max(initial=0.0) < 1e-12
+        for name in ("theta3", "x"):
+            assert np.abs(kernel.position[name] - core.position[name])[kernel.converged].max(
+                initial=0.0) < 1e-12
+            for part in ("velocity", "acceleration"):
+                mine, theirs = getattr(kernel, part)[name][found], getattr(core, part)[name][found]
+                assert (np.abs(mine - theirs) / (1.0 + np.abs(theirs))).max(initial=0.0) < 1e-9
+        checked += int(np.count_nonzero(found))
+    assert checked > 500

@@ -295,10 +295,11 @@ class FiveBar:
         return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
 
     def _configuration(self, theta1, theta4, x3, y3) -> ForwardResult:
-        """A checked configuration (no solving) as a :class:`ForwardResult`, to draw or take joints of."""
+        """A checked configuration (no solving) as a :class:`ForwardResult`, to draw or take joints of:
+        ``converged`` where it closes the loops (any other is drawn as given, P3 off its distal links)."""
         theta1, theta4, x3, y3 = _configuration(theta1, theta4, x3, y3)
-        return self.mechanism._motion({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
-                                      converged=True, singular=False, near_singular=False, kind=ForwardResult)
+        return self.mechanism.motion_of({"x3": x3, "y3": y3}, {"theta1": theta1, "theta4": theta4},
+                                        singular=False, near_singular=False, kind=ForwardResult)
 
     def constraints(self, theta1, theta4, x3, y3) -> np.ndarray:
         """EcL2, EcL3: |P3 − P2|² − l2² and |P3 − P4|² − l3² (m²), shape (..., 2); zero when assembled.

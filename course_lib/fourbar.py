@@ -118,10 +118,11 @@ def _declaration(coupler: bool = False):
 @dataclass(frozen=True)
 class FourBarSolution(Unpacks, Motion):
     """A :class:`~course_lib.mechanism.Motion` of :attr:`FourBar.mechanism` (position θ3, θ4; velocity;
-    acceleration; input θ2) that also names its values as the course does: θ3, θ4 (rad, in (−π, π]),
-    ω3, ω4 (rad/s), α3, α4 (rad/s²) of coupler and rocker.  ``unreachable`` True where the loop cannot
-    close (``converged`` False there), ``singular`` where rates or position are undefined (NaN entries,
-    with ``on_failure="nan"``), ``near_singular`` by the core's rule.  Unpacks as the six values;
+    acceleration; input θ2) that also names its values as the course does: θ3, θ4 (rad; the first
+    instant's in [−π, π], each next within a turn of its neighbour), ω3, ω4 (rad/s), α3, α4 (rad/s²) of
+    coupler and rocker.  ``unreachable`` True where the loop cannot close (``converged`` False there),
+    ``singular`` where J is singular by the core's rule or the position is not determined (NaN rates while
+    moving, with ``on_failure="nan"``), ``near_singular`` by the core's rule.  Unpacks as the six values;
     ``np.array`` gives (6, ...).
 
     >>> solution = FourBar(0.06, 0.18, 0.12, 0.20).solve([0.0, 1.0], omega2=10.0)

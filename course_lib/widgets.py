@@ -822,12 +822,7 @@ def fivebar_explorer(
                 "Move a slider a little."))
         measures = robot.singularity_measures(theta1, theta4, x3, y3)
         parallel = float(measures.parallel)
-        # the core's one rule, σ_min(J̃) < NEAR_SINGULAR: of ∂(loops)/∂(X3, Y3) (the forward declaration:
-        # parallel) and of ∂(loops)/∂(θ1, θ4) (the inverse one: serial)
-        from .mechanism.singular import NEAR_SINGULAR
-
-        near_parallel = robot.mechanism.smallest_singular_value([x3, y3], [theta1, theta4]) < NEAR_SINGULAR
-        near_serial = robot.inverse_mechanism.smallest_singular_value([theta1, theta4], [x3, y3]) < NEAR_SINGULAR
+        serial = min(abs(float(measures.serial_leg1)), abs(float(measures.serial_leg4)))
         head = (f"inverse, modes (σ1, σ2) = ({modes[0]:+d}, {modes[1]:+d}): "
                 f"P3 = ({_num(x3, 4)}, {_num(y3, 4)}) m  →  θ1 = {_num(np.degrees(theta1), 2)}°, "
                 f"θ4 = {_num(np.degrees(theta4), 2)}°" if inverse
@@ -837,8 +832,8 @@ def fivebar_explorer(
             head,
             f"singularity measures (0 = singular): leg 1 {_num(measures.serial_leg1, 3)}, "
             f"leg 4 {_num(measures.serial_leg4, 3)}, parallel {_num(parallel, 3)}",
-            *["near a parallel (type-2) singularity: l2 and l3 almost aligned"] * bool(near_parallel),
-            *["near a serial (type-1) singularity: a leg almost stretched or folded"] * bool(near_serial)),
+            *["near a parallel (type-2) singularity: l2 and l3 almost aligned"] * (abs(parallel) < 0.05),
+            *["near a serial (type-1) singularity: a leg almost stretched or folded"] * (serial < 0.05)),
             end_effector=([x3], [y3]))
 
     return build_explorer(ExplorerSpec(

@@ -110,7 +110,7 @@ def test_a_named_assembly_holds_through_a_change_point_a_guess_follows_the_motio
 
 def test_a_closed_form_every_angle_solves_is_not_determined_by_either_route():
     for mechanism in (FourBar(1, 1, 1, 1).mechanism, derived(FourBar(1, 1, 1, 1))):
-        with pytest.raises(SingularJacobianError, match="not determined at theta2=0.0"):
+        with pytest.raises(SingularJacobianError, match=r"not determined at theta2=0\b"):
             mechanism.solve({"theta2": [0.5, 0.0]})
         motion = mechanism.solve({"theta2": [0.5, 0.0]}, on_failure="nan")
         assert motion.converged.tolist() == [True, False] and motion.singular.tolist() == [False, True]

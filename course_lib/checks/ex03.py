@@ -26,7 +26,7 @@ def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -
         (this.theta3, "that is the coupler angle θ3; the task asks for the rocker angle θ4."),
         (that.theta3, f"that is θ3 of the {other} branch; the task asks for the rocker angle θ4 of the "
                       f"{branch} branch."),
-    ], "recheck the half-angle coefficients A, B, C and which root (±√) you took.")
+    ], "recheck the half-angle coefficients (a, b, c) and which root (±√) you took.")
 
 
 @reads()
@@ -89,7 +89,7 @@ def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
     """Exercise 03, task 4: the largest crank angle (rad, to 4 decimals) of a non-Grashof ``linkage`` and
     whether coupler and rocker lie "extended" or "folded" there.
 
-    >>> check_toggle_angle((float(np.arccos(0.2)), "extended"), FourBar(0.14, 0.12, 0.10, 0.20)).ok
+    >>> check_toggle_angle((float(np.arccos(0.235)), "extended"), FourBar(0.15, 0.10, 0.12, 0.20)).ok
     True
     """
     value, how = answer
@@ -102,6 +102,6 @@ def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
     ], "at the limit |AO4| = l3 + l4 or |l3 − l4|; use the law of cosines "
        "|AO4|² = l1² + l2² − 2 l1 l2 cos θ2.", angles=True)
     return angle if not angle.ok else first([
-        (how != state, "the angle is right, but look at the picture there: which of l3 + l4 and |l3 − l4| "
-                       "binds?"),
+        (how != state, "the angle is right, but not how the links lie there: draw the linkage at that angle "
+                       "(draw(linkage, linkage.solve(θ2))) — which of l3 + l4 and |l3 − l4| does |AO4| equal?"),
     ], "Correct: coupler and rocker are collinear there (a toggle), det J = 0, and the crank must turn back.")

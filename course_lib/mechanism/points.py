@@ -11,10 +11,12 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..errors import (
+    InvalidArgumentError,
     InvalidGeometryError,
     require_finite,
 )
 from ..motion import Motion
+from .closed_forms import RESIDUAL
 from .compiled import _vector
 from .declaration import _derived, _keyed
 from .singular import NEAR_SINGULAR
@@ -82,10 +84,11 @@ class Points:
 
     def point_motion(self, motion: Motion, rates: Mapping | None = None, accelerations: Mapping | None = None
                      ) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
-        """Position, velocity and acceleration (each (..., 2), SI) of every declared point along ``motion``
-        (solved with ``rates``, and ``accelerations`` if any: pass the same input rates here; missing ones
-        are 0), from the point's declaration differentiated in time — ω k̂ × r and α k̂ × r − ω² r, Coriolis
-        terms included, without writing any of them by hand.
+        """Position, velocity and acceleration (each (..., 2), SI) of every declared point along ``motion``,
+        from the point's declaration differentiated in time — ω k̂ × r and α k̂ × r − ω² r, Coriolis
+        terms included, without writing any of them by hand.  The inputs' ``rates`` and ``accelerations``
+        are the ones the motion was solved with: read from it when left out (the loops' rate equations
+        solved for them), refused by name when given otherwise.
 
         >>> th, x = sp.symbols("theta x")
         >>> A = sp.Matrix([sp.cos(th), sp.sin(th)])
@@ -109,9 +112,59 @@ class Points:
         for argument, values in zip(("rates", "accelerations"), given, strict=True):
             inputs.append(np.stack([require_finite(f"{argument}[{s.name}]", values.get(s.name, 0.0)) * ones
                                     for s in self.inputs], axis=-1))
+        stages = {"rates": rates is None}
+        if motion.acceleration is not None:  # else q̈ is taken as 0 with the given (or zero) accelerations
+            stages["accelerations"] = accelerations is None
+        inputs[1], inputs[2] = self._input_rates(arrays, inputs, stages)
         terms = self._point_rate_fn(self._values, *arrays, *inputs)
         return {name: (positions[name], _vector(terms, 4 * k, 2), _vector(terms, 4 * k + 2, 2))
                 for k, name in enumerate(self.points)}
+
+    def _input_rates(self, arrays, inputs, stages: dict[str, bool]):
+        """The inputs' rates and accelerations that go with the motion's own: read from it where not given
+        (J·q̇ + F_u·u̇ = 0 and J·q̈ + F_u·ü = −(the rest of d²F/dt²), solved for u̇, ü in least squares), and
+        where given, checked to be the ones it was solved with (else the named error: a point would move
+        with other rates than the links that carry it); ``stages``: "rates", "accelerations" → find (True)
+        or check (False)."""
+        (q, q_rate, q_acc), (u, u_rate, u_acc) = arrays, inputs
+        shape = np.broadcast_shapes(q.shape[:-1], u.shape[:-1], u_rate.shape[:-1])
+        flat = [np.broadcast_to(a, shape + a.shape[-1:]).reshape(-1, a.shape[-1])
+                for a in (q, q_rate, q_acc, u, u_rate, u_acc)]
+        q, q_rate, q_acc, u, u_rate, u_acc = flat
+        found = np.isfinite(q).all(axis=1) & np.isfinite(q_rate).all(axis=1) & np.isfinite(u).all(axis=1)
+        with np.errstate(all="ignore"):
+            J, F_u = self._rate_terms(np.where(found[:, None], q, 0.0), np.where(found[:, None], u, 0.0))
+            inverse = np.linalg.pinv(F_u)
+            for stage, find in stages.items():  # "rates" first: the accelerations' terms need u̇
+                if stage == "rates":
+                    carried = -np.einsum("nij,nj->ni", J, q_rate)  # = F_u·u̇
+                    terms, known = np.abs(carried), u_rate
+                else:
+                    rest = self._rhs(np.where(found[:, None], q, 0.0), q_rate, u, u_rate, np.zeros_like(u_acc))
+                    moved = np.einsum("nij,nj->ni", J, q_acc)
+                    carried = rest - moved  # = F_u·ü
+                    terms, known = np.abs(rest) + np.abs(moved), u_acc
+                if find:
+                    value = np.einsum("nij,nj->ni", inverse, carried)
+                    known = np.where(found[:, None], value, known)
+                    if stage == "rates":
+                        u_rate = known
+                    else:
+                        u_acc = known
+                    continue
+                gap = np.abs(np.einsum("nij,nj->ni", F_u, known) - carried).max(axis=1)
+                size = (terms + np.abs(np.einsum("nij,nj->ni", F_u, known))).max(axis=1)
+                # a mismatch within 1e-8 of the terms, or below 1e-12 of an input's unit (rates near 0)
+                bad = found & ~(gap <= 1e-8 * size + 1e-12 * np.abs(F_u).max(axis=(1, 2)))
+                if bad.any():
+                    k = int(np.flatnonzero(bad)[0])
+                    value = np.einsum("nij,nj->ni", inverse, carried)[k]
+                    names = ", ".join(f"{s.name}: {v:.6g}" for s, v in zip(self.inputs, value, strict=True))
+                    raise InvalidArgumentError(
+                        f"{stage} are not the ones this motion was solved with (at {self._where(u, k)} its "
+                        f"{'velocities' if stage == 'rates' else 'accelerations'} go with {{{names}}}): "
+                        f"pass those, or leave {stage} out to read them from the motion")
+        return u_rate.reshape(shape + u_rate.shape[-1:]), u_acc.reshape(shape + u_acc.shape[-1:])
 
     def joints(self, motion: Motion) -> dict[str, np.ndarray]:
         """Coordinates (m) of the declared ``points`` along a motion: name → array (..., 2).
@@ -134,5 +187,28 @@ class Points:
                                        f"inputs {names[1]}); got {motion!r}"[:400])
         q = np.stack(np.broadcast_arrays(*(values[s.name] for s in self.unknowns)), axis=-1)
         u = np.stack(np.broadcast_arrays(*(values[s.name] for s in self.inputs)), axis=-1)
+        self._check_closes(motion, q, u)
         xy = self._point_fn(self._values, q, u)
         return {name: _vector(xy, 2 * k, 2) for k, name in enumerate(self.points)}
+
+    def _check_closes(self, motion: Motion, q: np.ndarray, u: np.ndarray) -> None:
+        """A motion of these loops with these numbers: where it says it converged, its values close the
+        loops (each row within RESIDUAL of its typical size), else the named error — a motion of another
+        machine, or of the same loops with other lengths, is not drawn with this one's."""
+        leading = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
+        said = np.broadcast_to(np.asarray(motion.converged, bool), leading) if np.ndim(motion.converged) \
+            <= len(leading) else np.zeros(leading, bool)
+        q, u = np.broadcast_to(q, leading + q.shape[-1:]), np.broadcast_to(u, leading + u.shape[-1:])
+        said = said & np.isfinite(q).all(axis=-1) & np.isfinite(u).all(axis=-1)
+        if not said.any():
+            return
+        with np.errstate(all="ignore"):
+            residual = (np.abs(self._F(q[said], u[said])) / self._scales[0]).max(axis=-1)
+        if not (residual <= RESIDUAL).all():
+            k = int(np.flatnonzero(~(residual <= RESIDUAL))[0])
+            where = self._where(u[said], k)
+            numbers = ", ".join(f"{s.name}={v:.6g}" for s, v in self.parameters.items())
+            raise InvalidArgumentError(
+                f"motion does not close these loops at {where} (residual {residual[k]:.2g} of a row's typical "
+                f"size): it was solved for another mechanism or other numbers; solve this one ({numbers}) "
+                "and pass its motion")

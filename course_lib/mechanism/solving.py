@@ -215,10 +215,12 @@ class Solving:
 
     def _notes(self, notes, converged, singular, near, u, undetermined) -> None:
         """The singular and near-singular instants and the limits met, added to ``notes`` in words."""
-        for mask, what in ((singular & ~undetermined, f"J is singular (σ_min(J̃) < {SINGULAR:.0e}: a toggle, "
-                                                      "limit or change point; the rates are undefined)"),
-                           (near & ~singular, f"near a singular configuration (σ_min(J̃) < "
-                                               f"{NEAR_SINGULAR:.0e}: the rates are large and sensitive)"),
+        for mask, what in ((singular & ~undetermined, f"J is singular (its smallest singular value, scaled, "
+                                                      f"below {SINGULAR:.0e}: a toggle, limit or change "
+                                                      "point; the rates are undefined)"),
+                           (near & ~singular, f"near a singular configuration (J's smallest singular value, "
+                                               f"scaled, below {NEAR_SINGULAR:.0e}: the rates are large and "
+                                               "sensitive)"),
                            (undetermined, "the position is not determined (every value of a closed form "
                                           "solves it: a change point)"),
                            (~converged & ~undetermined, "no assembly (beyond a limit position, or not "
@@ -233,27 +235,30 @@ class Solving:
             return
         first = int(np.flatnonzero(bad | singular)[0])
         where = self._where(u, first)
-        count = f"({int((bad | singular).sum())} of {bad.size} instants, first at index {first})"
+        count = f" ({int((bad | singular).sum())} of {bad.size} instants, first at index {first})" \
+            if bad.size > 1 else ""
+        loops = "loops" if len(self._loops) > 1 else "loop"
         if undetermined[first]:
             loop = self._failing(q, u, first, False)
-            raise SingularJacobianError(f"the position is not determined at {where} {count}{loop}: every "
-                                        "value of the closed form closes the loops there (a change point, "
+            raise SingularJacobianError(f"the position is not determined at {where}{count}{loop}: every "
+                                        f"value of the closed form closes the {loops} there (a change point, "
                                         "such as a pin on a pivot between two equal links), so neither the "
                                         "position nor the rates are defined; move the input off it")
         if singular[first]:
             loop = self._failing(q, u, first, True)
-            raise SingularJacobianError(f"J is singular at {where} {count}{loop}: the mechanism is at a "
-                                        f"toggle, limit or change point (σ_min(J̃) < {SINGULAR:.0e}), where "
-                                        "the rates are undefined; ask for positions only, or move the input "
-                                        "off it")
+            raise SingularJacobianError(f"J is singular at {where}{count}{loop}: the mechanism is at a "
+                                        f"toggle, limit or change point (J's smallest singular value, scaled, "
+                                        f"below {SINGULAR:.0e}), where the rates are undefined; ask for "
+                                        "positions only, or move the input off it")
         loop = self._failing(q, u, first, False)
         if closed:
-            raise UnreachableError(f"the loops cannot be closed at {where} {count}{loop}: the closed form "
-                                   "has no real root there (B² − 4AC < 0), so no assembly exists", mask=bad)
+            raise UnreachableError(f"the {loops} cannot be closed at {where}{count}{loop}: the closed "
+                                   "form's quadratic has no real root there (b² − 4ac < 0), so no assembly "
+                                   "exists", mask=bad)
         if first == 0:
-            raise ConvergenceError(f"Newton did not converge at {where} from the guess {count}{loop}: "
+            raise ConvergenceError(f"Newton did not converge at {where} from the guess{count}{loop}: "
                                    "no assembly near the guess, or none at all")
-        raise UnreachableError(f"the loops cannot be closed at {where} {count}{loop}, continuing from the "
+        raise UnreachableError(f"the {loops} cannot be closed at {where}{count}{loop}, continuing from the "
                                "previous instant: the mechanism cannot follow the input there", mask=bad)
 
     def _failing(self, q, u, k, singular) -> str:
@@ -281,8 +286,8 @@ class Solving:
                     residual = np.abs(self._F(q[near:near + 1], u[k:k + 1])[0]) / scale_rows
                     rows = np.flatnonzero(residual >= 0.5 * residual.max())
         loops = sorted({rows_of[int(r)] for r in rows})
-        if not loops or len(loops) == len(self._loops) == 1:
-            return "" if not loops else f", in loops[{loops[0]}]"
+        if not loops or len(self._loops) == 1:  # one loop: nothing to name
+            return ""
         return ", in " + " and ".join(f"loops[{i}]" for i in loops)
 
     def motion_of(self, position: Mapping, inputs: Mapping, velocity: Mapping | None = None,

@@ -102,6 +102,7 @@ def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
     ], "at the limit |AO4| = l3 + l4 or |l3 − l4|; use the law of cosines "
        "|AO4|² = l1² + l2² − 2 l1 l2 cos θ2.", angles=True)
     return angle if not angle.ok else first([
-        (how != state, "the angle is right, but not how the links lie there: draw the linkage at that angle "
-                       "(draw(linkage, linkage.solve(θ2))) — which of l3 + l4 and |l3 − l4| does |AO4| equal?"),
+        (how != state, "the angle is right, but not how the links lie there: draw the linkage at that "
+                       "angle (draw(linkage, linkage.solve(θ2))) — which of l3 + l4 and |l3 − l4| does |AO4| "
+                       "equal?"),
     ], "Correct: coupler and rocker are collinear there (a toggle), det J = 0, and the crank must turn back.")

@@ -140,7 +140,8 @@ class Points:
                     carried = -np.einsum("nij,nj->ni", J, q_rate)  # = F_u·u̇
                     terms, known = np.abs(carried), u_rate
                 else:
-                    rest = self._rhs(np.where(found[:, None], q, 0.0), q_rate, u, u_rate, np.zeros_like(u_acc))
+                    at = np.where(found[:, None], q, 0.0)
+                    rest = self._rhs(at, q_rate, u, u_rate, np.zeros_like(u_acc))
                     moved = np.einsum("nij,nj->ni", J, q_acc)
                     carried = rest - moved  # = F_u·ü
                     terms, known = np.abs(rest) + np.abs(moved), u_acc
@@ -209,6 +210,6 @@ class Points:
             where = self._where(u[said], k)
             numbers = ", ".join(f"{s.name}={v:.6g}" for s, v in self.parameters.items())
             raise InvalidArgumentError(
-                f"motion does not close these loops at {where} (residual {residual[k]:.2g} of a row's typical "
-                f"size): it was solved for another mechanism or other numbers; solve this one ({numbers}) "
-                "and pass its motion")
+                f"motion does not close these loops at {where} (residual {residual[k]:.2g} of a row's "
+                f"typical size): it was solved for another mechanism or other numbers; solve this one "
+                f"({numbers}) and pass its motion")

@@ -247,9 +247,9 @@ class Solving:
         if singular[first]:
             loop = self._failing(q, u, first, True)
             raise SingularJacobianError(f"J is singular at {where}{count}{loop}: the mechanism is at a "
-                                        f"toggle, limit or change point (J's smallest singular value, scaled, "
-                                        f"below {SINGULAR:.0e}), where the rates are undefined; ask for "
-                                        "positions only, or move the input off it")
+                                        "toggle, limit or change point (J's smallest singular value, "
+                                        f"scaled, below {SINGULAR:.0e}), where the rates are undefined; ask "
+                                        "for positions only, or move the input off it")
         loop = self._failing(q, u, first, False)
         if closed:
             raise UnreachableError(f"the {loops} cannot be closed at {where}{count}{loop}: the closed "

@@ -1,6 +1,8 @@
 """Four-bar position + velocity + acceleration for 10⁶ crank angles, three ways.
 
-1. ``FourBar.solve``: the vectorized closed form (half-angle quadratic, Cramer's rule for the rates).
+1. ``FourBar.solve``: the core's solve of the four-bar's declaration, its block solved by the course's
+   vectorized closed form (the half-angle quadratic, registered as the block's kernel), the rates by the
+   core's linear solves of the declared loop.
 2. ``newton_batch`` on the two loop equations for all points at once (seed: the middle of the open
    branch's range), F and J from one evaluation of the declared loop with θ2's cos and sin computed
    once (``Mechanism.newton_function``), each step a 2×2 Cramer solve; then the rates in one linear

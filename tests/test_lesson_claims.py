@@ -5,6 +5,7 @@ import re
 
 import numpy as np
 import pytest
+from geometry import fourbar_pins
 
 from course_lib.fivebar import WORKING_MODES, FiveBar
 from course_lib.fourbar import FourBar
@@ -253,3 +254,15 @@ def test_fivebar_stretched_leg_gains_force_loses_velocity_and_hides_from_the_con
     condition = np.linalg.cond(robot.velocity_jacobian(centre.theta1, centre.theta4, 0.0, y))
     rates = robot.crank_rates(centre.theta1, centre.theta4, 0.0, y, 0.0, 0.05)
     assert condition.max() < 6.17 and abs(condition[-1] - 6.16) < 0.005 and np.abs(rates[-2]).min() > 85.0
+
+
+def test_lesson02_both_crank_angles_for_a_rocker_at_100_degrees_are_on_the_open_assembly():
+    # B = O4 + l4(cos 100°, sin 100°) fixed; A = l2(cos θ2, sin θ2) lies l3 from B: two θ2 per turn (law of
+    # cosines about O2), and at each the open assembly (B left of A → O4, two circles) puts B back at 100°
+    l1, l2, l3, l4 = 0.20, 0.06, 0.18, 0.12
+    B = np.array([l1 + l4 * np.cos(np.radians(100.0)), l4 * np.sin(np.radians(100.0))])
+    spread = np.arccos((B @ B + l2**2 - l3**2) / (2 * l2 * np.hypot(*B)))
+    roots = np.arctan2(B[1], B[0]) + np.array([1.0, -1.0]) * spread
+    np.testing.assert_allclose(roots, [1.419225, -0.253024], atol=5e-7)
+    A, pin = fourbar_pins(l1, l2, l3, l4, roots, "open")
+    np.testing.assert_allclose(pin, [B, B], atol=1e-12)

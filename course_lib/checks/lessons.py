@@ -35,7 +35,7 @@ def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Fee
         (lambda v: any(in_degrees(v, root, DECIMALS) for root in inside),
          "that is the right angle in degrees; newton and course_lib work in radians."),
         (outside, "that angle closes the loop, but it is outside (0, π): start Newton from a seed in that "
-                  "range (the other root is the other assembly)."),
+                  "range (the other root is the rocker's second pass through that angle in the same turn)."),
     ], "at that θ2 the distance |B − A| differs from l3. A lies on the crank circle (radius l2 about O2) and "
        "on the circle of radius l3 about B: solve |B − A(θ2)| − l3 = 0 for θ2 with B at the given θ4, e.g. "
        "by Newton from a seed in (0, π).", angles=True)

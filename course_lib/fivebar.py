@@ -241,16 +241,6 @@ class FiveBar:
         """
         return self._cores["forward"]
 
-    @property
-    def inverse_mechanism(self):
-        """The same loops with inputs and unknowns swapped (unknowns θ1, θ4; inputs X3, Y3): the declaration
-        :meth:`inverse` solves, whose J is singular at a serial (type-1) singularity.
-
-        >>> [s.name for s in FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).inverse_mechanism.unknowns]
-        ['theta1', 'theta4']
-        """
-        return self._cores["inverse"]
-
     def motion(self, theta1, theta4, mode: int = 1, omega1=0.0, omega4=0.0, alpha1=0.0, alpha4=0.0, *,
                on_failure: str | None = None):
         """:meth:`forward` with the rates: position X3, Y3 with the velocity and acceleration of the end

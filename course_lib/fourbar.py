@@ -38,8 +38,6 @@ ASSEMBLIES = {"open": {"theta4": +1}, "crossed": {"theta4": -1}}
 COINCIDENT = 1e-14
 #: A toggle angle this close (rad) to π or 0 is a full turn's change point (rounding), not a limit.
 TOGGLE_TOL = 1e-7
-#: A discriminant below −(this)·(B² + (A − C)²) cannot close; above, it is rounding and counts as 0.
-DISCRIMINANT_TOL = 1e-12
 
 
 def _finite(name: str, value, unit: str):
@@ -71,8 +69,9 @@ def _kernel(parameters, known, sigma: int):
     B = -4 * l2 * l4 * sin2
     C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
     discriminant, scale = B * B - 4 * A * C, (A - C) * (A - C) + B * B  # scale = 16 l4² |AO4|²
-    # below −(tolerance)·scale the loop cannot close, above it is rounding
-    lost = discriminant < -DISCRIMINANT_TOL * scale
+    from .mechanism.closed_forms import LEVEL  # the core's rounding rule (loaded: the core is solving)
+
+    lost = discriminant < -LEVEL * scale  # below −LEVEL·scale the loop cannot close; above, rounding
     anywhere = np.zeros(np.shape(theta2), bool)
     if abs(l3 - l4) < COINCIDENT:  # A on O4 with coupler = rocker: B anywhere on a circle
         anywhere = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2)) < COINCIDENT

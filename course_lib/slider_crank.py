@@ -44,7 +44,9 @@ def _kernel(parameters, known, sigma: int):
     theta2 = known["theta2"]
     height = offset - crank * np.sin(theta2)
     level = 1.0 - (height / rod) ** 2
-    run = np.sqrt(np.where(level < -1e-12, np.nan, rod * rod * np.maximum(level, 0.0)))
+    from .mechanism.closed_forms import LEVEL  # the core's rounding rule (loaded: the core is solving)
+
+    run = np.sqrt(np.where(level < -LEVEL, np.nan, rod * rod * np.maximum(level, 0.0)))
     run = -run if sigma > 0 else run
     return {"theta3": np.arctan2(height, run), "x": crank * np.cos(theta2) + run}, level
 

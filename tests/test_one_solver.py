@@ -182,3 +182,30 @@ def test_the_slider_kernel_agrees_with_the_derived_closed_form_and_its_side_with
         assert np.abs(kernel.position["x"] - (ax + run))[found].max(initial=0.0) < 1e-12
         checked += int(np.count_nonzero(found))
     assert checked > 500
+
+
+# ------------------------------------------------------------ a motion is used only with its own mechanism
+def test_another_machines_motion_is_refused_by_name_where_it_would_be_drawn_with_these_lengths():
+    desk, other = FourBar(0.06, 0.18, 0.12, 0.20), FourBar(0.1, 0.3, 0.2, 0.35)
+    with pytest.raises(InvalidArgumentError, match="does not close these loops"):
+        desk.mechanism.joints(other.solve(0.5))
+    # the same loops with a coupler point declared: the same lengths, so drawn
+    P = desk.with_coupler_point(0.09, 0.0).joints(desk.solve(0.5))["P"]
+    A, B = fourbar_pins(0.20, 0.06, 0.18, 0.12, 0.5, "open")
+    np.testing.assert_allclose(P, A + 0.5 * (B - A), atol=1e-12)  # p = l3/2, δ = 0: the coupler's middle
+
+
+def test_point_motion_reads_the_input_rates_from_the_motion_and_refuses_others():
+    desk = FourBar(0.06, 0.18, 0.12, 0.20)
+    theta2, omega2, alpha2 = np.linspace(0.0, 6.0, 7), 2.0, 0.5
+    motion = desk.solve(theta2, omega2, alpha2)
+    A, V_A, A_A = desk.mechanism.point_motion(motion)["A"]
+    # the crank pin by hand: V = ω2 k̂ × R2, A = α2 k̂ × R2 − ω2² R2
+    R2 = 0.06 * np.stack([np.cos(theta2), np.sin(theta2)], axis=-1)
+    turned = np.stack([-R2[:, 1], R2[:, 0]], axis=-1)
+    np.testing.assert_allclose(V_A, omega2 * turned, atol=1e-14)
+    np.testing.assert_allclose(A_A, alpha2 * turned - omega2**2 * R2, atol=1e-13)
+    with pytest.raises(InvalidArgumentError, match="rates are not the ones"):
+        desk.mechanism.point_motion(motion, rates={"theta2": 3.0})
+    with pytest.raises(InvalidArgumentError, match="accelerations are not the ones"):
+        desk.mechanism.point_motion(motion, rates={"theta2": omega2}, accelerations={"theta2": 0.0})

@@ -132,39 +132,35 @@ class Points:
                 for a in (q, q_rate, q_acc, u, u_rate, u_acc)]
         q, q_rate, q_acc, u, u_rate, u_acc = flat
         found = np.isfinite(q).all(axis=1) & np.isfinite(q_rate).all(axis=1) & np.isfinite(u).all(axis=1)
+        at, u_at = np.where(found[:, None], q, 0.0), np.where(found[:, None], u, 0.0)
+
+        def settle(stage, carried, terms, given):
+            """``given`` where it is the input's share F_u·x = ``carried`` of the motion (``terms``: the sizes
+            that cancel in it), or where ``stages`` says to read it: x by least squares."""
+            if stages[stage]:
+                return np.where(found[:, None], np.einsum("nij,nj->ni", np.linalg.pinv(F_u), carried), given)
+            share = np.einsum("nij,nj->ni", F_u, given)
+            gap, size = np.abs(share - carried).max(axis=1), (terms + np.abs(share)).max(axis=1)
+            # a mismatch within 1e-8 of the terms, or below 1e-12 of an input's unit (rates near 0)
+            bad = found & ~(gap <= 1e-8 * size + 1e-12 * np.abs(F_u).max(axis=(1, 2)))
+            if bad.any():
+                k = int(np.flatnonzero(bad)[0])
+                value = np.linalg.pinv(F_u[k]) @ carried[k]
+                names = ", ".join(f"{s.name}: {v:.6g}" for s, v in zip(self.inputs, value, strict=True))
+                raise InvalidArgumentError(
+                    f"{stage} are not the ones this motion was solved with (at {self._where(u, k)} its "
+                    f"{'velocities' if stage == 'rates' else 'accelerations'} go with {{{names}}}): "
+                    f"pass those, or leave {stage} out to read them from the motion")
+            return given
+
         with np.errstate(all="ignore"):
-            J, F_u = self._rate_terms(np.where(found[:, None], q, 0.0), np.where(found[:, None], u, 0.0))
-            inverse = np.linalg.pinv(F_u)
-            for stage, find in stages.items():  # "rates" first: the accelerations' terms need u̇
-                if stage == "rates":
-                    carried = -np.einsum("nij,nj->ni", J, q_rate)  # = F_u·u̇
-                    terms, known = np.abs(carried), u_rate
-                else:
-                    at = np.where(found[:, None], q, 0.0)
-                    rest = self._rhs(at, q_rate, u, u_rate, np.zeros_like(u_acc))
-                    moved = np.einsum("nij,nj->ni", J, q_acc)
-                    carried = rest - moved  # = F_u·ü
-                    terms, known = np.abs(rest) + np.abs(moved), u_acc
-                if find:
-                    value = np.einsum("nij,nj->ni", inverse, carried)
-                    known = np.where(found[:, None], value, known)
-                    if stage == "rates":
-                        u_rate = known
-                    else:
-                        u_acc = known
-                    continue
-                gap = np.abs(np.einsum("nij,nj->ni", F_u, known) - carried).max(axis=1)
-                size = (terms + np.abs(np.einsum("nij,nj->ni", F_u, known))).max(axis=1)
-                # a mismatch within 1e-8 of the terms, or below 1e-12 of an input's unit (rates near 0)
-                bad = found & ~(gap <= 1e-8 * size + 1e-12 * np.abs(F_u).max(axis=(1, 2)))
-                if bad.any():
-                    k = int(np.flatnonzero(bad)[0])
-                    value = np.einsum("nij,nj->ni", inverse, carried)[k]
-                    names = ", ".join(f"{s.name}: {v:.6g}" for s, v in zip(self.inputs, value, strict=True))
-                    raise InvalidArgumentError(
-                        f"{stage} are not the ones this motion was solved with (at {self._where(u, k)} its "
-                        f"{'velocities' if stage == 'rates' else 'accelerations'} go with {{{names}}}): "
-                        f"pass those, or leave {stage} out to read them from the motion")
+            J, F_u = self._rate_terms(at, u_at)
+            carried = -np.einsum("nij,nj->ni", J, q_rate)  # = F_u·u̇
+            u_rate = settle("rates", carried, np.abs(carried), u_rate)
+            if "accelerations" in stages:  # with u̇ known: J·q̈ + F_u·ü = −(the rest of d²F/dt²)
+                rest, moved = self._rhs(at, q_rate, u, u_rate, np.zeros_like(u_acc)), np.einsum(
+                    "nij,nj->ni", J, q_acc)
+                u_acc = settle("accelerations", rest - moved, np.abs(rest) + np.abs(moved), u_acc)
         return u_rate.reshape(shape + u_rate.shape[-1:]), u_acc.reshape(shape + u_acc.shape[-1:])
 
     def joints(self, motion: Motion) -> dict[str, np.ndarray]:

@@ -87,36 +87,29 @@ class Rates:
             singular = ~(self._smallest(J) >= SINGULAR)
         else:
             singular = _broadcast(np.asarray(singular, dtype=bool), shape).ravel()
-        any_singular = singular.any()
-        J, unit = self._unit_rows(J)
-        rows, columns = unit or (1.0, 1.0)
-        if any_singular:
-            J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
-        stacks = self._block_stacks(J)
-        q_rate = self._solve_blocks(J, sum(F_u[:, :, j] * -u_rate[:, j, None]
-                                           for j in range(u_rate.shape[1])) / rows, stacks) / columns
-        q_acc = None
-        if u_acceleration is not None:
-            q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, arrays[3], known) / rows,
-                                       stacks) / columns
-            if any_singular:
-                q_acc[singular] = np.nan
-            q_acc = q_acc.reshape(shape + q_acc.shape[-1:])
-        if any_singular:
-            q_rate[singular] = np.nan
+        q_rate, q_acc, _ = self._rates(q, u, u_rate, arrays[3] if u_acceleration is not None else None,
+                                       singular, (J, F_u), known)
+        q_acc = None if q_acc is None else q_acc.reshape(shape + q_acc.shape[-1:])
         return q_rate.reshape(shape + q_rate.shape[-1:]), q_acc, singular.reshape(shape)
 
     def _rates(self, q, u, u_rate, u_acc, singular, terms, known=None
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """q̇ and q̈ (N, n) at solved positions from (J, F_u) there, NaN where ``singular`` (``known``: the
-        cos and sin already computed at q and u, see _compile)."""
+               ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+        """q̇ and q̈ (N, n; q̈ None without ``u_acc``) at solved positions from (J, F_u) there, NaN where
+        ``singular`` (``known``: the cos and sin already computed at q and u, see _compile)."""
         J, F_u = terms
         J, unit = self._unit_rows(J)
         rows, columns = unit or (1.0, 1.0)
-        if singular.any():
+        any_singular = singular.any()
+        if any_singular:
             J = np.where(singular[:, None, None], np.eye(len(self.unknowns)), J)
         stacks = self._block_stacks(J)
         q_rate = self._solve_blocks(J, np.einsum("nij,nj->ni", F_u, -u_rate) / rows, stacks) / columns
-        q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, u_acc, known) / rows, stacks) / columns
-        q_rate[singular], q_acc[singular] = np.nan, np.nan
+        q_acc = None
+        if u_acc is not None:
+            q_acc = self._solve_blocks(J, self._rhs(q, q_rate, u, u_rate, u_acc, known) / rows,
+                                       stacks) / columns
+        if any_singular:
+            q_rate[singular] = np.nan
+            if q_acc is not None:
+                q_acc[singular] = np.nan
         return q_rate, q_acc, singular

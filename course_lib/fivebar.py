@@ -26,9 +26,9 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import Motion
+from .motion import Motion, recast
 from .newton import linear_solver
-from .planar import Unpacks, scalar_or_array, wrap_angle
+from .planar import Unpacks, scalar_or_array
 
 __all__ = ["FORWARD_ASSEMBLIES", "FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures",
            "WorkspaceMap", "WORKING_MODES"]
@@ -37,10 +37,6 @@ __all__ = ["FORWARD_ASSEMBLIES", "FiveBar", "ForwardResult", "InverseResult", "S
 WORKING_MODES = ((1, 1), (-1, 1), (1, -1), (-1, -1))
 #: The lengths (m) the five-bar accepts: fourth powers of them stay far from under- and overflow.
 LENGTH_RANGE = (1e-60, 1e60)
-#: Relative slack for a discriminant that is negative only by rounding (clipped to zero).
-_DISCRIMINANT_SLACK = 1e-12
-#: Points per block of the closed forms over large arrays.
-_BLOCK = 65_536
 
 
 @dataclass(frozen=True)
@@ -133,16 +129,82 @@ def _declaration():
                      ground=("P1", "P5"))
 
 
+def _lengths(parameters) -> tuple[float, ...]:
+    return tuple(parameters[name] for name in ("l1", "l2", "l3", "l4", "l5"))
+
+
+def _forward_kernel(parameters, known, sigma):
+    """The block X3, Y3 in closed form (the kernel registered on the declaration, see
+    :meth:`~course_lib.mechanism.Mechanism.with_kernel`): P3 where the circles of radius l3 about P4 and l2
+    about P2 meet, P3 = P4 + [(d² + l3² − l2²)·e + σ·√Δ·n] / (2d²) with e = P2 − P4, d = |e|, n = e turned
+    +90° and Δ = 4d²l3² − (d² + l3² − l2²)²; σ = +1 (arms up) left of the line P4 → P2.  NaN where the
+    distal links cannot meet (Δ < 0 beyond rounding) or P2 = P4 (d = 0); the level Δ over
+    4d²l3² + (d² + l3² − l2²)²."""
+    l1, l2, l3, l4, l5 = _lengths(parameters)
+    theta1, theta4 = known["theta1"], known["theta4"]
+    ex = l1 * np.cos(theta1) + l5 / 2 - (l4 * np.cos(theta4) - l5 / 2)
+    ey = l1 * np.sin(theta1) - l4 * np.sin(theta4)
+    d2 = ex * ex + ey * ey
+    along = d2 + l3 * l3 - l2 * l2
+    reach, squared = 4 * d2 * l3 * l3, along * along
+    discriminant, scale = reach - squared, reach + squared
+    from .mechanism.closed_forms import LEVEL  # the core's rounding rule (loaded: the core is solving)
+
+    across = sigma * np.sqrt(np.where((discriminant < -LEVEL * scale) | (d2 == 0), np.nan,
+                                      np.maximum(discriminant, 0.0)))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x3 = l4 * np.cos(theta4) - l5 / 2 + (along * ex - across * ey) / (2 * d2)
+        y3 = l4 * np.sin(theta4) + (along * ey + across * ex) / (2 * d2)
+        level = np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0), 0.0)
+    return {"x3": x3, "y3": y3}, level
+
+
+def _leg_kernel(leg: int, parameters, known, sigma):
+    """The block θ1 (``leg`` 1, EcL2) or θ4 (``leg`` 4, EcL3) of the inverse in closed form (the kernel
+    registered on the loops solved the other way round): the course's half-angle root with its working
+    mode −σ (the core's σ = +1 where the leg turns counter-clockwise at its elbow); NaN where the leg cannot
+    reach P3 or where its crank angle is undetermined (P3 on its base pivot, l1 = l2 or l4 = l3); the
+    level b² − 4ac over b² + (a − c)²."""
+    l1, l2, l3, l4, l5 = _lengths(parameters)
+    crank, distal = (l1, l2) if leg == 1 else (l4, l3)
+    X, Y = known["x3"], known["y3"]
+    common = X * X + Y * Y + l5**2 / 4 + crank**2 - distal**2  # a1 … c2 of inverse_coefficients, one leg
+    if leg == 1:
+        a, c = common - l1 * l5 + (2 * l1 - l5) * X, common + l1 * l5 - (2 * l1 + l5) * X
+    else:
+        a, c = common + l4 * l5 + (2 * l4 + l5) * X, common - l4 * l5 - (2 * l4 - l5) * X
+    theta, level = _half_angle_root(a, -4 * crank * Y, c, -sigma)
+    return {f"theta{leg}": theta}, level
+
+
+def _inverse_coefficients(lengths, X, Y) -> dict[str, Any]:
+    """The course's half-angle coefficients a1, b1, c1 (leg 1) and a2, b2, c2 (leg 4) at (X, Y)."""
+    l1, l2, l3, l4, l5 = lengths
+    common = X * X + Y * Y + l5**2 / 4
+    return {
+        "a1": l1**2 - l2**2 - l1 * l5 + 2 * l1 * X - l5 * X + common,
+        "b1": -4 * l1 * Y + 0 * X,
+        "c1": l1**2 - l2**2 + l1 * l5 - 2 * l1 * X - l5 * X + common,
+        "a2": -(l3**2) + l4**2 + l4 * l5 + 2 * l4 * X + l5 * X + common,
+        "b2": -4 * l4 * Y + 0 * X,
+        "c2": -(l3**2) + l4**2 - l4 * l5 - 2 * l4 * X + l5 * X + common,
+    }
+
+
 @cache
 def _declarations() -> dict:
     """The declaration (``"forward"``: unknowns X3, Y3) and its loops with inputs and unknowns swapped
-    (``"inverse"``: unknowns θ1, θ4, for the crank rates)."""
+    (``"inverse"``: unknowns θ1, θ4), each with the course's closed forms registered as its kernels."""
     from .mechanism import Mechanism
 
     forward = _declaration()
     inverse = Mechanism(list(forward.equations), list(forward.inputs), list(forward.unknowns),
-                        dict(forward.parameters))
-    return {"forward": forward, "inverse": inverse}
+                        dict(forward.parameters), points=dict(forward.points),
+                        links=dict(zip(forward.links.names, forward.links, strict=True)),
+                        ground=forward.ground)
+    return {"forward": forward.with_kernel("x3", _forward_kernel),
+            "inverse": inverse.with_kernel("theta1", partial(_leg_kernel, 1)).with_kernel(
+                "theta4", partial(_leg_kernel, 4))}
 
 
 def _stacked(*values) -> np.ndarray:
@@ -168,36 +230,28 @@ def _working_mode(modes) -> tuple[int, int]:
     return tuple(int(require_choice(f"sigma{k + 1} (modes[{k}])", modes[k], (1, -1))) for k in (0, 1))
 
 
-def _blockwise(kernel, inputs, dtypes):
-    """``kernel(*inputs)`` for float arrays of one shape, above ``_BLOCK`` points in blocks (flat memory)."""
-    if inputs[0].size <= _BLOCK:
-        return kernel(*inputs)
-    flags = ["external_loop", "buffered", "zerosize_ok"]
-    op_flags = [["readonly"]] * len(inputs) + [["writeonly", "allocate"]] * len(dtypes)
-    with np.nditer([*inputs, *(None for _ in dtypes)], flags, op_flags, [float] * len(inputs) + list(dtypes),
-                   order="C", buffersize=_BLOCK) as blocks:
-        for operands in blocks:
-            for result, value in zip(operands[len(inputs):], kernel(*operands[: len(inputs)]), strict=True):
-                result[...] = value
-        return blocks.operands[len(inputs):]
+def _half_angle_root(a, b, c, sigma):
+    """θ = 2·atan((−b + σ√Δ)/2a) (within two turns) by the larger pair of it and 2c/(−b − σ√Δ) (no small
+    divisor), NaN where there is no root (Δ = b² − 4ac below −LEVEL·(b² + (a − c)²), the core's rounding
+    rule) or every θ is one (a = b = c = 0 to rounding); and the level Δ / (b² + (a − c)²) (0 where every θ
+    is one)."""
+    from .mechanism.closed_forms import LEVEL  # the core's rounding rule (loaded: the core is solving)
 
-
-def _half_angle_root(a, b, c, sigma: int):
-    """θ = 2·atan((−b + σ√Δ)/2a) in (−π, π] by the larger pair of it and 2c/(−b − σ√Δ) (no small divisor),
-    and the masks out of reach (Δ = b² − 4ac < 0 beyond rounding, or overflow) and a = b = c = 0."""
     b_squared = b * b
-    discriminant = b_squared - 4 * a * c
+    discriminant, scale = b_squared - 4 * a * c, b_squared + (a - c) ** 2
     root = sigma * np.sqrt(np.clip(discriminant, 0.0, None))
     numerator_1, denominator_1 = -b + root, 2 * a
     numerator_2, denominator_2 = 2 * c, -b - root
     size_1 = np.maximum(np.abs(numerator_1), np.abs(denominator_1))
     size_2 = np.maximum(np.abs(numerator_2), np.abs(denominator_2))
     use_first = size_1 >= size_2
-    theta = wrap_angle(2 * np.arctan2(np.where(use_first, numerator_1, numerator_2),
-                                      np.where(use_first, denominator_1, denominator_2)), nan_ok=True)
-    far = (discriminant < -_DISCRIMINANT_SLACK * (b_squared + 4 * np.abs(a * c))) | ~np.isfinite(discriminant)
+    theta = 2 * np.arctan2(np.where(use_first, numerator_1, numerator_2),
+                           np.where(use_first, denominator_1, denominator_2))  # the core: into [−π, π]
     undetermined = np.maximum(size_1, size_2) <= 1e-14 * (np.abs(a) + np.abs(b) + np.abs(c) + 1e-300)
-    return theta, far, undetermined
+    level = np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0), np.where(c != 0, -1.0, 0.0))
+    level = np.where(undetermined, 0.0, level)
+    lost = ~(level >= -LEVEL) | undetermined
+    return np.where(lost, np.nan, theta), level
 
 
 @dataclass(frozen=True)
@@ -252,27 +306,10 @@ class FiveBar:
         >>> round(motion.position["y3"], 6), bool(motion.converged), bool(motion.singular)
         (0.209003, True, False)
         """
-        policy = failure_policy(on_failure)
         rates = [require_finite(name, value, unit) for name, value, unit in (
             ("omega1", omega1, "rad/s"), ("omega4", omega4, "rad/s"), ("alpha1", alpha1, "rad/s^2"),
             ("alpha4", alpha4, "rad/s^2"))]
-        end = self.forward(theta1, theta4, mode, on_failure=policy)
-        p = _stacked(*require_broadcast(x3=end.x3, y3=end.y3, theta1=theta1, theta4=theta4, omega1=rates[0],
-                                        omega4=rates[1], alpha1=rates[2], alpha4=rates[3]))
-        with np.errstate(all="ignore"):
-            velocity, acceleration, singular = self.mechanism.rates(p[..., :2], p[..., 2:4], p[..., 4:6],
-                                                                    p[..., 6:])
-        singular = singular & np.asarray(end.reachable)
-        if policy == "raise" and np.any(singular):
-            raise SingularJacobianError("parallel (type-2) singularity: the distal links l2, l3 are aligned; "
-                                        "the end-effector velocity is undefined there",
-                                        condition_number=np.inf)
-        return self.mechanism._motion(
-            {"x3": end.x3, "y3": end.y3}, {"theta1": p[..., 2], "theta4": p[..., 3]},
-            {"x3": velocity[..., 0], "y3": velocity[..., 1]},
-            {"x3": acceleration[..., 0], "y3": acceleration[..., 1]},
-            converged=end.reachable, singular=singular, kind=ForwardResult,
-            mode=end.mode)
+        return self._forward(theta1, theta4, mode, None, on_failure, rates)
 
     def joints(self, theta1, theta4, x3, y3) -> np.ndarray:
         """Joints P1 … P5 (m), shape (..., 5, 2), of a configuration (no solving): the declaration's
@@ -329,14 +366,19 @@ class FiveBar:
     def forward(self, theta1, theta4, mode: int = 1, *, assembly=None, on_failure: str | None = None
                 ) -> ForwardResult:
         """End effector P3 = (X3, Y3) (m) for crank angles θ1, θ4 (rad); ``mode`` the course's σ: +1 "arms
-        up" (larger Y3), −1 "arms down".  X3 = g·Y3 + f where |P2x − P4x| ≥ |P2y − P4y|, else Y3 = g'·X3 + f'.
-        ``assembly=`` chooses by the core's σ instead (``{"x3": +1}`` or ``"arms up"``: P3 left of the line
-        P4 → P2, the course's +1 while P2 is right of P4 and its −1 where P2 is left of P4).
+        up" (larger Y3), −1 "arms down".  ``assembly=`` chooses by the core's σ instead (``{"x3": +1}`` or
+        ``"arms up"``: P3 left of the line P4 → P2, the course's +1 while P2 is right of P4 and its −1 where
+        P2 is left of P4).  The core's solve of :attr:`mechanism` (its block X3, Y3 solved by the course's
+        closed form, :func:`_forward_kernel`), with the course's σ read as the core's at each instant.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> bool(robot.forward(1.0, 2.0, +1).y3 > robot.forward(1.0, 2.0, -1).y3)
         True
         """
+        return self._forward(theta1, theta4, mode, assembly, on_failure)
+
+    def _forward(self, theta1, theta4, mode, assembly, on_failure, rates=None) -> ForwardResult:
+        """``forward``, and with ``rates`` (ω1, ω4, α1, α4) ``motion``: one solve of :attr:`mechanism`."""
         sigma = int(require_choice("mode", mode, (1, -1)))
         if assembly is not None and mode != 1:  # mode (the course's larger-Y3 σ) is no name of the core's σ
             raise InvalidArgumentError(f"mode and assembly both choose the assembly: give one; got "
@@ -346,38 +388,25 @@ class FiveBar:
         policy = failure_policy(on_failure)
         theta1, theta4 = require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                                            theta4=require_finite("theta4", theta4, "rad"))
-        l3, l4, l5 = self.l3, self.l4, self.l5
-        c4, s4 = np.cos(theta4), np.sin(theta4)
-        p2x, p2y, p4x, p4y = self._cranks(theta1, theta4)
-        D = p2x - p4x
-        if side is not None:  # the core's σ: the course's σ that puts P3 on this side of P4 → P2
-            sigma = np.where(D >= 0, side, -side)
-        E = p2y - p4y
-        K = (p2x**2 + p2y**2 - p4x**2 - p4y**2 - self.l2**2 + l3**2) / 2  # D·X3 + E·Y3 = K
-        course = np.abs(D) >= np.abs(E)
-        coincident = (D == 0) & (E == 0)
-        # the other coordinate = g·unknown + f; the unknown is Y3 on the course's route, X3 on the swapped
-        divisor = np.where(coincident, 1.0, np.where(course, D, E))
-        g, f = -np.where(course, E, D) / divisor, K / divisor
-        u = np.where(course, f + l5 / 2 - l4 * c4, f - l4 * s4)   # EcL3: (g·unknown + u)² + (unknown ∓ v)²
-        v = np.where(course, l4 * s4, l5 / 2 - l4 * c4)
-        A, B, C = 1 + g**2, 2 * g * u + np.where(course, -2 * l4 * s4, 2 * v), u**2 + v**2 - l3**2
-        discriminant = B * B - 4 * A * C
-        far = (discriminant < -_DISCRIMINANT_SLACK * (B * B + 4 * np.abs(A * C))) & ~coincident
+        p2x, _, p4x, _ = self._cranks(theta1, theta4)
+        right = np.where(p2x - p4x >= 0, 1, -1)  # P2 right of P4 (tie: D → 0⁺): the course's σ is the core's
+        chosen = side if side is not None else scalar_or_array(sigma * right)
         inputs = {"theta1": theta1, "theta4": theta4}
-        report_unreachable(far, inputs, "the distal links l2, l3 cannot meet", policy)
-        report_unreachable(coincident, inputs, "P2 and P4 coincide, so the end effector is undetermined",
-                           policy)
-        bad = far | coincident
-        root = np.sqrt(np.clip(discriminant, 0.0, None))
-        # on the swapped route the larger Y3 is the larger X3 when g' > 0 (tie D = 0: D → 0⁺)
-        direction = np.where(D >= 0, 1.0, -1.0) * np.where(E >= 0, 1.0, -1.0)
-        tau = np.where(course, sigma, -sigma * direction)
-        unknown = np.where(bad, np.nan, (-B + tau * root) / (2 * A))
-        other = g * unknown + f
-        x3, y3 = np.where(course, other, unknown), np.where(course, unknown, other)
-        return self.mechanism._motion({"x3": x3, "y3": y3}, inputs, converged=~bad, kind=ForwardResult,
-                                        mode=sigma)
+        speeds, accelerations = (None, None) if rates is None else (
+            dict(zip(inputs, rates[k:k + 2], strict=True)) for k in (0, 2))
+        motion = self.mechanism.solve(inputs, speeds, accelerations, assembly={"x3": chosen},
+                                      on_failure="nan")
+        if policy == "raise" and not np.all(motion.converged):
+            free = ~np.asarray(motion.converged) & np.asarray(motion.singular)
+            report_unreachable(~np.asarray(motion.converged) & ~free, inputs,
+                               "the distal links l2, l3 cannot meet", policy)
+            report_unreachable(free, inputs, "P2 and P4 coincide with l2 = l3, so the end effector is "
+                                             "undetermined", policy)
+        if policy == "raise" and rates is not None and np.any(motion.singular):
+            raise SingularJacobianError("parallel (type-2) singularity: the distal links l2, l3 are aligned; "
+                                        "the end-effector velocity is undefined there",
+                                        condition_number=np.inf)
+        return recast(motion, ForwardResult, mode=sigma if side is None else scalar_or_array(side * right))
 
     def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:
         """The course's half-angle coefficients: a1·α1² + b1·α1 + c1 = 0 with α1 = tan(θ1/2), and a2, b2,
@@ -392,16 +421,7 @@ class FiveBar:
 
     def _inverse_coefficients(self, X, Y) -> dict[str, Any]:
         """``inverse_coefficients`` of checked arrays or numbers."""
-        l1, l2, l3, l4, l5 = self.l1, self.l2, self.l3, self.l4, self.l5
-        common = X * X + Y * Y + l5**2 / 4
-        return {
-            "a1": l1**2 - l2**2 - l1 * l5 + 2 * l1 * X - l5 * X + common,
-            "b1": -4 * l1 * Y + 0 * X,
-            "c1": l1**2 - l2**2 + l1 * l5 - 2 * l1 * X - l5 * X + common,
-            "a2": -(l3**2) + l4**2 + l4 * l5 + 2 * l4 * X + l5 * X + common,
-            "b2": -4 * l4 * Y + 0 * X,
-            "c2": -(l3**2) + l4**2 - l4 * l5 - 2 * l4 * X + l5 * X + common,
-        }
+        return _inverse_coefficients((self.l1, self.l2, self.l3, self.l4, self.l5), X, Y)
 
     @older_failure_keywords
     def inverse(self, x3, y3, modes: tuple[int, int] = (1, 1), *, assembly=None,
@@ -421,26 +441,25 @@ class FiveBar:
             sigmas = (-legs.get("theta1", -sigmas[0]), -legs.get("theta4", -sigmas[1]))
         policy = failure_policy(on_failure)
         X, Y = require_broadcast(x3=require_finite("x3", x3, "m"), y3=require_finite("y3", y3, "m"))
-        with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
-            theta1, theta4, far1, far4, free = _blockwise(partial(self._inverse_points, sigmas=sigmas),
-                                                          (X, Y), (float, float, bool, bool, bool))
-        inputs = {"x3": x3, "y3": y3}
-        report_unreachable(far1, inputs, "leg 1 (l1, l2) cannot reach the point", policy)
-        report_unreachable(far4, inputs, "leg 4 (l4, l3) cannot reach the point", policy)
-        report_unreachable(free, inputs, "a crank angle is undetermined (P3 on a base pivot)", policy)
-        reachable = np.logical_or(far1, far4, out=np.asarray(far1))
-        reachable = np.logical_not(np.logical_or(reachable, free, out=reachable), out=reachable)
-        return self._cores["inverse"]._motion({"theta1": theta1, "theta4": theta4}, {"x3": X, "y3": Y},
-                                                converged=reachable, kind=InverseResult, modes=sigmas)
+        motion = self._cores["inverse"].solve({"x3": X, "y3": Y},
+                                              assembly={"theta1": -sigmas[0], "theta4": -sigmas[1]},
+                                              on_failure="nan")
+        if policy == "raise" and not np.all(motion.converged):
+            self._report_inverse(motion, X, Y)
+        return recast(motion, InverseResult, modes=sigmas)
 
-    def _inverse_points(self, X, Y, sigmas: tuple[int, int]):
-        """θ1, θ4 (NaN where out of reach), the masks leg 1 or leg 4 out of reach and undetermined."""
-        k = self._inverse_coefficients(X, Y)
-        theta1, far1, free1 = _half_angle_root(k["a1"], k["b1"], k["c1"], sigmas[0])
-        theta4, far4, free4 = _half_angle_root(k["a2"], k["b2"], k["c2"], sigmas[1])
-        free = (free1 | free4) & ~(far1 | far4)
-        bad = far1 | far4 | free
-        return np.where(bad, np.nan, theta1), np.where(bad, np.nan, theta4), far1, far4, free
+    def _report_inverse(self, motion, X, Y) -> None:
+        """The named ``UnreachableError`` of the first instant the inverse did not solve: the leg that cannot
+        reach P3 (|P3 − pivot| outside [|l1 − l2|, l1 + l2]), or the crank angle undetermined."""
+        inputs = {"x3": X, "y3": Y}
+        lost = ~np.asarray(motion.converged)
+        for pivot, crank, distal, what in ((self.l5 / 2, self.l1, self.l2, "leg 1 (l1, l2)"),
+                                           (-self.l5 / 2, self.l4, self.l3, "leg 4 (l4, l3)")):
+            with np.errstate(all="ignore"):
+                reach = np.hypot(X - pivot, Y)
+                far = lost & ~((reach <= crank + distal) & (reach >= abs(crank - distal)))
+            report_unreachable(far, inputs, f"{what} cannot reach the point")
+        report_unreachable(lost, inputs, "a crank angle is undetermined (P3 on a base pivot)")
 
     @cached_property
     def _cores(self) -> dict:
@@ -584,15 +603,11 @@ class FiveBar:
         if x.ndim != 1 or y.ndim != 1:
             raise InvalidGeometryError(f"x and y must be 1-D grid vectors; got shapes {x.shape}, {y.shape}")
         X, Y = np.meshgrid(x, y)
-        kernel = partial(self._workspace_points, sigmas=_working_mode(modes))
-        with np.errstate(over="ignore", invalid="ignore"):   # overflow far away: out of reach
-            maps = _blockwise(kernel, (X, Y), (bool,) + (float,) * 5)
-        return WorkspaceMap(X, Y, *maps, tuple(modes))
-
-    def _workspace_points(self, X, Y, sigmas: tuple[int, int]):
-        """Reachable mask, θ1, θ4 and the three measures of checked arrays X, Y."""
-        theta1, theta4, far1, far4, free = self._inverse_points(X, Y, sigmas)
-        return ~(far1 | far4 | free), theta1, theta4, *self._measures(theta1, theta4, X, Y)
+        result = self.inverse(X, Y, modes, on_failure="nan")
+        theta1, theta4 = np.asarray(result.theta1), np.asarray(result.theta4)
+        with np.errstate(invalid="ignore"):
+            measures = self._measures(theta1, theta4, X, Y)
+        return WorkspaceMap(X, Y, np.asarray(result.converged), theta1, theta4, *measures, tuple(modes))
 
     def draw(self, theta1: float, theta4: float, x3: float, y3: float, ax=None, title: str | None = None,
              **options):

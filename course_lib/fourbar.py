@@ -54,7 +54,7 @@ def _unit_lengths(*lengths: float) -> tuple[float, ...]:
     return tuple(length / longest for length in lengths)
 
 
-def _kernel(parameters, known, sigma: int):
+def _kernel(parameters, known, sigma):
     """The block θ3, θ4 in closed form (the kernel registered on the declaration, see
     :meth:`~course_lib.mechanism.Mechanism.with_kernel`): Norton's half-angle quadratic A t² + B t + C = 0
     in t = tan(θ4/2) times 2·l2·l4, with the lengths divided by the longest (no overflow); σ = +1 (open)
@@ -77,7 +77,7 @@ def _kernel(parameters, known, sigma: int):
         anywhere = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2)) < COINCIDENT
     root = np.sqrt(np.where(lost | anywhere, np.nan, np.maximum(discriminant, 0.0)))
     # t = y/x with (y, x) = (−B ± √Δ, 2A) or, the same root, (2C, −B ∓ √Δ): take the larger pair
-    root = -root if sigma > 0 else root  # Norton's minus sign for the open assembly
+    root = -sigma * root  # Norton's minus sign for the open assembly (σ = ±1, or one per instant)
     y1, x1, y2, x2 = -B + root, 2 * A, 2 * C, -B - root
     first = np.abs(y1) + np.abs(x1) >= np.abs(y2) + np.abs(x2)
     y, x = np.where(first, y1, y2), np.where(first, x1, x2)

@@ -35,7 +35,7 @@ BRANCHES = ("right", "left")
 ASSEMBLIES = {"left": {"x": +1}, "right": {"x": -1}}
 
 
-def _kernel(parameters, known, sigma: int):
+def _kernel(parameters, known, sigma):
     """The block θ3, x in closed form (the kernel registered on the declaration, see
     :meth:`~course_lib.mechanism.Mechanism.with_kernel`): the rod rises h = offset − crank·sin θ2 from A to
     C and runs ∓√(rod² − h²) along the line, σ = +1 (left, the saw's) the minus sign; θ3 = atan2(h, run),
@@ -47,7 +47,7 @@ def _kernel(parameters, known, sigma: int):
     from .mechanism.closed_forms import LEVEL  # the core's rounding rule (loaded: the core is solving)
 
     run = np.sqrt(np.where(level < -LEVEL, np.nan, rod * rod * np.maximum(level, 0.0)))
-    run = -run if sigma > 0 else run
+    run = -sigma * run  # σ = ±1, or one per instant
     return {"theta3": np.arctan2(height, run), "x": crank * np.cos(theta2) + run}, level
 
 

@@ -13,7 +13,10 @@ import pytest
 from geometry import fourbar_pins
 
 from course_lib.errors import InvalidArgumentError, SingularJacobianError
+from course_lib.fivebar import FORWARD_ASSEMBLIES, WORKING_MODES, FiveBar
+from course_lib.fivebar import _declaration as fivebar_declaration
 from course_lib.fourbar import ASSEMBLIES, FourBar, _declaration
+from course_lib.mechanism import Mechanism
 from course_lib.motion import Motion
 from course_lib.slider_crank import ASSEMBLIES as SLIDER_ASSEMBLIES
 from course_lib.slider_crank import OffsetSliderCrank
@@ -209,3 +212,134 @@ def test_point_motion_reads_the_input_rates_from_the_motion_and_refuses_others()
         desk.mechanism.point_motion(motion, rates={"theta2": 3.0})
     with pytest.raises(InvalidArgumentError, match="accelerations are not the ones"):
         desk.mechanism.point_motion(motion, rates={"theta2": omega2}, accelerations={"theta2": 0.0})
+
+
+# The five-bar: forward (X3, Y3 from θ1, θ4) and inverse (θ1, θ4 from X3, Y3), each the core's solve of one
+# declaration with the course's closed forms registered as kernels.
+ROBOTS = [FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)] + [
+    FiveBar(*lengths) for lengths in np.c_[RNG.uniform(0.05, 0.2, (5, 4)), RNG.uniform(0.0, 0.1, 5)]]
+CRANKS = RNG.uniform(-np.pi, np.pi, (2, 300))
+POINTS = RNG.uniform(-0.35, 0.35, (2, 300))
+
+
+def lengths_of(robot: FiveBar) -> dict:
+    return {name: getattr(robot, name) for name in ("l1", "l2", "l3", "l4", "l5")}
+
+
+def pins(robot: FiveBar, theta1, theta4):
+    """P1, P2, P4, P5 from the lengths and the crank angles, written here."""
+    P1, P5 = np.array([robot.l5 / 2, 0.0]), np.array([-robot.l5 / 2, 0.0])
+    P2 = P1[:, None] + robot.l1 * np.array([np.cos(theta1), np.sin(theta1)])
+    P4 = P5[:, None] + robot.l4 * np.array([np.cos(theta4), np.sin(theta4)])
+    return P1[:, None], P2, P4, P5[:, None]
+
+
+def cross(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def robot_routes(robot: FiveBar):
+    """The forward declaration and the inverse one (loops solved the other way round), with no kernel."""
+    forward = fivebar_declaration().with_parameters(lengths_of(robot))
+    inverse = Mechanism(list(forward.equations), list(forward.inputs), list(forward.unknowns),
+                        lengths_of(robot))
+    return forward, inverse
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_the_five_bar_forward_is_its_declaration_solve_to_the_bit(robot):
+    theta1, theta4 = CRANKS
+    inputs = {"theta1": theta1, "theta4": theta4}
+    for name, sigma in FORWARD_ASSEMBLIES.items():
+        machine = robot.forward(theta1, theta4, assembly=name, on_failure="nan")
+        assert_same_motion(machine, robot.mechanism.solve(inputs, assembly=sigma, on_failure="nan"))
+    _, P2, P4, _ = pins(robot, theta1, theta4)
+    right = np.where(P2[0] - P4[0] >= 0, 1, -1)  # the course's σ (larger Y3) is the core's: P2 right of P4
+    for mode in (1, -1):
+        machine = robot.forward(theta1, theta4, mode, on_failure="nan")
+        assert_same_motion(machine, robot.mechanism.solve(inputs, assembly={"x3": mode * right},
+                                                          on_failure="nan"))
+        moving = robot.motion(theta1, theta4, mode, 1.0, -2.0, 0.5, 0.0, on_failure="nan")
+        assert_same_motion(moving, robot.mechanism.solve(inputs, {"theta1": 1.0, "theta4": -2.0},
+                                                         {"theta1": 0.5, "theta4": 0.0},
+                                                         assembly={"x3": mode * right}, on_failure="nan"))
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_the_five_bar_inverse_is_its_declaration_solve_to_the_bit(robot):
+    core = robot.inverse(0.0, 0.2, on_failure="nan")  # the loops solved the other way round
+    for modes in WORKING_MODES:
+        machine = robot.inverse(*POINTS, modes, on_failure="nan")
+        declared = core_of(robot, "inverse").solve({"x3": POINTS[0], "y3": POINTS[1]},
+                                                    assembly={"theta1": -modes[0], "theta4": -modes[1]},
+                                                    on_failure="nan")
+        assert_same_motion(machine, declared)
+        assert machine.modes == modes and type(core) is type(machine)
+
+
+def core_of(robot, kind):
+    return robot._cores[kind]
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_the_five_bar_kernels_agree_with_the_closed_forms_the_core_derives(robot):
+    forward, inverse = robot_routes(robot)
+    size = max(robot.l1, robot.l2, robot.l3, robot.l4)
+    cases = [(robot.mechanism, forward, {"theta1": CRANKS[0], "theta4": CRANKS[1]}, "x3", [1, -1]),
+             (core_of(robot, "inverse"), inverse, {"x3": POINTS[0], "y3": POINTS[1]}, "theta1", [1, -1])]
+    for with_kernel, without, inputs, key, sigmas in cases:
+        rates = {name: 1.0 + k for k, name in enumerate(inputs)}
+        for sigma in sigmas:
+            assembly = {name: sigma for name in with_kernel._block_of()}
+            mine, theirs = (m.solve(inputs, rates, rates, assembly=assembly, on_failure="nan")
+                            for m in (with_kernel, without))
+            assert np.array_equal(mine.converged, theirs.converged), key
+            assert np.asarray(mine.converged).sum() > 30, key
+            found = np.asarray(mine.converged) & ~np.asarray(theirs.near_singular)
+            for name in mine.position:
+                unit = 1.0 if name.startswith("theta") else size
+                gap = np.abs(mine.position[name] - theirs.position[name])
+                # the derived closed form divides by terms that can be small (its residual reaches 1e-11
+                # of l² here): the routes agree to 1e-9; near a singularity, where rounding grows like √ε,
+                # to 1e-6; the kernel's own loops close to rounding (below)
+                assert gap[found].max() < 1e-9 * unit, name
+                assert gap[np.asarray(mine.converged)].max() < 1e-6 * unit, name
+                for part in ("velocity", "acceleration"):
+                    a, b = getattr(mine, part)[name][found], getattr(theirs, part)[name][found]
+                    assert (np.abs(a - b) / (1.0 + np.abs(b))).max() < 1e-9, (name, part)
+            assert all(np.array_equal(mine.assembly[k], theirs.assembly[k]) for k in mine.assembly)
+            q = np.stack([mine.position[s.name] for s in with_kernel.unknowns], -1)
+            u = np.stack([inputs[s.name] for s in with_kernel.inputs], -1)
+            closure = np.abs(with_kernel.residual(q, u))[np.asarray(mine.converged)]
+            assert closure.max() < 1e-14 * size**2, key
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_arms_up_puts_p3_left_of_the_line_p4_to_p2_by_a_cross_product(robot):
+    theta1, theta4 = CRANKS
+    _, P2, P4, _ = pins(robot, theta1, theta4)
+    for name, side in (("arms up", 1), ("arms down", -1)):
+        result = robot.forward(theta1, theta4, assembly=name, on_failure="nan")
+        found = np.asarray(result.converged)
+        P3 = np.array([result.x3, result.y3])
+        turn = cross(P2 - P4, P3 - P4)[found]
+        clear = np.abs(turn) > 1e-9  # away from the parallel singularity, where both sides meet
+        assert found.sum() > 30 and (np.sign(turn[clear]) == side).all()
+        assert (np.asarray(result.assembly["x3"])[found] == side).all()
+    up, down = (robot.forward(theta1, theta4, mode, on_failure="nan") for mode in (1, -1))
+    found = np.asarray(up.converged)
+    assert (np.asarray(up.y3)[found] >= np.asarray(down.y3)[found] - 1e-15).all()  # the course's: larger Y3
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_the_working_modes_are_minus_the_core_sigma_each_leg_turns_at_its_elbow(robot):
+    for modes in WORKING_MODES:
+        result = robot.inverse(*POINTS, modes, on_failure="nan")
+        found = np.asarray(result.converged)
+        P1, P2, P4, P5 = pins(robot, np.asarray(result.theta1), np.asarray(result.theta4))
+        P3 = POINTS
+        for turn, mode, key in ((cross(P2 - P1, P3 - P2), modes[0], "theta1"),
+                                (cross(P4 - P5, P3 - P4), modes[1], "theta4")):
+            clear = found & (np.abs(turn) > 1e-9)  # a leg stretched or folded has no side
+            assert clear.sum() > 20 and (np.sign(turn[clear]) == -mode).all(), (modes, key)
+            assert (np.asarray(result.assembly[key])[found] == -mode).all()

@@ -44,6 +44,23 @@ LEVEL = 1e-12
 RESIDUAL = 1e-8
 
 
+def _sigma(value, per_instant: bool):
+    """σ = ±1 as an int, or (``per_instant``) an int8 array of ±1; None if ``value`` is neither."""
+    if isinstance(value, bool | np.bool_):
+        return None
+    if isinstance(value, int | float | np.integer | np.floating):
+        return int(value) if value in (1, -1) else None
+    if not per_instant or isinstance(value, str | bytes | Mapping):
+        return None
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError):
+        return None
+    if array.dtype.kind not in "iuf" or not np.isin(array, (1, -1)).all():
+        return None
+    return array.astype(np.int8)
+
+
 class ClosedForms:
     """The blocks, their closed forms by the half-angle route, and each block's σ along a sweep."""
 
@@ -205,8 +222,9 @@ class ClosedForms:
         return out[0], out[1], np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0),
                                         np.where((discriminant < 0) | ((a == 0) & (c != 0)), -1.0, 0.0))
 
-    def _assembly(self, assembly: Mapping | None, closed: bool) -> dict[str, int]:
-        """``solve``'s ``assembly``: σ = ±1 by the name (or symbol) of any unknown of a block."""
+    def _assembly(self, assembly: Mapping | None, closed: bool, per_instant: bool = False) -> dict:
+        """``solve``'s ``assembly``: σ = ±1 by the name (or symbol) of any unknown of a block; with
+        ``per_instant``, also an array of ±1 per instant (broadcast with the inputs by ``solve``)."""
         if assembly is None:
             return {}
         keys = self._block_of()
@@ -217,16 +235,17 @@ class ClosedForms:
         chosen = {}
         for key, value in assembly.items():
             name = getattr(key, "name", key)
-            if not isinstance(name, str) or name not in keys or isinstance(value, bool | np.bool_) or not (
-                    isinstance(value, int | float | np.integer | np.floating) and value in (1, -1)):
+            sigma = _sigma(value, per_instant)
+            if not isinstance(name, str) or name not in keys or sigma is None:
+                each = " (or an array of them, one per instant)" if per_instant else ""
                 raise InvalidGeometryError(f"assembly must map unknowns of the closed-form blocks "
-                                           f"({sorted(keys)}) to σ = +1 or −1; "
-                                           f"got assembly={dict(assembly)!r}")
+                                           f"({sorted(keys)}) to σ = +1 or −1{each}; "
+                                           f"got assembly={dict(assembly)!r}"[:600])
             block = keys[name]
-            if chosen.get(block, int(value)) != int(value):
+            if block in chosen and not np.array_equal(chosen[block], sigma):
                 raise InvalidGeometryError(f"assembly gives two σ for one block ({name} and another unknown "
-                                           f"of its block); got assembly={dict(assembly)!r}")
-            chosen[block] = int(value)
+                                           f"of its block); got assembly={dict(assembly)!r}"[:600])
+            chosen[block] = sigma
         return chosen
 
     def assembly_sigma(self, assembly, aliases: Mapping[str, Mapping[str, int]] | None = None
@@ -312,14 +331,15 @@ class ClosedForms:
                 side = np.where(side == 0, 1.0, side)
                 name = form.unknowns[0].name
                 wanted = (chosen or {}).get(name)
-                root = (wanted or self._pick(plus, minus, paths, target, first, side)) * side  # +1: +√Δ
+                root = (self._pick(plus, minus, paths, target, first, side) if wanted is None
+                        else wanted) * side  # +1: the root +√Δ
                 if wanted is None:  # σ named by assembly= holds at every instant; else it follows the motion
                     self._follow(root, plus, minus, level, paths, u, first, notes)
                 q[:, first] = np.where(root > 0, plus, minus)
                 sigmas[name] = (root * side).astype(int)
             if form.second is not None:
                 q[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, q, u, known)
-        self._continuous(q, paths, target)
+        self._continuous(q, paths, target, u.shape[1] > 1)
         iterations = np.zeros(N, int)
         if len(self._kernels) == len(structure["forms"]):  # every block a registered kernel: no cross-check
             return q, iterations, sigmas, None, undetermined
@@ -350,11 +370,14 @@ class ClosedForms:
             """The block's values (N', k) and level (N',) for σ, at the instants ``where`` (all: None),
             _BLOCK instants per call (the kernel's temporaries stay in the cache)."""
             at = {k: v if where is None else v[where] for k, v in known.items()}
+            if np.ndim(sigma):  # σ per instant
+                at["σ"] = sigma if where is None else sigma[where]
             size = len(u) if where is None else int(np.count_nonzero(where))
             block, level = np.empty((size, len(columns))), np.empty(size)
             for start in range(0, size, _BLOCK):
                 part = slice(start, start + _BLOCK)
-                values, levels = kernel(parameters, {k: v[part] for k, v in at.items()}, sigma)
+                given = {k: v[part] for k, v in at.items()}
+                values, levels = kernel(parameters, given, given.pop("σ", sigma))
                 count = len(block[part])
                 try:
                     for j, s in enumerate(form.unknowns):
@@ -444,10 +467,13 @@ class ClosedForms:
                              f"{self._where(u, path[k - 1])} and {self._where(u, path[k])}: the motion "
                              "continues on the smooth one (σ swapped there)")
 
-    def _continuous(self, q, paths, target) -> None:
+    def _continuous(self, q, paths, target, several: bool = False) -> None:
         """Angles unwrapped along each path, the first instant's within π of ``target`` (in [−π, π]
-        without one)."""
+        without one); with ``several`` inputs (no order of neighbours) every instant's like the first's."""
         angles = [j for j, s in enumerate(self.unknowns) if s in self._structure["angles"]]
+        if several and angles:
+            q[:, angles] = _unwrap_to(q[:, angles], 0.0 if target is None else target[angles])
+            return
         columns = [j for j in angles if np.isfinite(q[0, j])]
         if len(columns) < len(angles):  # no first instant to follow from: each in [−π, π]
             lost = [j for j in angles if j not in columns]

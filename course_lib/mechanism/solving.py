@@ -48,7 +48,8 @@ class Solving:
         broadcast together (missing rates are 0).  ``guess`` picks the assembly: Newton runs from it at the
         first instant (its history in ``Motion.newton`` for one instant).  Where every block reduces to a
         closed form (:attr:`closed_forms`) each block keeps the assembly σ nearest that solution (σ = +1
-        without a guess, or the σ that ``assembly`` gives by any unknown of the block; σ = −sign(det J_b),
+        without a guess, or the σ that ``assembly`` gives by any unknown of the block, one for every instant
+        or an array of them broadcast with the inputs; σ = −sign(det J_b),
         see :mod:`~course_lib.mechanism.closed_forms`; ``Motion.assembly`` gives it for every unknown of a
         block, and ``Motion.message`` names the blocks a partial ``assembly`` left at +1), and Newton only
         cross-checks; elsewhere each instant continues from its neighbour's solution (tangent predictor,
@@ -57,7 +58,8 @@ class Solving:
         input (the order the values come in does not matter), σ changing only at a change point, where the
         message names it; with several inputs, or a σ named by ``assembly``, each instant keeps its σ.
         Angles: the first instant's in [−π, π] (within π of the guess, given one), each next within a turn
-        of its neighbour; a closed form that every angle solves (the position not determined) counts as
+        of its neighbour (with several inputs, which have no order of neighbours, each instant's like the
+        first's); a closed form that every angle solves (the position not determined) counts as
         singular, not found.  Raises, unless
         ``on_failure="nan"``: ``SingularJacobianError`` (rates asked where J is singular, or a singular
         seed), ``ConvergenceError`` (no root from the guess), ``UnreachableError`` (no assembly).
@@ -74,7 +76,7 @@ class Solving:
         acc_given = _keyed("accelerations", {} if accelerations is None else accelerations, self.inputs,
                            required=False)
         closed = self._closed_fns is not None
-        chosen = self._assembly(assembly, closed)
+        chosen = self._assembly(assembly, closed, per_instant=True)
         seed = None
         if guess is not None or not closed:
             q_given = _keyed("guess", {} if guess is None else guess, self.unknowns)
@@ -100,6 +102,13 @@ class Solving:
             raise InvalidGeometryError(f"inputs, rates and accelerations must broadcast to one shape; "
                                        f"got shapes {shapes}") from None
         shape, m = arrays[0].shape, len(self.inputs)
+        for block, sigma in chosen.items():  # σ per instant: one per instant of the inputs
+            if np.ndim(sigma):
+                try:
+                    chosen[block] = np.broadcast_to(sigma, shape).reshape(-1)
+                except ValueError:
+                    raise InvalidGeometryError(f"assembly's σ per instant must broadcast to the inputs' "
+                                               f"shape {shape}; got shape {np.shape(sigma)}") from None
         u = np.stack(arrays[:m], axis=-1).reshape(-1, m)
         u_rate, u_acc = ((np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in (1, 2))
                          if rates is not None or accelerations is not None else (None, None))
@@ -194,6 +203,8 @@ class Solving:
                 singular = singular_and_near(smallest)["singular"]
         if on_failure == "raise":
             self._report(~converged, singular if want_rates else undetermined, u, closed, q, undetermined)
+        if not converged.all():  # an instant is solved whole or not at all: NaN in every unknown
+            q[~converged] = np.nan
         velocity = acceleration = None
         if want_rates:
             velocity, acceleration = self._by_name(q_rate, shape), self._by_name(q_acc, shape)

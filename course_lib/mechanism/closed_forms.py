@@ -31,7 +31,7 @@ from ..errors import (
 )
 from ..planar import scalar_or_array
 from ..symbolic import LoopForm, is_angle, reduce_loop
-from .compiled import _BLOCK
+from .compiled import _BLOCK, _finite_rows
 from .continuation import MAX_CHANGE, _unwrap_to
 from .declaration import _derived
 
@@ -344,7 +344,7 @@ class ClosedForms:
         if len(self._kernels) == len(structure["forms"]):  # every block a registered kernel: no cross-check
             return q, iterations, sigmas, None, undetermined
         rows = self._scales[0]
-        finite = np.isfinite(q).all(axis=1)
+        finite = _finite_rows(q)
         everywhere = bool(finite.all())
         at_q = dict(known)
         at = q if everywhere else np.where(finite[:, None], q, 0.0)
@@ -486,7 +486,7 @@ class ClosedForms:
                 and bool((np.diff(path) == 1).all())
             rows = slice(0, len(path)) if ordered else path
             values = q[rows][:, columns]
-            finite = np.isfinite(values).all(axis=1)
+            finite = _finite_rows(values)
             if not finite[0] or finite.sum() < 2:
                 continue
             if not finite.all():

@@ -17,7 +17,7 @@ from ..errors import (
 )
 from ..motion import Motion
 from .closed_forms import RESIDUAL
-from .compiled import _vector
+from .compiled import _finite_rows, _vector
 from .declaration import _derived, _keyed
 from .singular import NEAR_SINGULAR
 
@@ -131,7 +131,7 @@ class Points:
         flat = [np.broadcast_to(a, shape + a.shape[-1:]).reshape(-1, a.shape[-1])
                 for a in (q, q_rate, q_acc, u, u_rate, u_acc)]
         q, q_rate, q_acc, u, u_rate, u_acc = flat
-        found = np.isfinite(q).all(axis=1) & np.isfinite(q_rate).all(axis=1) & np.isfinite(u).all(axis=1)
+        found = _finite_rows(q, q_rate, u)
         at, u_at = np.where(found[:, None], q, 0.0), np.where(found[:, None], u, 0.0)
 
         def settle(stage, carried, terms, given):

@@ -30,7 +30,7 @@ from ..newton import (
 )
 from ..planar import scalar_or_array
 from .closed_forms import RESIDUAL
-from .compiled import _BLOCK
+from .compiled import _BLOCK, _finite_rows
 from .declaration import _broadcast, _keyed, _plain
 from .singular import NEAR_SINGULAR, SINGULAR
 
@@ -140,7 +140,7 @@ class Solving:
                 if shape == () and result is not None:
                     iterations[0] = result.iterations
                 blocks = self._block_of()
-                found = np.isfinite(q).all(axis=1)
+                found = _finite_rows(q)
                 by_block = {block: scalar_or_array(np.where(found, values, 0).astype(np.int8).reshape(shape))
                             for block, values in sigma.items()}  # one array per block, shared by its unknowns
                 assembly = {s.name: by_block[blocks[s.name]] for s in self.unknowns if s.name in blocks}
@@ -172,7 +172,7 @@ class Solving:
                         raise ConvergenceError(f"at {where}, the first instant, from the guess: "
                                                f"{result.message}", result=result)
                 q, iterations = self._march(u, paths, start, tol, max_iter, notes)
-            converged = np.isfinite(q).all(axis=1)
+            converged = _finite_rows(q)
             if "rigid" not in self._numeric and self.links and converged.any():
                 self._check_rigid(q[converged], u[converged])
             safe = q if converged.all() else np.where(converged[:, None], q, 0.0)

@@ -219,3 +219,60 @@ def test_draw_fades_only_what_it_drew():
     assert all(child.get_alpha() != 0.3 for child in first)
     with pytest.raises(CourseLibError, match="alpha must be a number from 0 to 1"):
         draw({"crank": ("O", "A")}, {"O": (0.0, 0.0), "A": (0.04, 0.03)}, alpha=2)
+
+
+#: Every public function or method whose name says it solves or moves a machine: the ones that solve the loops
+#: for their inputs return a Motion (RESULTS above, and the core's own solve); the others are named here with
+#: what they return instead, so a new solve-like name cannot escape the table.
+NOT_SOLVES = {
+    "FourBar.joints": "the declared points of a solve, an array (..., 4, 2)",
+    "OffsetSliderCrank.joints": "the declared points of a solve, an array",
+    "Saw.joints": "the declared points of a solve, an array",
+    "FiveBar.joints": "the declared points of a given configuration, an array",
+    "FourBar.with_coupler_point": "a FourBar with the coupler point declared",
+    "FourBar.coupler_point": "one point's position and rates from a solve, as Mechanism.point_motion",
+    "saw.analytic": "the course's eqs. 20–28 as written, an array (lesson 06's derivation, asserted "
+                    "equal to Saw.motion)",
+    "FiveBar.forward_coefficients": "the course's coefficients f, g, a, b, c, D",
+    "FiveBar.inverse_coefficients": "the course's half-angle coefficients",
+    "FiveBar.crank_rates": "the crank rates at a given configuration (no position solved)",
+    "FiveBar.workspace": "a WorkspaceMap over a grid, built from FiveBar.inverse",
+    "newton.newton": "Newton-Raphson on any F, a NewtonResult (lesson 02's method)",
+    "newton.newton_batch": "Newton-Raphson on many F at once, a BatchNewtonResult",
+    "newton.linear_solver": "a solver of linear systems",
+    "fivebar.linear_solver": "newton.linear_solver, imported",
+    "LinearStack.solve": "a linear solve",
+}
+SOLVE_NAMES = {"FourBar.solve": "four-bar", "FourBar.motion": "four-bar",
+               "OffsetSliderCrank.solve": "slider-crank", "OffsetSliderCrank.motion": "slider-crank",
+               "Saw.motion": "saw closed form", "saw.solve_consecutive": "saw consecutive",
+               "saw.solve_simultaneous": "saw simultaneous", "saw.sweep": "saw sweep",
+               "FiveBar.forward": "five-bar forward", "FiveBar.motion": "five-bar motion",
+               "FiveBar.inverse": "five-bar inverse"}
+SOLVE_LIKE = ("solve", "motion", "forward", "inverse", "sweep", "analytic", "workspace", "coupler_point",
+              "newton", "consecutive", "simultaneous", "rates", "joints")
+
+
+def test_every_public_solve_like_name_returns_a_motion_or_is_named_as_something_else():
+    import importlib
+    import inspect
+
+    found = set()
+    for module_name in ("fourbar", "slider_crank", "saw", "fivebar", "newton", "profile", "planar"):
+        module = importlib.import_module(f"course_lib.{module_name}")
+        for name, value in vars(module).items():
+            if name.startswith("_"):
+                continue
+            if inspect.isfunction(value) and any(word in name for word in SOLVE_LIKE):
+                found.add(f"{module_name}.{name}")
+            if inspect.isclass(value) and value.__module__ == module.__name__:
+                found |= {f"{name}.{attribute}" for attribute, member in vars(value).items()
+                          if not attribute.startswith("_") and callable(member)
+                          and any(word in attribute for word in SOLVE_LIKE)}
+    assert found == set(SOLVE_NAMES) | set(NOT_SOLVES)
+    for name, result in SOLVE_NAMES.items():
+        assert isinstance(RESULTS[result](), Motion), name
+    assert isinstance(FourBar(0.06, 0.18, 0.12, 0.20).motion(0.3), Motion)
+    assert isinstance(OffsetSliderCrank(0.05, 0.20, 0.01).motion(0.3), Motion)
+    th, x = sp.symbols("theta x")
+    assert type(Mechanism([x**2 - th], [x], [th]).solve({th: 4.0}, guess={x: 2.0})) is Motion

@@ -238,7 +238,8 @@ class Solving:
                                                         "reached)")):
             if mask.any():
                 first = int(np.flatnonzero(mask)[0])
-                notes.append(f"{what} at {self._where(u, first)} ({int(mask.sum())} of {mask.size} instants)")
+                count = f" ({int(mask.sum())} of {mask.size} instants)" if mask.size > 1 else ""
+                notes.append(f"{what} at {self._where(u, first)}{count}")
 
     def _report(self, bad, singular, u, closed, q, undetermined) -> None:
         """Raise the named error of the first bad instant (see :meth:`solve`), naming the loop that failed."""

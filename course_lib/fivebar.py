@@ -29,6 +29,7 @@ from .errors import (
 from .motion import Motion, recast
 from .newton import linear_solver
 from .planar import Unpacks, scalar_or_array
+from .thresholds import COINCIDENT, LEVEL, RESIDUAL
 
 __all__ = ["FORWARD_ASSEMBLIES", "FiveBar", "ForwardResult", "InverseResult", "SingularityMeasures",
            "WorkspaceMap", "WORKING_MODES"]
@@ -148,8 +149,6 @@ def _forward_kernel(parameters, known, sigma):
     along = d2 + l3 * l3 - l2 * l2
     reach, squared = 4 * d2 * l3 * l3, along * along
     discriminant, scale = reach - squared, reach + squared
-    from .mechanism.closed_forms import LEVEL  # the core's rounding rule (loaded: the core is solving)
-
     across = sigma * np.sqrt(np.where((discriminant < -LEVEL * scale) | (d2 == 0), np.nan,
                                       np.maximum(discriminant, 0.0)))
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -235,8 +234,6 @@ def _half_angle_root(a, b, c, sigma):
     divisor), NaN where there is no root (Δ = b² − 4ac below −LEVEL·(b² + (a − c)²), the core's rounding
     rule) or every θ is one (a = b = c = 0 to rounding); and the level Δ / (b² + (a − c)²) (0 where every θ
     is one)."""
-    from .mechanism.closed_forms import LEVEL  # the core's rounding rule (loaded: the core is solving)
-
     b_squared = b * b
     discriminant, scale = b_squared - 4 * a * c, b_squared + (a - c) ** 2
     root = sigma * np.sqrt(np.clip(discriminant, 0.0, None))
@@ -247,7 +244,7 @@ def _half_angle_root(a, b, c, sigma):
     use_first = size_1 >= size_2
     theta = 2 * np.arctan2(np.where(use_first, numerator_1, numerator_2),
                            np.where(use_first, denominator_1, denominator_2))  # the core: into [−π, π]
-    undetermined = np.maximum(size_1, size_2) <= 1e-14 * (np.abs(a) + np.abs(b) + np.abs(c) + 1e-300)
+    undetermined = np.maximum(size_1, size_2) <= COINCIDENT * (np.abs(a) + np.abs(b) + np.abs(c) + 1e-300)
     level = np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0), np.where(c != 0, -1.0, 0.0))
     level = np.where(undetermined, 0.0, level)
     lost = ~(level >= -LEVEL) | undetermined
@@ -518,7 +515,7 @@ class FiveBar:
         ∂(EcL2, EcL3)/∂(X3, Y3), or of ∂(EcL2, EcL3)/∂(θ1, θ4)); raises there, or for an unassembled one."""
         residual = np.abs(self._constraints(theta1, theta4, x3, y3))
         scale = max(self.l1, self.l2, self.l3, self.l4, self.l5) ** 2
-        if not np.all(residual <= 1e-8 * scale):
+        if not np.all(residual <= RESIDUAL * scale):
             raise InvalidGeometryError(f"the configuration is not assembled: constraint residual "
                                        f"{residual.max():.3g} m² (x3, y3 must be the end effector for "
                                        "theta1, theta4, e.g. from forward)")

@@ -26,6 +26,7 @@ from .errors import (
 )
 from .motion import Deferred, Motion, recast
 from .planar import Unpacks, scalar_or_array, wrap_angle
+from .thresholds import COINCIDENT, LEVEL
 
 __all__ = ["ASSEMBLIES", "BRANCHES", "FourBar", "FourBarSolution", "GrashofResult", "InputRange",
            "CouplerPointMotion"]
@@ -34,10 +35,9 @@ __all__ = ["ASSEMBLIES", "BRANCHES", "FourBar", "FourBarSolution", "GrashofResul
 BRANCHES = ("open", "crossed")
 #: The assemblies by name, as the core's σ (``assembly=``): open has B left of the line A → O4 (σ = +1).
 ASSEMBLIES = {"open": {"theta4": +1}, "crossed": {"theta4": -1}}
-#: |AO4| below this (in lengths scaled by the longest) puts the crank pin A on O4.
-COINCIDENT = 1e-14
-#: A toggle angle this close (rad) to π or 0 is a full turn's change point (rounding), not a limit.
-TOGGLE_TOL = 1e-7
+#: A toggle angle within √COINCIDENT (rad) of π or 0 is a full turn's change point, not a limit: there the
+#: lengths that decide it (1 ∓ cos θ2 ≈ θ²/2) differ by rounding.
+TOGGLE_TOL = COINCIDENT ** 0.5
 
 
 def _finite(name: str, value, unit: str):
@@ -69,8 +69,6 @@ def _kernel(parameters, known, sigma):
     B = -4 * l2 * l4 * sin2
     C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
     discriminant, scale = B * B - 4 * A * C, (A - C) * (A - C) + B * B  # scale = 16 l4² |AO4|²
-    from .mechanism.closed_forms import LEVEL  # the core's rounding rule (loaded: the core is solving)
-
     lost = discriminant < -LEVEL * scale  # below −LEVEL·scale the loop cannot close; above, rounding
     anywhere = np.zeros(np.shape(theta2), bool)
     if abs(l3 - l4) < COINCIDENT:  # A on O4 with coupler = rocker: B anywhere on a circle
@@ -374,7 +372,7 @@ class FourBar:
         shortest, longest = ordered[0], ordered[-1]
         s_plus_l = lengths[shortest] + lengths[longest]
         p_plus_q = lengths[ordered[1]] + lengths[ordered[2]]
-        if np.isclose(s_plus_l, p_plus_q, rtol=1e-12, atol=0.0):
+        if np.isclose(s_plus_l, p_plus_q, rtol=LEVEL, atol=0.0):
             name = "change-point"
         elif s_plus_l > p_plus_q:
             name = "non-Grashof triple-rocker"

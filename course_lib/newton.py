@@ -27,13 +27,12 @@ from .errors import (
     SingularJacobianError,
     require_choice,
 )
+from .thresholds import MAX_CONDITION
 
 __all__ = ["NewtonResult", "BatchNewtonResult", "newton", "newton_batch", "finite_difference_jacobian",
            "hadamard_ratio", "ill_conditioned", "is_singular", "linear_solver", "LinearStack",
            "singular_jacobian_text"]
 
-#: Newton cannot step with J when |det J| < Π‖row of J‖ / MAX_CONDITION (see :func:`ill_conditioned`).
-MAX_CONDITION = 1e12
 #: The most updates a run may take: the history of one run stays small.
 MAX_ITERATIONS = 10_000
 ON_FAILURE = ("raise", "report")

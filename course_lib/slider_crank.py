@@ -26,6 +26,7 @@ from .errors import (
 )
 from .motion import Motion, recast
 from .planar import Unpacks
+from .thresholds import LEVEL
 
 __all__ = ["OffsetSliderCrank", "SliderCrankMotion", "BRANCHES", "ASSEMBLIES"]
 
@@ -44,8 +45,6 @@ def _kernel(parameters, known, sigma):
     theta2 = known["theta2"]
     height = offset - crank * np.sin(theta2)
     level = 1.0 - (height / rod) ** 2
-    from .mechanism.closed_forms import LEVEL  # the core's rounding rule (loaded: the core is solving)
-
     run = np.sqrt(np.where(level < -LEVEL, np.nan, rod * rod * np.maximum(level, 0.0)))
     run = -sigma * run  # σ = ±1, or one per instant
     return {"theta3": np.arctan2(height, run), "x": crank * np.cos(theta2) + run}, level

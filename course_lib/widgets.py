@@ -35,6 +35,7 @@ from PIL import Image as PILImage
 from .errors import CourseLibError, InvalidArgumentError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
 from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _ground_symbol, _motion_background, _Quantizer
+from .thresholds import APPROACH, COINCIDENT
 
 __all__ = ["Explorer", "ExplorerSpec", "ExplorerStage", "Readout", "build_explorer", "fourbar_explorer",
            "saw_explorer", "fivebar_explorer", "mechanism_explorer", "explore"]
@@ -543,7 +544,7 @@ def fourbar_explorer(
         if failure is not None:
             at, distance = f"θ2 = {np.degrees(theta2):.0f}°", float(np.hypot(*(O4 - A)))
             known, says = {"O2": O2, "A": A, "O4": O4}, f"course_lib says: {failure}"
-            if distance < 1e-9 * max(l1, l2):  # A on O4: the coupler's direction is undefined
+            if distance < COINCIDENT**0.5 * max(l1, l2):  # A on O4 (to √rounding): θ3 is undefined
                 return stage.failed(known, f"A lands on O4 at {at}", "singular", (
                     f"{at}: the crank pin A lands on the pivot O4 (l2 = l1), "
                     "so the coupler's direction, θ3 and θ4 are undefined here.",
@@ -832,8 +833,8 @@ def fivebar_explorer(
             head,
             f"singularity measures (0 = singular): leg 1 {_num(measures.serial_leg1, 3)}, "
             f"leg 4 {_num(measures.serial_leg4, 3)}, parallel {_num(parallel, 3)}",
-            *["near a parallel (type-2) singularity: l2 and l3 almost aligned"] * (abs(parallel) < 0.05),
-            *["near a serial (type-1) singularity: a leg almost stretched or folded"] * (serial < 0.05)),
+            *["near a parallel (type-2) singularity: l2 and l3 almost aligned"] * (abs(parallel) < APPROACH),
+            *["near a serial (type-1) singularity: a leg almost stretched or folded"] * (serial < APPROACH)),
             end_effector=([x3], [y3]))
 
     return build_explorer(ExplorerSpec(

@@ -31,6 +31,7 @@ from ..errors import (
 )
 from ..planar import scalar_or_array
 from ..symbolic import LoopForm, is_angle, reduce_loop
+from ..thresholds import LEVEL, RESIDUAL
 from .compiled import _BLOCK, _finite_rows
 from .continuation import MAX_CHANGE, _unwrap_to
 from .declaration import _derived
@@ -38,10 +39,7 @@ from .declaration import _derived
 if TYPE_CHECKING:
     from . import Mechanism
 
-#: A discriminant below −LEVEL·(its scale) has no real root; above, it is rounding and counts as 0.
-LEVEL = 1e-12
-#: A closed-form or continued position is accepted where |F_i| / (typical size of row i) stays below this.
-RESIDUAL = 1e-8
+__all__ = ["LEVEL", "RESIDUAL", "ClosedForms"]
 
 
 def _sigma(value, per_instant: bool):

@@ -10,11 +10,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..symbolic import is_angle
+from ..thresholds import NEAR_SINGULAR, SINGULAR  # the numbers, with every other threshold
 
-#: J is singular where σ_min(J̃) < SINGULAR (J̃: rows and columns scaled by their typical sizes).
-SINGULAR = 1e-6
-#: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
-NEAR_SINGULAR = 1e-3
+__all__ = ["NEAR_SINGULAR", "SINGULAR", "Singularity"]
 
 def _rms(values: np.ndarray, axis) -> np.ndarray:
     """Root mean square over ``axis``, computed on values divided by their largest size (no overflow or

@@ -1,0 +1,29 @@
+"""Every number that decides a verdict, in one place (plain numbers: importing this loads nothing else).
+
+The core's rules use them (:mod:`course_lib.mechanism.singular` for the singularity rule,
+:mod:`course_lib.mechanism.closed_forms` for rounding and closure); the machines' registered kernels and the
+explorers read them from here, so no machine keeps a threshold of its own.
+
+>>> SINGULAR < NEAR_SINGULAR < APPROACH
+True
+"""
+
+__all__ = ["APPROACH", "COINCIDENT", "LEVEL", "MAX_CONDITION", "NEAR_SINGULAR", "RESIDUAL", "SINGULAR"]
+
+#: J is singular where σ_min(J̃) < SINGULAR (J̃: J with rows and columns scaled by their typical sizes).
+SINGULAR = 1e-6
+#: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
+NEAR_SINGULAR = 1e-3
+#: A discriminant below −LEVEL·(its scale) has no real root; above, it is rounding and counts as 0.
+LEVEL = 1e-12
+#: A closed-form or continued position is accepted where |F_i| / (typical size of row i) stays below this.
+RESIDUAL = 1e-8
+#: Two lengths (or a point and a pivot) closer than COINCIDENT × the longest length are equal: rounding.
+COINCIDENT = 1e-14
+#: The explorers warn "near a singularity" where one of the course's singularity measures (a sine of the
+#: angle between two links, 0 at the singularity) falls below APPROACH: the approach a student should see
+#: coming, well before the core's rule (σ_min(J̃) < SINGULAR) calls the rates undefined.
+APPROACH = 0.05
+#: Newton's step test (not the mechanism's singularity rule): a Jacobian whose |det| is below
+#: 1 / MAX_CONDITION × the product of its row lengths gives no trustworthy step.
+MAX_CONDITION = 1e12

@@ -66,3 +66,26 @@ def test_writing_an_address_into_the_readme_and_citation_and_back(tmp_path):
     with_links = repository.expected_readme(readme, url)
     assert "mybinder.org/v2/gh/example-org/mechanism-kinematics" in with_links
     assert repository.expected_readme(with_links, None) == repository.expected_readme(readme, None)
+
+
+def test_the_links_follow_the_branch_setting():
+    url = "https://github.com/example-org/mechanism-kinematics"
+    made = repository.links(url, "release/2027")
+    for link in (made.binder, made.source, made.notebook_source("notebooks/x.ipynb"),
+                 made.colab_notebook("notebooks/x.ipynb")):
+        assert "/release/2027" in link and "/main" not in link, link
+    assert repository.links(url).branch == repository.repository_branch() == "main"  # the committed setting
+    assert repository.repository_branch({repository.BRANCH_ENV: "dev"}) == "dev"
+
+
+@pytest.mark.parametrize("branch", ["", "-x", "a..b", "a b", "x.lock", "a/x.lock/b", "../etc", "a/.b", "/a",
+                                    "a/", "a\nb", 'main"><script>alert(1)</script>', "a?b", "a#b", None, 3])
+def test_a_bad_branch_is_refused_by_name(branch):
+    with pytest.raises(repository.RepositoryError, match=r"the repository's branch .*got"):
+        repository.checked_branch(branch)
+    if branch is not None:  # links(url, None): the branch setting
+        with pytest.raises(repository.RepositoryError, match="branch"):
+            repository.links("https://github.com/a/b", branch)
+    if isinstance(branch, str) and "\n" not in branch:
+        with pytest.raises(repository.RepositoryError, match=repository.BRANCH_ENV):
+            repository.repository_branch({repository.BRANCH_ENV: branch})

@@ -195,7 +195,7 @@ def site_config(url: str | None, hub: str | None = None) -> str:
     options = config["sphinx"]["config"].setdefault("html_theme_options", {})
     if url:
         made = repository.links(url)
-        config["repository"] = {"url": made.repository, "path_to_book": "", "branch": repository.BRANCH}
+        config["repository"] = {"url": made.repository, "path_to_book": "", "branch": made.branch}
         config["launch_buttons"] = {
             "notebook_interface": "jupyterlab", "thebe": False,
             "binderhub_url": "https://mybinder.org" if made.binder else "",

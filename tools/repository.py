@@ -11,6 +11,10 @@ repository, source and issue links (tools/build_site.py), the README's block of 
 elsewhere* (between the ``repository-links`` comments) and ``repository-code`` in CITATION.cff.  With no
 address, none of them shows a link, and nothing stands in for one.
 
+The branch the links point at is ``[tool.course] branch`` (default ``main``), or ``COURSE_REPOSITORY_BRANCH``
+for one command: a git branch name of plain segments (letters, digits, ``-``, ``_``, ``.``, separated by
+``/``; not starting with ``-`` or ``.``, no ``..``, not ending in ``.lock``), anything else refused by name.
+
 A JupyterHub is a second, optional address (``[tool.course] jupyterhub-url``, or
 ``COURSE_JUPYTERHUB_URL``): with both set, the website also shows an nbgitpuller link that clones the
 repository into the hub and opens the page there.
@@ -39,8 +43,10 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 PYPROJECT = ROOT / "pyproject.toml"
 README = ROOT / "README.md"
 CITATION = ROOT / "CITATION.cff"
-ENV, HUB_ENV = "COURSE_REPOSITORY_URL", "COURSE_JUPYTERHUB_URL"
-BRANCH = "main"
+ENV, HUB_ENV, BRANCH_ENV = "COURSE_REPOSITORY_URL", "COURSE_JUPYTERHUB_URL", "COURSE_REPOSITORY_BRANCH"
+BRANCH = "main"  # the default branch setting
+_SEGMENT = r"[A-Za-z0-9_][A-Za-z0-9._-]*"
+BRANCH_NAME = re.compile(rf"(?!.*\.\.)(?!.*\.lock(?:/|$)){_SEGMENT}(?:/{_SEGMENT})*", re.ASCII)
 FIRST_LESSON = "notebooks/00_start_here.ipynb"
 README_START = "<!-- repository-links: made by tools/repository.py -->"
 README_END = "<!-- /repository-links -->"
@@ -51,7 +57,8 @@ class RepositoryError(ValueError):
     """The address is not one the links can be made from (message says why)."""
 
 
-REPOSITORY_SETTING, HUB_SETTING = "the repository's address", "the JupyterHub's address"
+REPOSITORY_SETTING, HUB_SETTING, BRANCH_SETTING = ("the repository's address", "the JupyterHub's address",
+                                                   "the repository's branch")
 _LABEL = r"[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-9])?"
 ADDRESS = re.compile(rf"https://(?P<host>{_LABEL}(?:\.{_LABEL})*)(?::(?P<port>[1-9][0-9]{{0,4}}))?"
                      r"(?P<path>(?:/[A-Za-z0-9._-]+)*)", re.ASCII)
@@ -114,6 +121,24 @@ def jupyterhub_url(environ=os.environ) -> str | None:
     return checked_hub(url, where) if not isinstance(url, str) or url.strip() else None
 
 
+def repository_branch(environ=os.environ) -> str:
+    """The branch the links point at: ``COURSE_REPOSITORY_BRANCH``, else ``[tool.course] branch``, else
+    main."""
+    if BRANCH_ENV in environ:
+        return checked_branch(environ[BRANCH_ENV], BRANCH_ENV)
+    branch = _pyproject().get("tool", {}).get("course", {}).get("branch", BRANCH)
+    return checked_branch(branch, "[tool.course] branch in pyproject.toml")
+
+
+def checked_branch(branch, where: str = "") -> str:
+    """``branch`` if it is a plain git branch name (see the module's text), else :class:`RepositoryError`."""
+    if not isinstance(branch, str) or not BRANCH_NAME.fullmatch(branch):
+        setting = f"{BRANCH_SETTING} ({where})" if where else BRANCH_SETTING
+        raise RepositoryError(f"{setting} must be a git branch name of plain segments (letters, digits, "
+                              f"'-', '_', '.', separated by '/'); got {branch!r}")
+    return branch
+
+
 def checked_hub(url: str, where: str = "") -> str:
     """The JupyterHub's address checked (as the repository's; a hub may have no path)."""
     return _https(url, f"{HUB_SETTING} ({where})" if where else HUB_SETTING)
@@ -136,17 +161,20 @@ class Links:
     colab: str | None
     host: str
     path: str  # "owner/name"
+    branch: str = BRANCH
 
     def notebook_source(self, notebook: str) -> str:
-        return f"{self.repository}/blob/{BRANCH}/{notebook}"
+        return f"{self.repository}/blob/{self.branch}/{notebook}"
 
     def colab_notebook(self, notebook: str) -> str | None:
-        return f"{self.colab}/blob/{BRANCH}/{notebook}" if self.colab else None
+        return f"{self.colab}/blob/{self.branch}/{notebook}" if self.colab else None
 
 
-def links(url: str) -> Links:
-    """The links made from ``url`` (https://github.com/OWNER/NAME, a GitLab address, or another host)."""
+def links(url: str, branch: str | None = None) -> Links:
+    """The links made from ``url`` (https://github.com/OWNER/NAME, a GitLab address, or another host), to
+    ``branch`` (default: the branch setting, :func:`repository_branch`)."""
     url = _https(url, REPOSITORY_SETTING)
+    branch = repository_branch() if branch is None else checked_branch(branch)
     parts = urllib.parse.urlsplit(url)
     path = parts.path.strip("/")
     if path.count("/") < 1:
@@ -154,17 +182,17 @@ def links(url: str) -> Links:
     host = parts.hostname
     lab = urllib.parse.quote(f"lab/tree/{FIRST_LESSON}", safe="")
     if host == "github.com":
-        binder = f"https://mybinder.org/v2/gh/{path}/{BRANCH}?urlpath={lab}"
+        binder = f"https://mybinder.org/v2/gh/{path}/{branch}?urlpath={lab}"
         colab = f"https://colab.research.google.com/github/{path}"
     elif host == "gitlab.com":
-        binder = f"https://mybinder.org/v2/gl/{urllib.parse.quote(path, safe='')}/{BRANCH}?urlpath={lab}"
+        binder = f"https://mybinder.org/v2/gl/{urllib.parse.quote(path, safe='')}/{branch}?urlpath={lab}"
         colab = None
     else:
-        binder = f"https://mybinder.org/v2/git/{urllib.parse.quote(url, safe='')}/{BRANCH}?urlpath={lab}"
+        binder = f"https://mybinder.org/v2/git/{urllib.parse.quote(url, safe='')}/{branch}?urlpath={lab}"
         colab = None
     issues = f"{url}/issues" if host in {"github.com", "gitlab.com"} else url
-    return Links(repository=url, issues=issues, source=f"{url}/tree/{BRANCH}/notebooks", binder=binder,
-                 colab=colab, host=host, path=path)
+    return Links(repository=url, issues=issues, source=f"{url}/tree/{branch}/notebooks", binder=binder,
+                 colab=colab, host=host, path=path, branch=branch)
 
 
 def readme_block(url: str | None) -> str:
@@ -240,6 +268,7 @@ def main(arguments: list[str]) -> int:
     try:
         url = repository_url()
         hub = jupyterhub_url()
+        repository_branch()  # checked too: every link is made from it
         expected = expected_files(url)  # everything is made and checked before anything is written
         problem = citation_problem(expected[CITATION], url) if "--write" in arguments else None
         if problem:

@@ -1,5 +1,7 @@
 """Checkers for the exercise notebooks and the lessons' "Try it" cells: a :class:`Feedback` (``ok``, a
-``message`` naming what looks wrong, never the reference value) for any answer, never raising.
+``message`` naming what looks wrong, never the reference value) for any answer, never raising.  The task
+arguments (the linkage, angles, branch or mode the notebook passes) are checked first: a bad one, or a task
+that has no answer, is the instructor's to fix and raises ``InvalidArgumentError`` naming it.
 Equivalent answers pass (angles modulo 2π, equal sympy expressions, scaled equations); SI units, radians.
 One module per exercise set (``ex01`` … ``ex06``) and one for the lessons, on the shared ``engine``.
 

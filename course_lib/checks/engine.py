@@ -1,7 +1,8 @@
-"""The feedback engine every checker shares: a parser (:func:`vector`, :func:`integer`, :func:`word`,
-:func:`fields`) reads the answer; :func:`diagnose` tries (candidate, verdict) rules in order, the reference
-first, then known mistakes with their hints.  Sympy answers go to :func:`judge_expression` (sympy is
-imported only to judge them)."""
+"""The feedback engine every checker shares: :func:`reads` checks the task's arguments first
+(:func:`task_argument`, :func:`task_possible`: a bad task raises), then a parser (:func:`vector`,
+:func:`integer`, :func:`word`, :func:`fields`) reads the answer; :func:`diagnose` tries (candidate,
+verdict) rules in order, the reference first, then known mistakes with their hints.  Sympy answers go to
+:func:`judge_expression` (sympy is imported only to judge them)."""
 
 import functools
 import inspect
@@ -14,12 +15,19 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InvalidArgumentError
+from ..errors import (
+    CourseLibError,
+    InvalidArgumentError,
+    InvalidGeometryError,
+    require_choice,
+    require_finite,
+)
 from ..planar import wrap_angle
 
 __all__ = ["ANGLE_TOL", "RELATIVE_TOL", "MOST_TYPED", "Precision", "FIGURES", "DECIMALS", "Feedback", "reads",
            "right", "wrong", "vector", "number", "integer", "word", "fields", "choice", "close", "near",
-           "angles_close", "in_degrees", "diagnose", "first", "angle_verdict", "plain", "judge_expression"]
+           "angles_close", "in_degrees", "diagnose", "first", "angle_verdict", "plain", "judge_expression",
+           "task_argument", "task_possible"]
 
 #: Absolute tolerance on angles (rad) and relative tolerance on other numbers, where a checker compares
 #: computed quantities (not a student's rounded numbers: those are judged by a :class:`Precision`).
@@ -266,16 +274,139 @@ def wrong(message: str) -> Feedback:
     return Feedback(False, "Not yet: " + message)
 
 
-def reads(parse: Callable[[Any], Any] | None = None):
-    """Make a checker of ``check``: "no answer yet" for None, the parser's feedback on an unreadable answer,
-    else ``check`` on the answer as read; a failure while judging becomes feedback, wrong arguments raise."""
+def _shown(value: Any, most: int = 100) -> str:
+    """``repr(value)``, cut to ``most`` characters (a task argument may be a large array)."""
+    try:
+        text = repr(value)
+    except Exception:  # a repr that fails is still named by its type
+        text = f"<{type(value).__name__}>"
+    return text if len(text) <= most else text[:most - 1] + "…"
+
+
+#: The words that may open a number's kind in :func:`task_argument`, and what they add to "a finite number".
+_MODIFIERS = {"positive": "a positive, finite number", "nonzero": "a non-zero, finite number",
+              "pair": "a pair of finite numbers"}
+
+
+def _class_named(kind: type) -> str:
+    """A class as its call, "FourBar(crank, coupler, rocker, ground)", or its bare name."""
+    try:
+        parameters = inspect.signature(kind).parameters
+    except (TypeError, ValueError):  # a builtin such as str has no signature
+        return kind.__name__
+    return f"{kind.__name__}({', '.join(parameters)})"
+
+
+def task_argument(name: str, value: Any, kind: Any) -> Any:
+    """A task argument — what the instructor writes in the notebook (a linkage, a crank angle, a branch), not
+    the student's answer — as the checker uses it, or :class:`InvalidArgumentError` naming ``name`` and
+    showing ``value``.  ``kind`` says what it must be:
+
+    * a class (``FourBar``, ``Saw``, …): an instance of it; ``bool``: True or False;
+    * a tuple of choices: one of them (returned as that choice: 1.0 for the mode 1 is the int 1);
+    * a unit ("rad", "rad/s", "m", "degrees", or "" for a pure number): one finite real number (a float),
+      "positive …" or "nonzero …" one that is also > 0 or ≠ 0, "pair …" two of them (a float array).
+
+    >>> task_argument("theta2", np.float64(0.5), "rad"), task_argument("mode", 1.0, (1, -1))
+    (0.5, 1)
+    >>> task_argument("theta2", "abc", "rad")
+    Traceback (most recent call last):
+    ...
+    course_lib.errors.InvalidArgumentError: theta2 must be a finite number in rad; got 'abc'
+    >>> task_argument("branch", "up", ("open", "crossed"))
+    Traceback (most recent call last):
+    ...
+    course_lib.errors.InvalidArgumentError: branch must be one of 'open', 'crossed'; got 'up'
+    """
+    shown = _shown(value)
+    if kind is bool:
+        if not isinstance(value, bool | np.bool_):
+            raise InvalidArgumentError(f"{name} must be True or False; got {shown}")
+        return bool(value)
+    if isinstance(kind, type):
+        if not isinstance(value, kind):
+            raise InvalidArgumentError(f"{name} must be a {_class_named(kind)}; got {shown}")
+        return value
+    if isinstance(kind, tuple):
+        if isinstance(value, list | np.ndarray) and any(isinstance(choice, tuple) for choice in kind):
+            value = tuple(np.asarray(value, dtype=object).tolist())  # a pair such as modes, as a tuple
+        try:
+            if isinstance(value, np.bool_) or isinstance(value, tuple) and any(
+                    isinstance(entry, bool | np.bool_) for entry in value):
+                raise InvalidGeometryError(f"{name} must be one of {kind}; got {shown}")  # True is not 1
+            require_choice(name, value, kind)
+            return next(choice for choice in kind if bool(choice == value))
+        except (InvalidGeometryError, TypeError, ValueError) as error:  # ValueError: an array's truth value
+            listed = ", ".join(map(repr, kind))
+            raise InvalidArgumentError(f"{name} must be one of {listed}; got {shown}") from error
+    words = str(kind).split(" ", 1)
+    modifier = words[0] if words[0] in _MODIFIERS else ""
+    unit = (words[1] if len(words) > 1 else "") if modifier else str(kind)
+    what = _MODIFIERS.get(modifier, "a finite number") + (f" in {unit}" if unit else "")
+    try:
+        array = require_finite(name, value, unit)
+    except InvalidGeometryError as error:  # text, None, NaN, inf, a bool, a complex number, …
+        raise InvalidArgumentError(f"{name} must be {what}; got {shown}") from error
+    if array.shape != ((2,) if modifier == "pair" else ()):
+        raise InvalidArgumentError(f"{name} must be {what}; got {shown}")
+    if modifier == "positive" and not array > 0 or modifier == "nonzero" and not array != 0:
+        raise InvalidArgumentError(f"{name} must be {what}; got {shown}")
+    return array.copy() if modifier == "pair" else float(array)
+
+
+def task_possible(compute: Callable[[], Any], problem: str) -> Any:
+    """``compute()``, the reference of a task, or :class:`InvalidArgumentError` "``problem``: no reference
+    answer exists for this task" where the library refuses it (the mechanism cannot be assembled there, a
+    singular Jacobian) or it is not finite numbers; ``problem`` names the task argument that makes it
+    impossible.
+
+    >>> task_possible(lambda: np.sqrt(-1.0), "no crank angle theta2")
+    Traceback (most recent call last):
+    ...
+    course_lib.errors.InvalidArgumentError: no crank angle theta2: no reference answer exists for this task
+    """
+    try:
+        with np.errstate(all="ignore"):
+            value = compute()
+    except (CourseLibError, ArithmeticError, ValueError) as error:
+        raise InvalidArgumentError(f"{problem}: no reference answer exists for this task ({error})") from None
+    if not _finite_leaves(value):
+        raise InvalidArgumentError(f"{problem}: no reference answer exists for this task")
+    return value
+
+
+def _finite_leaves(value: Any) -> bool:
+    """Whether every number in ``value`` (numbers, arrays, and lists or tuples of them, nested) is finite."""
+    if isinstance(value, list | tuple) and not isinstance(_reals(value), np.ndarray):
+        return all(map(_finite_leaves, value))
+    numbers = _reals(value)
+    return numbers is None or bool(np.all(np.isfinite(numbers)))
+
+
+def reads(parse: Callable[[Any], Any] | None = None, task: Mapping[str, Any] | None = None,
+          possible: Callable[..., Any] | None = None):
+    """Make a checker of ``check``: its task arguments first — with ``task``, each one checked by
+    :func:`task_argument` against its kind there (every argument after the answer must have one), then
+    ``possible`` called with them all (it raises, by :func:`task_possible`, for a task that has no answer):
+    a bad task raises :class:`InvalidArgumentError` whatever the answer.  Then the answer: "no answer yet"
+    for None, the parser's feedback on an unreadable answer, else ``check`` on the answer as read; a
+    failure while judging becomes feedback, wrong arguments raise."""
 
     def decorate(check):
         signature = inspect.signature(check)
+        _, *arguments = signature.parameters
+        if task is not None and set(arguments) != set(task):
+            raise TypeError(f"{check.__name__}: give the kind of every task argument and only those: it "
+                            f"takes {arguments}, task= names {list(task)}")
 
         @functools.wraps(check)
         def checker(answer, *args, **kwargs):
-            signature.bind(answer, *args, **kwargs)
+            bound = signature.bind(answer, *args, **kwargs)
+            bound.apply_defaults()
+            given = {name: bound.arguments[name] if task is None
+                     else task_argument(name, bound.arguments[name], task[name]) for name in arguments}
+            if possible is not None:
+                possible(**given)
             blanks = isinstance(answer, tuple | list) and len(answer) > 0 and all(a is None for a in answer)
             if answer is None or answer is Ellipsis or blanks:
                 return Feedback(False, "No answer yet: build your answer in the cell above, then run this "
@@ -286,7 +417,7 @@ def reads(parse: Callable[[Any], Any] | None = None):
             try:
                 with np.errstate(all="ignore"):
                     value = parse(answer) if parse else answer
-                    return value if isinstance(value, Feedback) else check(value, *args, **kwargs)
+                    return value if isinstance(value, Feedback) else check(value, **given)
             except Exception as error:  # the last resort: a student sees feedback, not a traceback
                 return wrong(f"this answer could not be checked ({type(error).__name__}); give it in the "
                              "form the task asks for.")

@@ -62,7 +62,7 @@ def check_tilted_loop(answer) -> Feedback:
         system="the two components as a list [x_component, y_component] (or a 2×1 Matrix)")
 
 
-@reads(vector(2, "the vector (x, y)"))
+@reads(vector(2, "the vector (x, y)"), task={"length": "positive m", "angle_degrees": "degrees"})
 def check_link_vector(answer, length: float, angle_degrees: float) -> Feedback:
     """Lesson 00, Try it: the vector (x, y) in metres, to 4 significant figures, of a link of ``length`` (m)
     at ``angle_degrees``.
@@ -80,7 +80,8 @@ def check_link_vector(answer, length: float, angle_degrees: float) -> Feedback:
     ], "R = l (cos θ î + sin θ ĵ): evaluate cos θ and sin θ for the given angle.")
 
 
-@reads(vector((1, 2), "the velocity (vx, vy)"))
+@reads(vector((1, 2), "the velocity (vx, vy)"), task={"length": "positive m", "angle_degrees": "degrees",
+                                                     "speed": "positive rad/s", "clockwise": bool})
 def check_point_velocity(answer, length: float, angle_degrees: float, speed: float, clockwise: bool
                          ) -> Feedback:
     """Exercise 01, task 3: velocity (vx, vy) in m/s, to 4 significant figures, of a link's tip turning at

@@ -3,6 +3,7 @@
 
 import numpy as np
 
+from ..errors import InvalidArgumentError
 from ..fourbar import BRANCHES, FourBar
 from ..newton import newton
 from .engine import *  # the feedback engine's helpers (engine.__all__)
@@ -75,7 +76,29 @@ def check_newton_cycle(answer) -> Feedback:
     }, "Correct: 0 → 1 → 0 → 1 … a 2-cycle. The tangent at 0 points to 1 and the tangent at 1 back to 0.")
 
 
-@reads(vector(2, "the step Δx"))
+#: The task arguments of a Newton step of the four-bar loop, by kind (engine.task_argument).
+_NEWTON_TASK = {"linkage": FourBar, "theta2": "rad", "seed": "pair rad"}
+
+
+def _step_exists(linkage: FourBar, theta2: float, seed: np.ndarray) -> None:
+    """A Newton step from ``seed`` exists: the loop Jacobian there is not singular (θ3 = θ4 modulo π)."""
+    J = linkage.loop_jacobian(*seed)
+    if not np.linalg.cond(J) < 1e10:
+        raise InvalidArgumentError(f"the loop Jacobian is singular at seed={tuple(seed.tolist())} (θ3 and θ4 "
+                                   "in line), so the Newton step from it is undefined: no reference answer "
+                                   "exists for this task")
+
+
+def _branch_reached(linkage: FourBar, theta2: float, seed: np.ndarray) -> None:
+    """Newton from ``seed`` converges, at a crank angle ``theta2`` where the loop closes."""
+    task_possible(lambda: [linkage.solve(theta2, branch=b).theta4 for b in BRANCHES],
+                  f"the four-bar cannot be assembled at theta2={theta2:.6g}")
+    task_possible(lambda: newton(lambda x: linkage.loop_residual(theta2, *x), seed,
+                                 jac=lambda x: linkage.loop_jacobian(*x)).x,
+                  f"Newton does not converge from seed={tuple(seed.tolist())} at theta2={theta2:.6g}")
+
+
+@reads(vector(2, "the step Δx"), task=_NEWTON_TASK, possible=_step_exists)
 def check_fourbar_newton_step(answer, linkage: FourBar, theta2: float, seed) -> Feedback:
     """Exercise 02, task 4: the first Newton step (Δθ3, Δθ4) (rad, to 4 significant figures) of the four-bar
     loop from ``seed``.
@@ -97,7 +120,7 @@ def check_fourbar_newton_step(answer, linkage: FourBar, theta2: float, seed) -> 
     ], "check F (the two loop components at the seed) and J = ∂F/∂(θ3, θ4), then solve J·Δx = −F.")
 
 
-@reads(word(BRANCHES, 'answer "open" or "crossed" (a string).'))
+@reads(word(BRANCHES, 'answer "open" or "crossed" (a string).'), task=_NEWTON_TASK, possible=_branch_reached)
 def check_seed_branch(answer, linkage: FourBar, theta2: float, seed) -> Feedback:
     """Exercise 02, task 5: which assembly ("open" or "crossed") Newton reaches from ``seed``.
 

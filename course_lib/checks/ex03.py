@@ -3,13 +3,30 @@
 
 import numpy as np
 
-from ..fourbar import FourBar
+from ..errors import InvalidArgumentError
+from ..fourbar import BRANCHES, FourBar
 from .engine import *  # the feedback engine's helpers (engine.__all__)
 
 __all__ = ["check_fourbar_theta4", "check_omega4_expression", "check_fourbar_rates", "check_toggle_angle"]
 
 
-@reads(number("θ4"))
+def _assembles(linkage: FourBar, theta2: float, omega2: float = 0.0, alpha2: float = 0.0, **_) -> None:
+    """The four-bar closes at ``theta2`` on both branches, with rates there (not at a toggle while moving)."""
+    task_possible(lambda: [tuple(linkage.solve(theta2, omega2, alpha2, branch=b)) for b in BRANCHES],
+                  f"the four-bar cannot be assembled at theta2={theta2:.6g}"
+                  + (f", or its rates at omega2={omega2:.6g}, alpha2={alpha2:.6g} are undefined there (a "
+                     "toggle)" if omega2 or alpha2 else ""))
+
+
+def _has_toggle(linkage: FourBar) -> None:
+    """The crank of ``linkage`` stops at a toggle angle (the task asks for the largest one)."""
+    if not linkage.input_range().toggle_angles:
+        raise InvalidArgumentError(f"linkage must be a four-bar whose crank stops at a toggle angle (a "
+                                   f"non-Grashof one); got {linkage!r}, whose crank has none: no reference "
+                                   "answer exists for this task")
+
+
+@reads(number("θ4"), task={"linkage": FourBar, "theta2": "rad", "branch": BRANCHES}, possible=_assembles)
 def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -> Feedback:
     """Exercise 03, task 1 and lesson 03's Try it: the rocker angle θ4 (rad, to 4 decimals) at crank angle
     ``theta2`` on ``branch``.
@@ -51,7 +68,8 @@ def check_omega4_expression(answer) -> Feedback:
     ], "differentiate the two loop components, then solve the linear 2×2 system for ω3, ω4.")
 
 
-@reads(vector(2, "(ω4, α4)"))
+@reads(vector(2, "(ω4, α4)"), task={"linkage": FourBar, "theta2": "rad", "omega2": "rad/s",
+                                   "alpha2": "rad/s²", "branch": BRANCHES}, possible=_assembles)
 def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, alpha2: float, branch: str
                         ) -> Feedback:
     """Exercise 03, task 3: (ω4, α4) of the rocker (rad/s, rad/s², to 4 significant figures) at ``theta2`` on
@@ -84,7 +102,8 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
 
 
 @reads(fields('a pair (theta2_max, "extended" or "folded")', number("θ2_max"),
-              word(("extended", "folded"), 'the second entry is the string "extended" or "folded".')))
+              word(("extended", "folded"), 'the second entry is the string "extended" or "folded".')),
+       task={"linkage": FourBar}, possible=_has_toggle)
 def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
     """Exercise 03, task 4: the largest crank angle (rad, to 4 decimals) of a non-Grashof ``linkage`` and
     whether coupler and rocker lie "extended" or "folded" there.

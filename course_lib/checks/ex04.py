@@ -32,7 +32,14 @@ def check_saw_omega3_expression(answer) -> Feedback:
     ], "use the y-equation without r1: r2 sin θ2 + r3 sin θ3 = r1y, differentiate in time.")
 
 
-@reads(vector(3, "(r1, θ1, θ3)"))
+def _closes(saw: Saw, theta2: float, omega2: float = 0.0, alpha2: float = 0.0) -> None:
+    """The saw closes at ``theta2`` (the rod reaches the slider line, not perpendicular to it)."""
+    task_possible(lambda: analytic(theta2, omega2, alpha2, saw=saw),
+                  f"the saw cannot close at theta2={theta2:.6g} (the rod r3 cannot reach the slider line "
+                  "there, or stands perpendicular to it)")
+
+
+@reads(vector(3, "(r1, θ1, θ3)"), task={"saw": Saw, "theta2": "rad"}, possible=_closes)
 def check_saw_position(answer, saw: Saw, theta2: float) -> Feedback:
     """Exercise 04, task 2: (r1 in m, θ1, θ3 in rad), to 4 decimals, at crank angle ``theta2``; the same
     vector r1 written as (−r1, θ1 + π) passes too.
@@ -64,7 +71,8 @@ def check_saw_position(answer, saw: Saw, theta2: float) -> Feedback:
         angles=(False, True, True))
 
 
-@reads(number("a_r"))
+@reads(number("a_r"), task={"saw": Saw, "theta2": "rad", "omega2": "rad/s", "alpha2": "rad/s²"},
+       possible=_closes)
 def check_saw_slider_acceleration(answer, saw: Saw, theta2: float, omega2: float, alpha2: float) -> Feedback:
     """Exercise 04, task 3: a_r (m/s², to 4 significant figures), the second derivative of the signed length
     r1 (not the slider's own acceleration ẍ), at the given motor state.

@@ -5,6 +5,7 @@ import re
 
 import numpy as np
 
+from ..errors import InvalidArgumentError
 from ..fivebar import WORKING_MODES, FiveBar
 from .engine import *  # the feedback engine's helpers (engine.__all__)
 
@@ -14,7 +15,37 @@ MICROMETRES = Precision(6, decimals=True)
 __all__ = ["check_fivebar_forward", "check_fivebar_inverse", "check_fivebar_g", "check_fivebar_singularity"]
 
 
-@reads(vector(2, "(x3, y3)"))
+def _assembles(robot: FiveBar, theta1: float, theta4: float, **_) -> None:
+    """The five-bar closes at the crank angles ``theta1``, ``theta4`` (in both assembly modes)."""
+    task_possible(lambda: [tuple(robot.forward(theta1, theta4, mode=m)) for m in (1, -1)],
+                  f"the five-bar cannot be assembled at theta1={theta1:.6g}, theta4={theta4:.6g}")
+
+
+def _reaches(robot: FiveBar, x3: float, y3: float, **_) -> None:
+    """Both legs of the five-bar reach the point (``x3``, ``y3``) (in every working mode)."""
+    task_possible(lambda: [tuple(robot.inverse(x3, y3, modes=m)) for m in WORKING_MODES],
+                  f"the five-bar cannot reach x3={x3:.6g}, y3={y3:.6g}")
+
+
+def _posed(robot: FiveBar, theta1: float, theta4: float, x3: float, y3: float) -> None:
+    """(``x3``, ``y3``) is the end effector of ``robot`` at ``theta1``, ``theta4``: each distal link has its
+    length there (to a millionth of the robot's size)."""
+    elbow1 = (robot.l5 / 2 + robot.l1 * np.cos(theta1), robot.l1 * np.sin(theta1))  # P2, P4: the elbows
+    elbow4 = (-robot.l5 / 2 + robot.l4 * np.cos(theta4), robot.l4 * np.sin(theta4))
+    gaps = (abs(np.hypot(x3 - elbow1[0], y3 - elbow1[1]) - robot.l2),
+            abs(np.hypot(x3 - elbow4[0], y3 - elbow4[1]) - robot.l3))
+    size = max(robot.l1, robot.l2, robot.l3, robot.l4, robot.l5)
+    if not max(gaps) <= 1e-6 * size:
+        link = "l2" if gaps[0] > gaps[1] else "l3"
+        raise InvalidArgumentError(f"x3, y3 must be the end effector of the robot at theta1, theta4 (as "
+                                   f"robot.forward(theta1, theta4, mode) gives it); got x3={x3:.6g}, "
+                                   f"y3={y3:.6g}, {max(gaps):.3g} m off the distal link {link} at "
+                                   f"theta1={theta1:.6g}, theta4={theta4:.6g}: no reference answer exists "
+                                   "for this task")
+
+
+@reads(vector(2, "(x3, y3)"), task={"robot": FiveBar, "theta1": "rad", "theta4": "rad", "mode": (1, -1)},
+       possible=_assembles)
 def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, mode: int) -> Feedback:
     """Exercise 05, task 1 and lesson 08's Try it: the end effector (x3, y3) in m, to 6 decimals (a
     micrometre), in assembly mode ``mode`` (+1 arms up, −1 arms down).
@@ -34,7 +65,8 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
     ], "from X3 = g·Y3 + f and a·Y3² + b·Y3 + c = 0, take Y3 = (−b + σ√(b² − 4ac))/2a.")
 
 
-@reads(vector(2, "(θ1, θ4)"))
+@reads(vector(2, "(θ1, θ4)"), task={"robot": FiveBar, "x3": "m", "y3": "m", "modes": WORKING_MODES},
+       possible=_reaches)
 def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: tuple[int, int]) -> Feedback:
     """Exercise 05, task 2: crank angles (θ1, θ4) in rad, to 4 decimals, putting the end effector at (x3, y3)
     in working mode ``modes``.
@@ -95,7 +127,8 @@ _SINGULARITIES = {
 
 
 @reads(word(tuple(_SINGULARITIES), 'answer one of "serial1", "serial4", "parallel" or "none" (a string).',
-            clean=lambda text: re.sub(r"[\s_\-,()]|leg", "", text.lower())))
+            clean=lambda text: re.sub(r"[\s_\-,()]|leg", "", text.lower())),
+       task={"robot": FiveBar, "theta1": "rad", "theta4": "rad", "x3": "m", "y3": "m"}, possible=_posed)
 def check_fivebar_singularity(answer, robot: FiveBar, theta1: float, theta4: float, x3: float, y3: float
                               ) -> Feedback:
     """Exercise 05, task 4: "serial1", "serial4", "parallel" or "none": the robot's singularity.

@@ -14,7 +14,7 @@ from itertools import permutations
 
 import numpy as np
 
-from ..errors import InvalidGeometryError, require_positive
+from ..errors import InvalidArgumentError, InvalidGeometryError, require_positive
 from .engine import *  # the feedback engine's helpers (engine.__all__)
 
 __all__ = ["ShaperDrawing", "SHAPER", "quick_return_time_ratio", "check_shaper_loops",
@@ -25,6 +25,15 @@ NAMES = ("theta2", "theta4", "r4", "theta5", "x", "r2", "d", "l4", "l5", "h")
 UNKNOWNS = NAMES[1:5]
 _PROBES = np.radians(np.arange(10.0, 360.0, 45.0))  # crank angles where the loops are evaluated
 _NUDGE = np.array([0.05, 0.02, -0.04, 0.03])  # the unknowns off the drawing, to see a row respond
+#: Crank angles over one turn, where a task's shaper must assemble and the loops must fix the unknowns.
+_TURN = np.linspace(0.0, 2 * np.pi, 256, endpoint=False)
+_RANDOM = np.random.default_rng(20240607)  # a fixed seed: the same checks every run
+#: Crank angles where every equation must vanish on the drawn shaper: the probes, the turn, random ones.
+_CLOSED = np.concatenate([_PROBES, _TURN, _RANDOM.uniform(0.0, 2 * np.pi, 32)])
+#: Positions that do not close the loops, where no equation may vanish: random crank angles, each unknown
+#: moved off the drawing by 0.02 to 0.2 (rad or m) either way.
+_OPEN_THETA2 = _RANDOM.uniform(0.0, 2 * np.pi, 24)
+_OPEN_NUDGE = _RANDOM.uniform(0.02, 0.2, (4, 24)) * _RANDOM.choice([-1.0, 1.0], (4, 24))
 
 
 def quick_return_time_ratio(crank: float, pivot_distance: float) -> float:
@@ -111,6 +120,28 @@ class ShaperDrawing:
 SHAPER = ShaperDrawing()
 
 
+def _assembles(shaper: ShaperDrawing, theta2: float, *rates: float) -> None:
+    """The shaper assembles at ``theta2`` (C on the ram's line, either side of B), with the ``rates``
+    (ω2, α2) there when they are given."""
+    task_possible(lambda: [shaper.configuration(theta2, side) for side in (1, -1)]
+                  + (list(shaper.rates(theta2, *rates)) if rates else []),
+                  f"the shaper {shaper!r} cannot be assembled at theta2={theta2:.6g} (the link BC cannot "
+                  "reach the ram's line there)")
+
+
+def _moves(shaper: ShaperDrawing, theta2: float, omega2: float, alpha2: float) -> None:
+    """The shaper assembles at ``theta2``, with its rates at ``omega2``, ``alpha2``."""
+    _assembles(shaper, theta2, omega2, alpha2)
+
+
+def _turns(shaper: ShaperDrawing) -> None:
+    """The shaper assembles at every crank angle of a turn."""
+    task_possible(lambda: [shaper.configuration(angles) for angles in (_TURN, _PROBES,
+                                                                       np.array(shaper.limit_angles()))],
+                  f"the shaper {shaper!r} cannot turn a full revolution (the link BC cannot reach the ram's "
+                  "line at some crank angle theta2)")
+
+
 def _loop_rows(answer):
     """The answer's scalar equations as sympy expressions in plain real symbols; else the feedback."""
     import sympy as sp
@@ -186,24 +217,50 @@ def _loop_hint(row, ks: list[int], turned: str, moves: bool) -> str:
         " and ".join(map(str, ks))) + " (counting the components in your order)", turned=turned)
 
 
-@reads(_loop_rows)
+def _golden(f, low: np.ndarray, high: np.ndarray, iterations: int = 48) -> np.ndarray:
+    """Where ``f`` (vectorized) is smallest in each bracket [low, high]: golden-section search."""
+    ratio = (np.sqrt(5.0) - 1) / 2
+    a, b = low.astype(float), high.astype(float)
+    c, d = b - ratio * (b - a), a + ratio * (b - a)
+    fc, fd = f(c), f(d)
+    for _ in range(iterations):
+        left = fc <= fd  # the smallest value lies in [a, d]
+        a, b = np.where(left, a, c), np.where(left, d, b)
+        new = np.where(left, b - ratio * (b - a), a + ratio * (b - a))
+        f_new = f(new)
+        c, d, fc, fd = (np.where(left, new, d), np.where(left, c, new), np.where(left, f_new, fd),
+                        np.where(left, fc, f_new))
+    return np.where(fc <= fd, c, d)
+
+
+def _where(ks) -> str:
+    """"equation 2" or "equations 1 and 3", counted from 1 in the student's order."""
+    ks = [str(int(k) + 1) for k in ks]
+    return "equation " + ks[0] if len(ks) == 1 else f"equations {', '.join(ks[:-1])} and {ks[-1]}"
+
+
+@reads(_loop_rows, task={"shaper": ShaperDrawing}, possible=_turns)
 def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
     """Exercise 06, task 1: the two vector loops, four expressions "= 0" (two 2×1 matrices or a ``Mechanism``)
-    that vanish as drawn at eight crank angles and fix θ4, r4, θ5, x (sign, scale, order free).
+    that fix θ4, r4, θ5, x (sign, scale, order free).  Every equation is checked against the loops, with the
+    drawing's lengths: it must vanish on the drawn shaper at every crank angle tried (eight probes, a grid
+    of the turn, random ones) and at no position off the drawing tried (random ones), and together they
+    must fix the unknowns all round the turn (no factor such as cos θ2 that vanishes at some crank angle).
 
     >>> import sympy as sp
     >>> th2, th4, r4, th5, x, r2, d, l4, l5, h = sp.symbols("theta2 theta4 r4 theta5 x r2 d l4 l5 h")
     >>> lever = [r2 * sp.cos(th2) - r4 * sp.cos(th4), d + r2 * sp.sin(th2) - r4 * sp.sin(th4)]
     >>> ram = [l4 * sp.cos(th4) + l5 * sp.cos(th5) - x, l4 * sp.sin(th4) + l5 * sp.sin(th5) - h]
-    >>> check_shaper_loops([*lever, *ram]).ok
-    True
+    >>> check_shaper_loops([*lever, *ram]).ok, check_shaper_loops([lever[0] * sp.cos(th2), lever[1], *ram]).ok
+    (True, False)
     """
     import sympy as sp
     if len(rows) != 4:
         only = " — only one loop?" if len(rows) == 2 else ""
         return wrong("two vector loops give four scalar equations (the x and y components of each); "
                      f"you gave {len(rows)}{only}")
-    q = np.array(shaper.configuration(_PROBES))
+    q = np.array(shaper.configuration(_CLOSED))
+    probes = q[:, :_PROBES.size]  # _CLOSED starts with the probes
 
     def evaluate(theta2, q, turned=()):  # residuals (rows, probes), the drawing's lengths substituted
         values = [theta2, *q, *astuple(shaper)]
@@ -211,18 +268,23 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
         return np.array([np.broadcast_to(np.asarray(v, dtype=complex), np.shape(theta2))
                          for v in function(*values)])
 
+    def jacobian(theta2, q):  # J (angle, row, unknown) by central differences, rows in units of their size
+        J = np.stack([(evaluate(theta2, q + step) - evaluate(theta2, q - step)).real / 2e-6
+                      for step in 1e-6 * np.eye(4)[:, :, None]], axis=2).swapaxes(0, 1)
+        return J / scale[None, :, None]
+
     try:
         function = sp.lambdify(sp.symbols(NAMES, real=True), rows, modules="numpy")
-        at_drawing = evaluate(_PROBES, q)
+        at_drawing = evaluate(_CLOSED, q)
     except Exception as error:  # an undefined function f(θ), a matrix inside a row, …
         return wrong(f"your equations could not be evaluated with numbers ({type(error).__name__}): use only "
                      "the task's symbols, numbers and sympy functions such as sp.cos and sp.sin.")
-    scale = np.abs(evaluate(_PROBES, q + _NUDGE[:, None])).max(axis=1)
+    scale = np.abs(evaluate(_PROBES, probes + _NUDGE[:, None])).max(axis=1)
     holds = _vanishes(at_drawing, scale)
     if not holds.all():
         # a sign slip: turning one vector round (in every component it appears in) closes failing rows and
         # opens none; the vector that closes the most is the one that flipped
-        fixes = {vector: _vanishes(evaluate(_PROBES, q, symbols), scale)
+        fixes = {vector: _vanishes(evaluate(_CLOSED, q, symbols), scale)
                  for vector, symbols in _VECTORS.items()}
         slips = sorted(((int((fixed & ~holds).sum()), vector) for vector, fixed in fixes.items()
                         if (fixed >= holds).all() and (fixed & ~holds).any()), reverse=True)
@@ -236,16 +298,53 @@ def check_shaper_loops(rows, shaper: ShaperDrawing = SHAPER) -> Feedback:
                          "both of its components: walk both routes from the same start to the same end "
                          "point.")
         return wrong(_loop_hint(rows[k], [k + 1], "", bool(scale[k] > 0)))
-    # J (probe, row, unknown) by central differences, rows in units of their size off the drawing: scaling
-    # a row changes nothing, a squared row (zero gradient) counts as zero
-    J = np.stack([(evaluate(_PROBES, q + step) - evaluate(_PROBES, q - step)).real / 2e-6
-                  for step in 1e-6 * np.eye(4)[:, :, None]], axis=2).swapaxes(0, 1)
-    singular_values = np.linalg.svd(J / scale[None, :, None], compute_uv=False)
+    # scaling a row changes nothing, a squared row (zero gradient) counts as zero
+    singular_values = np.linalg.svd(jacobian(_PROBES, probes), compute_uv=False)
     if not (np.isfinite(singular_values).all()
             and (singular_values[:, -1] > 1e-6 * singular_values[:, 0]).all()):
         return wrong("each equation holds for the drawn shaper, but together they do not fix θ4, r4, θ5 "
                      "and x: one repeats (or combines) others, or is squared. Give the x and y components "
                      "of two different loops.")
+    off = evaluate(_OPEN_THETA2, np.array(shaper.configuration(_OPEN_THETA2)) + _OPEN_NUDGE)
+    if (zero := (np.isfinite(off) & (np.abs(off) <= 1e-9 * scale[:, None])).any(axis=1)).any():
+        return wrong(f"{_where(np.flatnonzero(zero))} (counting the components in your order) also "
+                     f"vanish{'es' if zero.sum() == 1 else ''} at a position that does not close the loops. "
+                     "A component of a loop is zero only where the loop closes: write it as it is, without "
+                     "Max, Min, Piecewise or a factor that can be zero.")
+
+    def weakest(theta2):  # σ_min and σ_max of J along the drawn motion (0 where J is not finite), and J
+        J = jacobian(theta2, np.array(shaper.configuration(theta2)))
+        finite = np.isfinite(J).all(axis=(1, 2))
+        values = np.linalg.svd(np.where(finite[:, None, None], J, 0.0), compute_uv=False)
+        return np.where(finite, values[:, -1], 0.0), values[:, 0], J
+
+    # all round the turn: the smallest singular value at each local minimum on the grid, refined
+    low, high, _ = weakest(_TURN)
+    size = np.median(high)
+    minima = np.flatnonzero((low <= np.roll(low, 1)) & (low <= np.roll(low, -1)))
+    minima = minima[np.argsort(low[minima])][:8]
+    step = _TURN[1] - _TURN[0]
+    at = _golden(lambda theta2: weakest(theta2)[0], _TURN[minima] - step, _TURN[minima] + step)
+    low, _, J = weakest(at)
+    if (bad := np.flatnonzero(~(low > 1e-6 * size))).size:
+        k = bad[np.argmin(low[bad])]
+        angle = float(at[k])
+        if (undefined := np.flatnonzero(~np.isfinite(J[k]).all(axis=1))).size:
+            return wrong(f"{_where(undefined)} (counting the components in your order) cannot be evaluated "
+                         f"near θ2 ≈ {angle:.3f} rad (not a number there: a square root or a logarithm of "
+                         "something negative, or a division by zero?). Write each component of each loop as "
+                         "it is.")
+        dead = np.flatnonzero(~(np.linalg.norm(J[k], axis=1) > 1e-6 * size))
+        if dead.size:
+            one = dead.size == 1
+            return wrong(f"{_where(dead)} (counting the components in your order) hold{'s' if one else ''} "
+                         f"for the drawn shaper, but at θ2 ≈ {angle:.3f} rad "
+                         f"{'it holds' if one else 'they hold'} for any θ4, r4, θ5 and x nearby: "
+                         "a factor that is zero at that crank angle (such as cos θ2, θ2 − 1 or cos θ4) "
+                         "multiplies it. Write each component of each loop as it is.")
+        return wrong(f"each equation holds for the drawn shaper, but at θ2 ≈ {angle:.3f} rad together they "
+                     "no longer fix θ4, r4, θ5 and x (there they combine one another). Give the x and y "
+                     "components of the two loops as they are.")
     return right("Correct: four scalar equations that the drawn shaper satisfies at every crank angle "
                  "tried, and that fix θ4, r4, θ5 and x.")
 
@@ -270,7 +369,8 @@ def _by_name(names: tuple[str, ...], what: str):
 _ANGLES = (True, False, True, False)
 
 
-@reads(_by_name(UNKNOWNS, "the position"))
+@reads(_by_name(UNKNOWNS, "the position"), task={"theta2": "rad", "shaper": ShaperDrawing},
+       possible=_assembles)
 def check_shaper_position(answer, theta2: float, shaper: ShaperDrawing = SHAPER) -> Feedback:
     """Exercise 06, task 2: the position (θ4, r4, θ5, x) in rad and m, to 4 decimals, at crank angle
     ``theta2`` (rad), or a dict of it.
@@ -307,7 +407,9 @@ def check_shaper_position(answer, theta2: float, shaper: ShaperDrawing = SHAPER)
         angles=_ANGLES)
 
 
-@reads(_by_name(("v_x", "a_x"), "the ram's velocity and acceleration"))
+@reads(_by_name(("v_x", "a_x"), "the ram's velocity and acceleration"),
+       task={"theta2": "rad", "omega2": "rad/s", "alpha2": "rad/s²", "shaper": ShaperDrawing},
+       possible=_moves)
 def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
                      shaper: ShaperDrawing = SHAPER) -> Feedback:
     """Exercise 06, task 3: the ram's (ẋ, ẍ) in m/s, m/s², to 4 significant figures (or a dict ``v_x``,
@@ -342,7 +444,7 @@ def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
 _THREE = Precision(3)
 
 
-@reads(number("the time ratio"))
+@reads(number("the time ratio"), task={"reference": "positive", "correct": str})
 def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
     """A time ratio against ``reference``, to 3 significant figures: ✔ ``correct``, or the usual slips."""
     slow = 2 * np.pi * reference / (1 + reference)  # the slow stroke's crank angle
@@ -361,16 +463,23 @@ def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
 def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -> Feedback:
     """Lesson 12, Try it: the time ratio (slow / fast stroke, to 3 significant figures) of a slotted-lever
     quick return;
-    a crank or pivot distance that cannot make one raises ``InvalidGeometryError``.
+    a crank or pivot distance that cannot make one raises ``InvalidArgumentError`` (an
+    ``InvalidGeometryError``), whatever the answer.
 
     >>> check_quick_return_time_ratio(2.0, 0.05, 0.10).ok, check_quick_return_time_ratio(0.5, 0.05, 0.10).ok
     (True, False)
     """
+    crank, pivot_distance = (task_argument(name, value, "positive m") for name, value in
+                             (("crank", crank), ("pivot_distance", pivot_distance)))
+    if not crank < pivot_distance:
+        raise InvalidArgumentError("a quick return needs crank < pivot_distance (else the lever turns "
+                                   f"fully); got crank={crank!r}, pivot_distance={pivot_distance!r}: no "
+                                   "reference answer exists for this task")
     return _time_ratio(answer, quick_return_time_ratio(crank, pivot_distance), "Correct: the crank turns "
                        "π + 2β for the slow stroke and π − 2β for the fast one, sin β = r2/d.")
 
 
-@reads(vector(2, "(stroke, time_ratio)"))
+@reads(vector(2, "(stroke, time_ratio)"), task={"shaper": ShaperDrawing}, possible=_turns)
 def check_ram_stroke(answer, shaper: ShaperDrawing = SHAPER) -> Feedback:
     """Exercise 06, task 4: (stroke in m, time ratio), each to 3 significant figures.
 

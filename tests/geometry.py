@@ -32,3 +32,19 @@ def fourbar_pins(l1, l2, l3, l4, theta2, branch):
     A = l2 * np.stack([np.cos(theta2), np.sin(theta2)], axis=-1)
     left, right = circle_intersections(A, l3, np.array([l1, 0.0]), l4)
     return A, (left if branch == "open" else right)
+
+
+def course_inverse_angles(x3, y3, lengths, sigma1, sigma2):
+    """θ1, θ4 of the five-bar's inverse kinematics in working mode (σ1, σ2) from the course's half-angle
+    coefficients, typed from the course material: θ = 2·atan((−b + σ√(b² − 4ac)) / 2a)."""
+    l1, l2, l3, l4, l5 = lengths
+    a1 = l1**2 - l2**2 - l1 * l5 + l5**2 / 4 + 2 * l1 * x3 - l5 * x3 + x3**2 + y3**2
+    b1, b2 = -4 * l1 * y3, -4 * l4 * y3
+    c1 = l1**2 - l2**2 + l1 * l5 + l5**2 / 4 - 2 * l1 * x3 - l5 * x3 + x3**2 + y3**2
+    a2 = -(l3**2) + l4**2 + l4 * l5 + l5**2 / 4 + 2 * l4 * x3 + l5 * x3 + x3**2 + y3**2
+    c2 = -(l3**2) + l4**2 - l4 * l5 + l5**2 / 4 - 2 * l4 * x3 + l5 * x3 + x3**2 + y3**2
+
+    def angle(a, b, c, sigma):
+        return 2 * np.arctan((-b + sigma * np.sqrt(b * b - 4 * a * c)) / (2 * a))
+
+    return angle(a1, b1, c1, sigma1), angle(a2, b2, c2, sigma2)

@@ -9,7 +9,7 @@ import pytest
 import scipy.optimize
 import sympy as sp
 from feedback import hides
-from geometry import circle_intersections, fourbar_pins
+from geometry import circle_intersections, course_inverse_angles, fourbar_pins
 
 from course_lib import checks
 from course_lib.fivebar import FiveBar
@@ -387,24 +387,15 @@ def test_fivebar_forward():
 
 
 def test_fivebar_inverse():
-    x3, y3 = 0.02, 0.21
-    l1, l2, l3, l4, l5 = 0.11, 0.15, 0.16, 0.12, 0.09
-    # the seeds' half-angle coefficients, typed from the course material
-    a1 = l1**2 - l2**2 - l1 * l5 + l5**2 / 4 + 2 * l1 * x3 - l5 * x3 + x3**2 + y3**2
-    b1, b2 = -4 * l1 * y3, -4 * l4 * y3
-    c1 = l1**2 - l2**2 + l1 * l5 + l5**2 / 4 - 2 * l1 * x3 - l5 * x3 + x3**2 + y3**2
-    a2 = -(l3**2) + l4**2 + l4 * l5 + l5**2 / 4 + 2 * l4 * x3 + l5 * x3 + x3**2 + y3**2
-    c2 = -(l3**2) + l4**2 - l4 * l5 + l5**2 / 4 - 2 * l4 * x3 + l5 * x3 + x3**2 + y3**2
-
-    def angle(a, b, c, sigma):
-        return 2 * np.arctan((-b + sigma * np.sqrt(b * b - 4 * a * c)) / (2 * a))
-
-    answer = (angle(a1, b1, c1, -1), angle(a2, b2, c2, +1))
+    x3, y3, lengths = 0.02, 0.21, (0.11, 0.15, 0.16, 0.12, 0.09)
+    answer = course_inverse_angles(x3, y3, lengths, -1, +1)  # the course's half-angle coefficients
+    other_sigma1 = course_inverse_angles(x3, y3, lengths, +1, +1)[0]
+    other_sigma2 = course_inverse_angles(x3, y3, lengths, -1, -1)[1]
     check = checks.check_fivebar_inverse
     assert check(answer, ROBOT, x3, y3, (-1, +1)).ok
     assert check((answer[0] + 2 * np.pi, answer[1]), ROBOT, x3, y3, (-1, +1)).ok
-    rejects(check((angle(a1, b1, c1, +1), answer[1]), ROBOT, x3, y3, (-1, +1)), "σ1", hidden=answer)
-    rejects(check((answer[0], angle(a2, b2, c2, -1)), ROBOT, x3, y3, (-1, +1)), "σ2")
+    rejects(check((other_sigma1, answer[1]), ROBOT, x3, y3, (-1, +1)), "σ1", hidden=answer)
+    rejects(check((answer[0], other_sigma2), ROBOT, x3, y3, (-1, +1)), "σ2")
     rejects(check(np.degrees(answer), ROBOT, x3, y3, (-1, +1)), "degrees", hidden=answer)
     rejects(check(answer[::-1], ROBOT, x3, y3, (-1, +1)), "swapped")
 

@@ -25,7 +25,7 @@ import pytest
 import scipy.integrate
 import scipy.optimize
 import sympy as sp
-from geometry import circle_intersections
+from geometry import circle_intersections, course_inverse_angles
 from test_checks import BENCH, MY_SAW, ROBOT, _fivebar_points, _rates_by_sympy, _saw_by_slider_crank
 from test_checks import fourbar_by_circles as circles
 from test_checks_ex06 import LEVER_LOOP, R2, RAM_LOOP, D, by_hand, ram_by_differences, sweep_ratio
@@ -164,19 +164,8 @@ def fivebar_down():
 def fivebar_inverse():
     """(θ1, θ4) in working mode (−1, +1) at (0.02, 0.21), and (θ1, θ4) with the other σ2, from the course's
     half-angle coefficients typed out."""
-    x3, y3 = 0.02, 0.21
-    l1, l2, l3, l4, l5 = 0.11, 0.15, 0.16, 0.12, 0.09
-    a1 = l1**2 - l2**2 - l1 * l5 + l5**2 / 4 + 2 * l1 * x3 - l5 * x3 + x3**2 + y3**2
-    b1, b2 = -4 * l1 * y3, -4 * l4 * y3
-    c1 = l1**2 - l2**2 + l1 * l5 + l5**2 / 4 - 2 * l1 * x3 - l5 * x3 + x3**2 + y3**2
-    a2 = -(l3**2) + l4**2 + l4 * l5 + l5**2 / 4 + 2 * l4 * x3 + l5 * x3 + x3**2 + y3**2
-    c2 = -(l3**2) + l4**2 - l4 * l5 + l5**2 / 4 - 2 * l4 * x3 + l5 * x3 + x3**2 + y3**2
-
-    def angle(a, b, c, sigma):
-        return 2 * np.arctan((-b + sigma * np.sqrt(b * b - 4 * a * c)) / (2 * a))
-
-    theta1 = angle(a1, b1, c1, -1)
-    return (theta1, angle(a2, b2, c2, +1)), (theta1, angle(a2, b2, c2, -1))
+    lengths = (0.11, 0.15, 0.16, 0.12, 0.09)
+    return tuple(course_inverse_angles(0.02, 0.21, lengths, -1, sigma2) for sigma2 in (+1, -1))
 
 
 def fivebar_g(sign=1):

@@ -38,7 +38,7 @@ WITH_TRY_IT = [path for path in LESSONS if try_it(path)]
 
 def test_the_lessons_with_a_try_it_checker():
     names = {path.name[:2] for path in WITH_TRY_IT}
-    assert names == {"00", "02", "03", "04", "05", "06", "07", "08", "09", "10", "12"}, names
+    assert names == {"00", "01", "02", "03", "04", "05", "06", "07", "08", "09", "10", "12"}, names
 
 
 @pytest.mark.parametrize("path", WITH_TRY_IT, ids=lambda path: path.name[:2])
@@ -88,6 +88,8 @@ def visible_text(html: str) -> str:
 def test_the_printed_answer_shows_only_inside_details(path):
     (_, printed), = worked_answers(path)
     numbers = re.findall(r"(?<![\w.])-?\d+\.\d{3,}", printed)
+    if path.name.startswith("01"):  # lesson 01's answer is four whole counts: the answer's line itself
+        numbers = [line.strip() for line in printed.splitlines() if line.strip()]
     assert numbers, printed
     html, _ = HTMLExporter().from_filename(str(path))
     assert "<details" in html

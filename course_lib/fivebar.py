@@ -164,30 +164,27 @@ def _leg_kernel(leg: int, parameters, known, sigma):
     mode −σ (the core's σ = +1 where the leg turns counter-clockwise at its elbow); NaN where the leg cannot
     reach P3 or where its crank angle is undetermined (P3 on its base pivot, l1 = l2 or l4 = l3); the
     level b² − 4ac over b² + (a − c)²."""
-    l1, l2, l3, l4, l5 = _lengths(parameters)
-    crank, distal = (l1, l2) if leg == 1 else (l4, l3)
-    X, Y = known["x3"], known["y3"]
-    common = X * X + Y * Y + l5**2 / 4 + crank**2 - distal**2  # a1 … c2 of inverse_coefficients, one leg
-    if leg == 1:
-        a, c = common - l1 * l5 + (2 * l1 - l5) * X, common + l1 * l5 - (2 * l1 + l5) * X
-    else:
-        a, c = common + l4 * l5 + (2 * l4 + l5) * X, common - l4 * l5 - (2 * l4 - l5) * X
-    theta, level = _half_angle_root(a, -4 * crank * Y, c, -sigma)
+    theta, level = _half_angle_root(*_leg_coefficients(_lengths(parameters), leg, known["x3"], known["y3"]),
+                                    -sigma)
     return {f"theta{leg}": theta}, level
+
+
+def _leg_coefficients(lengths, leg: int, X, Y) -> tuple:
+    """The course's half-angle coefficients (a, b, c) of ``leg`` 1 (a1, b1, c1) or 4 (a2, b2, c2) at
+    (X, Y)."""
+    l1, l2, l3, l4, l5 = lengths
+    crank, distal, side = (l1, l2, -1) if leg == 1 else (l4, l3, +1)  # the motor at x = −side·l5/2
+    common = X * X + Y * Y + l5**2 / 4
+    # the course's terms in the course's order: a1 = 0 where it is exactly 0 (lesson 09)
+    return (crank**2 - distal**2 + side * crank * l5 + 2 * crank * X + side * l5 * X + common,
+            -4 * crank * Y + 0 * X,
+            crank**2 - distal**2 - side * crank * l5 - 2 * crank * X + side * l5 * X + common)
 
 
 def _inverse_coefficients(lengths, X, Y) -> dict[str, Any]:
     """The course's half-angle coefficients a1, b1, c1 (leg 1) and a2, b2, c2 (leg 4) at (X, Y)."""
-    l1, l2, l3, l4, l5 = lengths
-    common = X * X + Y * Y + l5**2 / 4
-    return {
-        "a1": l1**2 - l2**2 - l1 * l5 + 2 * l1 * X - l5 * X + common,
-        "b1": -4 * l1 * Y + 0 * X,
-        "c1": l1**2 - l2**2 + l1 * l5 - 2 * l1 * X - l5 * X + common,
-        "a2": -(l3**2) + l4**2 + l4 * l5 + 2 * l4 * X + l5 * X + common,
-        "b2": -4 * l4 * Y + 0 * X,
-        "c2": -(l3**2) + l4**2 - l4 * l5 - 2 * l4 * X + l5 * X + common,
-    }
+    (a1, b1, c1), (a2, b2, c2) = (_leg_coefficients(lengths, leg, X, Y) for leg in (1, 4))
+    return {"a1": a1, "b1": b1, "c1": c1, "a2": a2, "b2": b2, "c2": c2}
 
 
 @cache
@@ -385,8 +382,8 @@ class FiveBar:
         policy = failure_policy(on_failure)
         theta1, theta4 = require_broadcast(theta1=require_finite("theta1", theta1, "rad"),
                                            theta4=require_finite("theta4", theta4, "rad"))
-        p2x, _, p4x, _ = self._cranks(theta1, theta4)
-        right = np.where(p2x - p4x >= 0, 1, -1)  # P2 right of P4 (tie: D → 0⁺): the course's σ is the core's
+        D = self.l1 * np.cos(theta1) - self.l4 * np.cos(theta4) + self.l5  # P2x − P4x
+        right = np.where(D >= 0, 1, -1)  # P2 right of P4 (tie: D → 0⁺): the course's σ is the core's
         chosen = side if side is not None else scalar_or_array(sigma * right)
         inputs = {"theta1": theta1, "theta4": theta4}
         speeds, accelerations = (None, None) if rates is None else (

@@ -25,6 +25,7 @@ import pytest
 import scipy.integrate
 import scipy.optimize
 import sympy as sp
+from feedback import course_newton_count
 from geometry import circle_intersections, course_inverse_angles
 from test_checks import BENCH, MY_SAW, ROBOT, _fivebar_points, _rates_by_sympy, _saw_by_slider_crank
 from test_checks import fourbar_by_circles as circles
@@ -98,13 +99,8 @@ def tilted_loop(t1_zero=False):
 
 @functools.cache
 def newton_count():
-    root = scipy.optimize.brentq(lambda v: v**3 - 2 * v - 5, 2.0, 3.0, xtol=1e-15)
-    value, count = 2.0, 0
-    while True:  # the course's rule, written out
-        step = -(value**3 - 2 * value - 5) / (3 * value**2 - 2)
-        value, count = value + step, count + 1
-        if abs(step) < 1e-6:
-            return root, count
+    root, _, count = course_newton_count()
+    return root, count
 
 
 def bench_loop(theta2, q):

@@ -143,8 +143,9 @@ def _forward_kernel(parameters, known, sigma):
     4d²l3² + (d² + l3² − l2²)²."""
     l1, l2, l3, l4, l5 = _lengths(parameters)
     theta1, theta4 = known["theta1"], known["theta4"]
-    ex = l1 * np.cos(theta1) + l5 / 2 - (l4 * np.cos(theta4) - l5 / 2)
-    ey = l1 * np.sin(theta1) - l4 * np.sin(theta4)
+    cos1, sin1, cos4, sin4 = np.cos(theta1), np.sin(theta1), np.cos(theta4), np.sin(theta4)
+    ex = l1 * cos1 + l5 / 2 - (l4 * cos4 - l5 / 2)
+    ey = l1 * sin1 - l4 * sin4
     d2 = ex * ex + ey * ey
     along = d2 + l3 * l3 - l2 * l2
     reach, squared = 4 * d2 * l3 * l3, along * along
@@ -152,10 +153,11 @@ def _forward_kernel(parameters, known, sigma):
     across = sigma * np.sqrt(np.where((discriminant < -LEVEL * scale) | (d2 == 0), np.nan,
                                       np.maximum(discriminant, 0.0)))
     with np.errstate(divide="ignore", invalid="ignore"):
-        x3 = l4 * np.cos(theta4) - l5 / 2 + (along * ex - across * ey) / (2 * d2)
-        y3 = l4 * np.sin(theta4) + (along * ey + across * ex) / (2 * d2)
+        x3 = l4 * cos4 - l5 / 2 + (along * ex - across * ey) / (2 * d2)
+        y3 = l4 * sin4 + (along * ey + across * ex) / (2 * d2)
         level = np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0), 0.0)
-    return {"x3": x3, "y3": y3}, level
+    return {"x3": x3, "y3": y3, ("theta1", "cos"): cos1, ("theta1", "sin"): sin1, ("theta4", "cos"): cos4,
+            ("theta4", "sin"): sin4}, level
 
 
 def _leg_kernel(leg: int, parameters, known, sigma):

@@ -85,7 +85,10 @@ def _kernel(parameters, known, sigma):
     # scale 0: A = C, B = 0, the constant equation A = 0 (every θ4, or none)
     level = np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0), np.where(A == 0, 0.0, -1.0))
     level = np.where(anywhere, 0.0, level)
-    return {"theta3": np.arctan2(coupler_y, coupler_x), "theta4": np.arctan2(sin4, cos4)}, level
+    return {"theta3": np.arctan2(coupler_y, coupler_x), "theta4": np.arctan2(sin4, cos4),
+            ("theta3", "cos"): coupler_x / l3, ("theta3", "sin"): coupler_y / l3,
+            ("theta4", "cos"): cos4, ("theta4", "sin"): sin4, ("theta2", "cos"): cos2, ("theta2", "sin"): sin2
+            }, level
 
 
 def _declaration(coupler: bool = False):

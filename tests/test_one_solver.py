@@ -343,3 +343,56 @@ def test_the_working_modes_are_minus_the_core_sigma_each_leg_turns_at_its_elbow(
             clear = found & (np.abs(turn) > 1e-9)  # a leg stretched or folded has no side
             assert clear.sum() > 20 and (np.sign(turn[clear]) == -mode).all(), (modes, key)
             assert (np.asarray(result.assembly[key])[found] == -mode).all()
+
+
+def whole_sweep(monkeypatch, mechanism, *args, **keywords):
+    """``mechanism.solve`` by the route that solves every instant's positions first and then the rates (the
+    block-by-block route switched off)."""
+    with monkeypatch.context() as patch:
+        patch.setattr(Mechanism, "_sweepable", lambda *_: False)
+        return mechanism.solve(*args, **keywords)
+
+
+@pytest.mark.parametrize("linkage", LINKAGES[:8] + [FourBar(0.06, 0.18, 0.12, 0.20), FourBar(1, 1, 1, 1)])
+@pytest.mark.parametrize("assembly", ["open", "crossed"])
+def test_block_by_block_gives_the_positions_of_the_whole_sweep_to_the_bit(monkeypatch, linkage, assembly):
+    # an increasing sweep over two turns and more, longer than three blocks, through unreachable stretches and
+    # (for the rotating couplers) across ±π, where the angles are carried on from block to block
+    theta2 = np.linspace(-7.0, 7.0, 3 * 16_384 + 77)
+    σ = ASSEMBLIES[assembly]
+    mechanism = linkage.mechanism
+    for rates in ({}, {"rates": {"theta2": 10.0}, "accelerations": {"theta2": 5.0}}):
+        blocks = mechanism.solve({"theta2": theta2}, assembly=σ, on_failure="nan", **rates)
+        whole = whole_sweep(monkeypatch, mechanism, {"theta2": theta2}, assembly=σ, on_failure="nan", **rates)
+        for name in ("theta3", "theta4"):
+            assert same_bits(blocks.position[name], whole.position[name]), name
+            assert same_bits(blocks.assembly[name], whole.assembly[name])
+        assert same_bits(blocks.converged, whole.converged) and same_bits(blocks.singular, whole.singular)
+        assert blocks.message == whole.message
+        if rates:  # the same rates, the cos and sin from the kernel instead of computed again: the rounding
+            # of J's entries differs by ulps, amplified by 1/σ_min(J̃) in velocity and its square in acceleration
+            found = np.asarray(blocks.converged)
+            q = np.stack([blocks.theta3[found], blocks.theta4[found]], axis=-1)
+            smallest = mechanism.smallest_singular_value(q, theta2[found, None])
+            for part, power in (("velocity", 1), ("acceleration", 2)):
+                for name in ("theta3", "theta4"):
+                    mine, theirs = getattr(blocks, part)[name], getattr(whole, part)[name]
+                    assert same_bits(np.isnan(mine), np.isnan(theirs))
+                    gap = np.abs(mine - theirs)[found] / (1.0 + np.abs(theirs[found])) * smallest**power
+                    assert np.nanmax(gap, initial=0.0) < 1e-12, (part, name)
+    turned = np.unwrap(np.arctan2(np.sin(blocks.theta3), np.cos(blocks.theta3)))  # a check by numpy's own
+    found = np.isfinite(blocks.theta3)
+    if found.all():
+        assert np.abs(blocks.theta3 - (turned - turned[0] + blocks.theta3[0])).max() < 1e-9
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_the_five_bar_block_by_block_is_the_whole_sweep_to_the_bit(monkeypatch, robot):
+    theta1, theta4 = np.meshgrid(np.linspace(-np.pi, np.pi, 181), np.linspace(-np.pi, np.pi, 191))
+    for mode in (+1, -1):
+        blocks = robot.forward(theta1, theta4, mode=mode, on_failure="nan")
+        whole_mechanism = whole_sweep(monkeypatch, robot.mechanism, {"theta1": theta1, "theta4": theta4},
+                                      assembly={"x3": np.where(blocks.assembly["x3"] < 0, -1, 1)},
+                                      on_failure="nan")  # (σ is 0 where no position is found)
+        for name in ("x3", "y3"):
+            assert same_bits(blocks.position[name], whole_mechanism.position[name]), name

@@ -72,9 +72,11 @@ class ClosedForms:
         singularity, failures) the core's own.  ``kernel(parameters, known, sigma)`` gets the parameters
         and the values already known (inputs, and unknowns of earlier blocks) by name, each (N,), and
         σ = ±1 (the meaning of :mod:`~course_lib.mechanism.closed_forms`); it returns the block's unknowns
-        by name, each (N,), NaN where the block cannot close, and the level Δ / scale per instant: the
-        half-angle quadratic's b² − 4ac over b² + (a − c)² (0 where the two assemblies meet, < 0 where the
-        block cannot close).  A kernel must agree with the derived closed form; test it.
+        by name, each (N,), NaN where the block cannot close (and, if it has them at hand, their cos and sin
+        and the inputs', keyed ``(name, "cos")``, ``(name, "sin")``: the rates then take them, where σ was
+        named), and the level Δ / scale per instant: the half-angle quadratic's b² − 4ac over b² + (a − c)² (0
+        where the two assemblies meet, < 0 where the block cannot close). A kernel must agree with the derived
+        closed form; test it.
 
         >>> x, s = sp.symbols("x s")
         >>> arc = Mechanism([sp.cos(x) - s], [x], [s])  # σ = −sign(∂F/∂x) = sign(sin x)
@@ -310,8 +312,8 @@ class ClosedForms:
             first = self.unknowns.index(form.unknowns[0])
             kernel = self._kernels.get(form.unknowns[0].name)
             if kernel is not None:
-                sigmas[form.unknowns[0].name], level = self._kernel_block(kernel, form, q, u, paths, target,
-                                                                          chosen, notes)
+                sigmas[form.unknowns[0].name], level, _ = self._kernel_block(kernel, form, q, u, paths,
+                                                                             target, chosen, notes)
                 undetermined |= np.isnan(q[:, first]) & (level >= -LEVEL)
                 continue
             a, b, c = coefficients(self._values, q, u, known=known)
@@ -372,6 +374,7 @@ class ClosedForms:
                 at["σ"] = sigma if where is None else sigma[where]
             size = len(u) if where is None else int(np.count_nonzero(where))
             block, level = np.empty((size, len(columns))), np.empty(size)
+            trig.clear()
             for start in range(0, size, _BLOCK):
                 part = slice(start, start + _BLOCK)
                 given = {k: v[part] for k, v in at.items()}
@@ -381,15 +384,23 @@ class ClosedForms:
                     for j, s in enumerate(form.unknowns):
                         block[part, j] = np.broadcast_to(np.asarray(values[s.name], float), (count,))
                     level[part] = np.broadcast_to(np.asarray(levels, float), (count,))
+                    for key in wanted_trig & values.keys():
+                        if count == size:  # one part: the kernel's own arrays
+                            trig[key] = np.broadcast_to(np.asarray(values[key], float), (count,))
+                        else:
+                            trig.setdefault(key, np.empty(size))[part] = values[key]
                 except (KeyError, TypeError, ValueError) as error:
                     raise InvalidArgumentError(f"the kernel of {name} must return the values of "
                                                f"{[s.name for s in form.unknowns]} by name and the level, "
                                                f"each of {count} instants; got {error!r}") from None
             return block, level
 
+        wanted_trig = {(s.name, func) for s in (*form.unknowns, *self.inputs) for func in ("cos", "sin")}
+        trig = {}  # the cos and sin the kernel gives, of the last values solved
         named = (chosen or {}).get(name)
         wanted = 1 if named is None else named
         block, level = solved(wanted)
+        given = dict(trig)
         if named is None and target is not None:
             other, _ = solved(-1)
             wanted = self._pick(block[:, 0], other[:, 0], paths, target, first, np.ones(len(u)))
@@ -408,7 +419,9 @@ class ClosedForms:
             other, _ = solved(-wanted)
             block = np.where(root[:, None] > 0, block, other)
         q[:, columns] = block
-        return (wanted * root).astype(int), level
+        if (root < 0).any() or named is None and target is not None and wanted == -1:
+            given = {}  # another σ solved after: its cos and sin not kept
+        return (wanted * root).astype(int), level, given
 
     def _second(self, form, second, q, u, known=None) -> np.ndarray:
         """The block's second unknown from its first (already in ``q``)."""

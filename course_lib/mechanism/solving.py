@@ -29,10 +29,14 @@ from ..newton import (
     newton,
 )
 from ..planar import scalar_or_array
-from .closed_forms import RESIDUAL
+from .closed_forms import LEVEL, RESIDUAL
 from .compiled import _BLOCK, _finite_rows
+from .continuation import _unwrap_to
 from .declaration import _broadcast, _keyed, _plain
 from .singular import NEAR_SINGULAR, SINGULAR
+
+#: Instants per block of :meth:`Solving._swept`: the kernel's and the rates' temporaries stay in the cache.
+_SWEPT = 16_384
 
 
 class Solving:
@@ -129,7 +133,14 @@ class Solving:
             if seed is not None:
                 result = newton(lambda q: self._F(q, u[0]), seed, jac=lambda q: self._J(q, u[0]),
                                 tol=tol, max_iter=max_iter, on_failure="report")
-            if closed:
+            swept = closed and self._sweepable(u, paths, chosen, seed)
+            if swept:  # every block a kernel, σ named, instants in order: block by block, rates alongside
+                want = rates is not None or accelerations is not None
+                q, undetermined, sigma, swept = self._swept(u, chosen, notes, u_rate if want else None,
+                                                            u_acc if want else None)
+                stuck |= undetermined
+                iterations = np.zeros(len(u), int)
+            elif closed:
                 target = None if result is None else result.x if result.converged else seed
                 if result is not None and not result.converged:
                     notes.append(f"Newton from the guess did not converge at {self._where(u, 0)} "
@@ -139,6 +150,7 @@ class Solving:
                 stuck |= undetermined
                 if shape == () and result is not None:
                     iterations[0] = result.iterations
+            if closed:
                 blocks = self._block_of()
                 found = _finite_rows(q)
                 by_block = {block: scalar_or_array(np.where(found, values, 0).astype(np.int8).reshape(shape))
@@ -190,7 +202,10 @@ class Solving:
                     self._notes(notes, converged, masks["singular"], masks["near"], u, undetermined)
                 return masks
 
-            if want_rates:  # _BLOCK instants at a time: the temporaries stay in the cache, the memory flat
+            if want_rates and swept:  # found with the positions, block by block
+                q_rate, q_acc, smallest = swept
+                singular = singular_and_near(smallest)["singular"]
+            elif want_rates:  # _BLOCK instants at a time: the temporaries stay in the cache, the memory flat
                 q_rate, q_acc, smallest = np.empty(q.shape), np.empty(q.shape), np.empty(len(u))
                 for start in range(0, len(u), _BLOCK):
                     part = slice(start, start + _BLOCK)
@@ -223,6 +238,97 @@ class Solving:
                       inputs=MappingProxyType(inputs_used), newton=result if shape == () else None,
                       message=later(lambda: singular_and_near() and "; ".join(notes)),
                       assembly=None if assembly is None else MappingProxyType(assembly))
+
+    def _sweepable(self, u, paths, chosen, seed) -> bool:
+        """Whether :meth:`_swept` solves this sweep: every block a registered kernel, σ named for each by
+        ``assembly=`` (no change point to follow), no guess, and the instants in order (one input
+        increasing from the first, or several inputs, which have no order of neighbours)."""
+        blocks = self._structure["forms"]
+        return (seed is None and len(self._kernels) == len(blocks) and len(chosen) == len(blocks)
+                and (u.shape[1] > 1 or len(paths) == 1 and len(paths[0]) == len(u)
+                     and bool((np.diff(paths[0]) == 1).all())))
+
+    def _swept(self, u, chosen, notes, u_rate=None, u_acc=None):
+        """Positions (N, n), the instants not determined, σ per block and, with ``u_rate``, (q̇, q̈,
+        σ_min(J̃)): _SWEPT instants at a time, each block's kernel, the angles continued from the block
+        before (the same bits as :meth:`_continuous` on the whole) and the rates of the block while its
+        values are in the cache (the kernel route of :meth:`solve`, see :meth:`_sweepable`)."""
+        N, n = u.shape[0], len(self.unknowns)
+        angles = [j for j, s in enumerate(self.unknowns) if s in self._structure["angles"]]
+        several, inputs = u.shape[1] > 1, {s.name for s in self.inputs}
+        q, undetermined = np.empty((N, n)), np.zeros(N, bool)
+        sigma = {name: np.empty(N, np.int8) for name in chosen}
+        rates = None if u_rate is None else (np.empty((N, n)), np.empty((N, n)), np.empty(N))
+        followed = previous = turns = None  # the angles followed from instant 0, their last value, turns
+        for start in range(0, N, _SWEPT):
+            part = slice(start, start + _SWEPT)
+            q_part, u_part = q[part], u[part]
+            if len(self._structure["forms"]) > 1:  # a later block's unknowns NaN while an earlier's solve
+                q_part[:] = np.nan
+            at = {name: value if np.ndim(value) == 0 else value[part] for name, value in chosen.items()}
+            known = {}  # the cos and sin the kernels give
+            for form in self._structure["forms"]:
+                first = self.unknowns.index(form.unknowns[0])
+                name = form.unknowns[0].name
+                in_order = [np.arange(len(u_part))]
+                sigma[name][part], level, trig = self._kernel_block(self._kernels[name], form, q_part, u_part,
+                                                                    in_order, None, at, notes)
+                known |= trig
+                undetermined[part] |= np.isnan(q_part[:, first]) & (level >= -LEVEL)
+            if angles and several:  # each instant's angles in [−π, π]
+                q_part[:, angles] = _unwrap_to(q_part[:, angles], 0.0)
+            elif angles:
+                if followed is None:  # instant 0 decides which angles are followed (as _continuous)
+                    followed = [j for j in angles if np.isfinite(q_part[0, j])]
+                    q_part[0, followed] = _unwrap_to(q_part[0, followed], 0.0)
+                    previous, turns = q_part[0, followed].copy(), np.zeros(len(followed))
+                lost = [j for j in angles if j not in followed]
+                if lost:
+                    q_part[:, lost] = _unwrap_to(q_part[:, lost], 0.0)
+                if followed:
+                    previous, turns = self._turned(q_part, followed, previous, turns, start == 0)
+            if rates is not None:
+                found = _finite_rows(q_part)
+                safe = q_part
+                if not found.all():  # the unknowns' cos and sin taken at 0 where not found, as their values
+                    safe = np.where(found[:, None], q_part, 0.0)
+                    known = {key: value for key, value in known.items() if key[0] in inputs}
+                J, F_u = self._rate_terms(safe, u_part, known, same_point=True)
+                smallest = self._smallest(J)
+                bad = ~found | ~(smallest >= SINGULAR) | undetermined[part]
+                rates[0][part], rates[1][part], _ = self._rates(safe, u_part, u_rate[part], u_acc[part], bad,
+                                                                (J, F_u), known)
+                rates[2][part] = smallest
+        return q, undetermined, sigma, rates
+
+    @staticmethod
+    def _turned(q_part, columns, previous, turns, first: bool):
+        """Whole turns taken off ``columns`` of one block so each step is within π, counted on from the
+        block before (``previous``: its last found values as solved, ``turns``: its count); returns the
+        two for the next block.  Rows not found are skipped, as :meth:`_continuous` does."""
+        values = q_part[:, columns]
+        found = _finite_rows(values)
+        rows = np.flatnonzero(found) if not found.all() else None
+        if rows is not None:
+            values = values[rows]
+        if not len(values):
+            return previous, turns
+        steps = np.diff(values, axis=0, prepend=previous[None, :])
+        if first:
+            steps[0] = 0.0
+        wraps = np.round(steps / (2 * np.pi))
+        if wraps.any() or turns.any():
+            counted = turns + np.cumsum(wraps, axis=0)
+            kept = values - 2 * np.pi * counted
+            if first:
+                kept[0] = values[0]
+            for k, j in enumerate(columns):
+                if rows is None:
+                    q_part[:, j] = kept[:, k]
+                else:
+                    q_part[rows, j] = kept[:, k]
+            turns = counted[-1]
+        return values[-1].copy(), turns
 
     def _notes(self, notes, converged, singular, near, u, undetermined) -> None:
         """The singular and near-singular instants and the limits met, added to ``notes`` in words."""

@@ -41,8 +41,9 @@ class Points:
 
     def _check_rigid(self, q: np.ndarray, u: np.ndarray) -> None:
         """Every declared link (and every side of a plate) keeps its length along the motion, else the named
-        error: its length's rate, d|PQ|/dt = (P − Q)·(Ṗ − Q̇)/|PQ|, is checked at up to four solved, regular
-        instants for each input turning at unit rate — the points' declaration differentiated by the core.
+        error: its length's rate, d|PQ|/dt = (P − Q)·(Ṗ − Q̇)/|PQ|, is checked at up to four regular
+        instants of ``q``, ``u`` (solved instants; ``solve`` gives 257 spread over the motion) for each input
+        turning at unit rate — the points' declaration differentiated by the core.
         Checked once per declaration (a point written with the wrong unknown stretches its links)."""
         with np.errstate(all="ignore"):
             J = self._J(q, u)

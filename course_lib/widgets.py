@@ -850,15 +850,18 @@ def mechanism_explorer(
     rates: Mapping | None = None, readout: Callable[[object], Sequence[str]] | None = None,
     title: str = "mechanism", size: tuple[float, float] = (4.0, 3.6),
 ) -> Explorer:
-    """Explorer of any declared :class:`~course_lib.mechanism.Mechanism` driven by one input, or of a
-    machine that declares one (``FourBar``, ``Saw``, ``OffsetSliderCrank``: anything with ``.mechanism``).
+    """Explorer of any declared :class:`~course_lib.mechanism.Mechanism`, one slider per input, or of a
+    machine that declares one (``FourBar``, ``Saw``, ``OffsetSliderCrank``, ``FiveBar``: anything with
+    ``.mechanism``).
 
-    ``motion``, a sweep of the input solved by ``mechanism.solve``, sets the slider's range (degrees for
-    an input named "theta…"), the limits and the ``trace`` paths, and seeds each solve from its nearest
-    instant (the sweep's assembly).  ``ground`` points get the fixed-pivot symbol, ``blocks`` a slider
-    block, ``styles`` go by link name ("link 1", …): each, when not given, the declaration's own (its
-    ``ground``, ``sliders``, ``styles``, and its ``plates``); ``rates`` (input → rate) go to each solve, so
-    ``readout(instant) -> lines`` can show velocities; by default each unknown is listed.
+    ``motion``, solved by ``mechanism.solve`` (a sweep of one input, or values of several inputs, such as
+    a grid of the five-bar's two cranks), sets each slider's range (degrees for an input named "theta…",
+    all round the turn; else the values the motion covers), the limits and the ``trace`` paths, and seeds
+    each solve from its nearest solved instant (the motion's assembly).  ``ground`` points get the
+    fixed-pivot symbol, ``blocks`` a slider block, ``styles`` go by link name ("link 1", …): each, when not
+    given, the declaration's own (its ``ground``, ``sliders``, ``styles``, and its ``plates``); ``rates``
+    (input → rate) go to each solve, so ``readout(instant) -> lines`` can show velocities; by default each
+    unknown is listed.
 
     >>> import sympy as sp
     >>> from course_lib.mechanism import Mechanism
@@ -874,6 +877,12 @@ def mechanism_explorer(
     >>> mechanism_explorer(linkage, linkage.motion(np.radians(np.arange(-180, 180, 10)))).update(
     ...     theta2_deg=60.0).status
     'ok'
+    >>> from course_lib.fivebar import FiveBar
+    >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+    >>> cranks = np.meshgrid(np.radians(np.arange(0, 180, 15)), np.radians(np.arange(0, 180, 15)))
+    >>> arms = mechanism_explorer(robot, robot.forward(*cranks, mode=+1, on_failure="nan"))
+    >>> sorted(arms.controls), arms.update(theta1_deg=50.0, theta4_deg=120.0).lines[:2]
+    (['theta1_deg', 'theta4_deg'], ('x3 = 0.01301', 'y3 = 0.1956'))
     """
     from .errors import ConvergenceError, SingularJacobianError, UnreachableError
     from .mechanism import Mechanism, Motion
@@ -886,37 +895,45 @@ def mechanism_explorer(
                                    f"(its .mechanism); got {mechanism!r}")
     ground, blocks = ground or mechanism.ground, blocks or mechanism.sliders
     styles = styles or mechanism.styles
-    if not isinstance(motion, Motion) or np.ndim(next(iter(motion.inputs.values()))) != 1:
-        raise InvalidGeometryError(f"motion must be a sweep solved by mechanism.solve (one input array); "
-                                   f"got {type(motion).__name__}")
+    if not isinstance(motion, Motion) or np.ndim(next(iter(motion.inputs.values()))) < 1:
+        raise InvalidGeometryError(f"motion must be solved by mechanism.solve at several instants (an "
+                                   f"array of each input); got {type(motion).__name__}")
     if not np.any(motion.converged):
         raise InvalidGeometryError("motion must have a solved instant to start from; none converged")
     if readout is not None and not callable(readout):
         raise InvalidArgumentError(f"readout must be a function of the instant, or None; got {readout!r}")
     width, height = _figure_size(size)
-    if len(mechanism.inputs) != 1 or not mechanism.links:
-        raise InvalidGeometryError(f"mechanism must have one input and declared links; got inputs "
-                                   f"{[s.name for s in mechanism.inputs]} and links {list(mechanism.links)}")
-    name, unknowns = mechanism.inputs[0].name, [s.name for s in mechanism.unknowns]
-    if list(motion.inputs) != [name] or list(motion.position) != unknowns:
-        raise InvalidGeometryError(f"motion must be a sweep of this mechanism (input {name}, unknowns "
+    if not mechanism.links:
+        raise InvalidGeometryError(f"mechanism must have declared links to draw; got links "
+                                   f"{list(mechanism.links)}")
+    names, unknowns = [s.name for s in mechanism.inputs], [s.name for s in mechanism.unknowns]
+    if list(motion.inputs) != names or list(motion.position) != unknowns:
+        raise InvalidGeometryError(f"motion must be solved by this mechanism (inputs {names}, unknowns "
                                    f"{unknowns}); got a Motion of inputs {list(motion.inputs)} and unknowns "
                                    f"{list(motion.position)}")
-    sweep = np.asarray(motion.inputs[name], dtype=float)
-    angle = name.startswith("theta")
-    key = f"{name}_deg" if angle else name
-    first = _wrap_degrees(math.degrees(sweep[0])) if angle else float(sweep[0])
-    low, high = (-180.0, 180.0) if angle else (float(sweep.min()), float(sweep.max()))
-    step = 1.0 if angle else (high - low) / 200 or 1.0
-    label = f"{name.replace('theta', 'θ')} ({'°' if angle else 'm'})"
-    controls = {key: _slider(label, first, low, high, step, ".0f" if angle else ".4f")}
-    converged = np.flatnonzero(np.asarray(motion.converged, dtype=bool))
+    converged = np.flatnonzero(np.asarray(motion.converged, dtype=bool).ravel())
+    sweeps, controls, keys, spans = {}, {}, {}, {}
+    for name in names:
+        sweep = np.asarray(motion.inputs[name], dtype=float).ravel()
+        angle = name.startswith("theta")
+        key = f"{name}_deg" if angle else name
+        at = sweep[converged[0]]
+        first = _wrap_degrees(math.degrees(at)) if angle else float(at)
+        low, high = (-180.0, 180.0) if angle else (float(sweep.min()), float(sweep.max()))
+        step = 1.0 if angle else (high - low) / 200 or 1.0
+        label = f"{name.replace('theta', 'θ')} ({'°' if angle else 'm'})"
+        controls[key] = _slider(label, first, low, high, step, ".0f" if angle else ".4f")
+        sweeps[name], keys[name] = sweep[converged], key
+        spans[name] = 2 * np.pi if angle else (high - low) or 1.0
 
     def guess(k: int) -> dict:
-        return {unknown: float(values[k]) for unknown, values in motion.position.items()}
+        return {unknown: float(np.ravel(values)[k]) for unknown, values in motion.position.items()}
+
+    def value_of(name, state) -> float:
+        return math.radians(state[keys[name]]) if name.startswith("theta") else float(state[keys[name]])
 
     # a bad ``rates`` is refused here, by name, rather than at the first event
-    mechanism.solve({name: sweep[converged[0]]}, rates=rates, guess=guess(converged[0]))
+    mechanism.solve({name: sweeps[name][0] for name in names}, rates=rates, guess=guess(converged[0]))
 
     def panels(figure):  # margins in inches, for the labels and the title; the ground and the traces
         ax = _grid(figure.add_axes((0.75 / width, 0.5 / height, 1 - 0.9 / width, 1 - 0.8 / height)),
@@ -926,15 +943,20 @@ def mechanism_explorer(
         return ax, {}, {}
 
     def draw(stage, state, geometry_changed: bool) -> Readout:
-        value = math.radians(state[key]) if angle else float(state[key])
-        gaps = np.abs((sweep[converged] - value + np.pi) % (2 * np.pi) - np.pi if angle
-                      else sweep[converged] - value)
+        values = {name: value_of(name, state) for name in names}
+        gaps = np.zeros(len(converged))  # the nearest solved instant, each input measured in its span
+        for name, value in values.items():
+            gap = sweeps[name] - value
+            if name.startswith("theta"):
+                gap = (gap + np.pi) % (2 * np.pi) - np.pi
+            gaps += (gap / spans[name]) ** 2
         nearest = converged[int(np.argmin(gaps))]
+        where = ", ".join(f"{keys[name]} = {state[keys[name]]:g}" for name in names)
         try:
-            now = mechanism.solve({name: value}, rates=rates, guess=guess(nearest))
+            now = mechanism.solve(values, rates=rates, guess=guess(nearest))
         except (ConvergenceError, UnreachableError, SingularJacobianError) as err:
-            return stage.failed({}, f"no assembly at {name} = {state[key]:g}", "unreachable", (
-                f"{name} = {state[key]:g}: the loops cannot be closed here from the nearest solved instant.",
+            return stage.failed({}, f"no assembly at {where}", "unreachable", (
+                f"{where}: the loops cannot be closed here from the nearest solved instant.",
                 f"course_lib says: {err}"))
         stage.solved(mechanism.joints(now), ())  # first: a readout may raise
         return Readout("ok", tuple(readout(now) if readout is not None else

@@ -370,7 +370,7 @@ def test_block_by_block_gives_the_positions_of_the_whole_sweep_to_the_bit(monkey
         assert same_bits(blocks.converged, whole.converged) and same_bits(blocks.singular, whole.singular)
         assert blocks.message == whole.message
         if rates:  # the same rates, the cos and sin from the kernel instead of computed again: the rounding
-            # of J's entries differs by ulps, amplified by 1/σ_min(J̃) in velocity and its square in acceleration
+            # of J's entries differs by ulps, amplified by 1/σ_min(J̃) in velocity and its square after
             found = np.asarray(blocks.converged)
             q = np.stack([blocks.theta3[found], blocks.theta4[found]], axis=-1)
             smallest = mechanism.smallest_singular_value(q, theta2[found, None])

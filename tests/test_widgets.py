@@ -15,6 +15,7 @@ from matplotlib.patches import Circle
 from PIL import Image
 
 from course_lib.errors import CourseLibError, InvalidGeometryError
+from course_lib.fivebar import FiveBar
 from course_lib.fourbar import FourBar
 from course_lib.saw import Saw
 from course_lib.widgets import (
@@ -625,6 +626,34 @@ def test_mechanism_explorer_takes_a_machine_as_its_declaration(machine):
         assert by_machine.update(theta2_deg=degrees) == by_declaration.update(theta2_deg=degrees)
         assert by_machine.last.status == "ok"
     assert by_machine.render() == by_declaration.render()
+
+
+@pytest.mark.parametrize("mode", [+1, -1])
+def test_explore_gives_each_input_a_slider_and_keeps_the_motions_assembly(mode):
+    # the five-bar's two cranks: P3 checked against the two circles about P2 and P4, computed here
+    robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+    cranks = np.meshgrid(np.radians(np.arange(0.0, 180.0, 15.0)), np.radians(np.arange(0.0, 180.0, 15.0)))
+    arms = mechanism_explorer(robot, robot.forward(*cranks, mode=mode, on_failure="nan"))
+    assert list(arms.controls) == ["theta1_deg", "theta4_deg"]
+    for theta1, theta4 in ((50.0, 120.0), (20.0, 160.0), (95.0, 100.0)):
+        readout = arms.update(theta1_deg=theta1, theta4_deg=theta4)
+        assert readout.status == "ok"
+        t1, t4 = np.radians(theta1), np.radians(theta4)
+        P2 = np.array([0.04 + 0.10 * np.cos(t1), 0.10 * np.sin(t1)])
+        P4 = np.array([-0.04 + 0.10 * np.cos(t4), 0.10 * np.sin(t4)])
+        both = circle_intersections(P2, 0.15, P4, 0.15)
+        P3 = max(both, key=lambda p: p[1]) if mode > 0 else min(both, key=lambda p: p[1])  # the larger Y3
+        shown = [float(line.split("=")[1]) for line in readout.lines[:2]]  # 4 significant figures
+        assert np.allclose(shown, P3, rtol=5e-4, atol=1e-12)
+
+
+def test_explore_says_where_several_inputs_leave_no_assembly():
+    far = FiveBar(0.10, 0.05, 0.05, 0.10, 0.08)  # distal links too short for cranks pointing apart
+    spread = np.meshgrid(np.radians(np.arange(60.0, 120.0, 5.0)), np.radians(np.arange(60.0, 120.0, 5.0)))
+    apart = mechanism_explorer(far, far.forward(*spread, mode=+1, on_failure="nan"))
+    readout = apart.update(theta1_deg=-10.0, theta4_deg=-170.0)  # |P2P4| ≈ 0.28 > l2 + l3 = 0.10
+    assert readout.status == "unreachable"
+    assert "theta1_deg = -10, theta4_deg = -170" in " ".join(readout.lines)
 
 
 @pytest.mark.parametrize("machine", [object(), "FourBar", 3.0], ids=["object", "text", "number"])

@@ -300,12 +300,17 @@ def test_right_numbers_without_the_declaration_are_not_a_tick():
             (DECLARED, [1.2, 0.2, 0.1, 0.2], ("guess should be a dict", "list")),
             (lever_only, {th4: 1.2, r4: 0.2}, ("unknowns are theta4, r4",)),
             (Mechanism([LEVER_LOOP, RAM_LOOP], [th4, r4, th5, th2], [x], LENGTHS), GUESS, ("unknowns",)),
-            (DECLARED.with_parameters({"d": 0.16}), GUESS, ("not the drawn shaper", "parameters")),
-            (DECLARED.with_parameters({"h": 0.31}), GUESS, ("not the drawn shaper",)),
+            (DECLARED.with_parameters({"d": 0.16}), GUESS, ("parameter d is not the drawing's",)),
+            (DECLARED.with_parameters({"h": 0.31, "l5": 0.16}), GUESS, ("parameters l5, h are not",)),
+            (DECLARED.with_parameters({name: 1000 * value for name, value in zip(
+                "r2 d l4 l5 h".split(), (R2, D, L4, L5, H), strict=True)}),
+             {th4: 1.2, r4: 200.0, th5: 0.1, x: 200.0}, ("millimetres",)),
             (DECLARED, {th4: 1.2, r4: 0.2, th5: 3.0, x: 0.0}, ("other assembly", "C left of B")),
             (DECLARED, {th4: 1.2, r4: 0.2}, ("could not be solved", "guess")),
             (Mechanism([LEVER_LOOP, RAM_LOOP], [th4, r4, th5, x], [th2], {**LENGTHS, l4: 0.3 + 1e-6}), GUESS,
-             ("not the drawn shaper",))):
+             ("parameter l4",)),
+            (Mechanism([LEVER_LOOP, RAM_LOOP.subs(h, sp.Symbol("height"))], [th4, r4, th5, x], [th2],
+                       {r2: R2, d: D, l4: L4, l5: L5, "height": 0.31}), GUESS, ("not the drawn shaper",))):
         rejects(position_check(reference, theta2, declaration, guess), *words, hidden=hidden)
     rejects(checks.check_shaper_position(reference, theta2), "grades your declaration", hidden=hidden)
     rejects(checks.check_shaper_position(DECLARED.solve({th2: theta2}, guess=GUESS), theta2),
@@ -560,3 +565,106 @@ def test_loops_written_as_equations_pass_the_check_and_solve_in_the_core():
         motion = Mechanism(loops, [th4, r4, th5, x], [th2], LENGTHS).solve({th2: 1.0}, guess=GUESS)
         solved = np.array([motion.position[name] for name in ("theta4", "r4", "theta5", "x")])
         assert np.abs(solved - np.array(by_hand(1.0))).max() < 1e-12
+
+
+# ---------------------------------------------------------------- answers as students type them
+
+
+def typed_answers():
+    """(label, check, answer, ✔?, words): each checker of the set and lesson 12's Try it, given the right
+    answer rounded as the task states, in mm or degrees, swapped, with one sign flipped, as a Motion, and NaN,
+    None or text; the references from the routes above."""
+    theta2, omega2 = np.radians(60.0), 8.0
+    q = np.array(by_hand(theta2))
+    v, a = ram_by_differences(theta2, omega2)
+    stroke, ratio = 2 * L4 * R2 / D, sweep_ratio(R2, D, 200_000)
+    lesson = sweep_ratio(0.05, 0.08, 400_000)
+    motion = DECLARED.solve({th2: theta2}, rates={th2: omega2}, accelerations={th2: 0.0}, guess=GUESS)
+    sweep = DECLARED.solve({th2: np.radians(np.arange(0.0, 360.0, 10.0))}, guess=GUESS)
+    deg = {s: s * sp.pi / 180 for s in (th2, th4, th5)}
+
+    def position(answer):
+        return position_check(answer, theta2)
+
+    def ram(answer):
+        return checks.check_ram_motion(answer, theta2, omega2)
+
+    def stroke_check(numbers, cutting="left"):
+        return checks.check_ram_stroke((numbers, cutting))
+
+    def try_it(answer):
+        return checks.check_quick_return_time_ratio(answer, 0.05, 0.08)
+
+    def figures(values, digits):
+        return [float(f"{value:.{digits}g}") for value in np.atleast_1d(values)]
+
+    loops = checks.check_shaper_loops
+    return [
+        ("loops: a sign flipped", loops, [LEVER_LOOP, RAM_LOOP.subs(l4, -l4)], False, ("sign slip", "lever")),
+        ("loops: in degrees", loops, [LEVER_LOOP.xreplace(deg), RAM_LOOP.xreplace(deg)], False, ("degrees",)),
+        ("loops: swapped", loops, [RAM_LOOP, LEVER_LOOP], True, ()),
+        ("loops: a Motion", loops, motion, False, ("Motion",)),
+        ("loops: NaN", loops, float("nan"), False, ("is a number",)),
+        ("loops: text", loops, "r2*cos(theta2) - r4*cos(theta4)", False, ("not as text",)),
+        ("position: 4 decimals", position, np.round(q, 4), True, ()),
+        ("position: 3 decimals", position, np.round(q, 3), False, ("give more digits",)),
+        ("position: mm", position, q * [1, 1000, 1, 1000], False, ("millimetres",)),
+        ("position: degrees", position, np.round(q * [180 / np.pi, 1, 180 / np.pi, 1], 2), False,
+         ("degrees",)),
+        ("position: swapped", position, q[[1, 0, 2, 3]], False, ("wrong order",)),
+        ("position: r4 sign", position, q * [1, -1, 1, 1], False, ("r4 has the wrong sign",)),
+        ("position: the Motion", position, motion, True, ()),
+        ("position: a sweep", position, sweep, False, ("theta4",)),
+        ("position: NaN", position, [q[0], q[1], np.nan, q[3]], False, ("NaN",)),
+        ("position: None", position, None, False, ("None",)),
+        ("position: text", position, [str(value) for value in q], False, ("string",)),
+        ("ram: 4 figures", ram, figures((v, a), 4), True, ()),
+        ("ram: 3 figures", ram, figures((v, a), 3), False, ("give more digits",)),
+        ("ram: mm/s", ram, (1000 * v, 1000 * a), False, ("mm/s",)),
+        ("ram: θ2 in degrees", ram, ram_by_differences(60.0, omega2), False, ("np.radians",)),
+        ("ram: swapped", ram, figures((a, v), 4), False, ("wrong order",)),
+        ("ram: v sign", ram, (-v, a), False, ("counter-clockwise",)),
+        ("ram: a sign", ram, (v, -a), False, ("velocity is right",)),
+        ("ram: the Motion", ram, motion, True, ()),
+        ("ram: NaN", ram, (v, np.nan), False, ("NaN",)),
+        ("ram: None", ram, (v, None), False, ("None",)),
+        ("ram: text", ram, ("-0.6468", "-1.230"), False, ("string",)),
+        ("stroke: 3 figures", stroke_check, figures((stroke, ratio), 3), True, ()),
+        ("stroke: 2 figures", stroke_check, figures((stroke, ratio), 2), False, ("give more digits",)),
+        ("stroke: mm", stroke_check, (1000 * stroke, ratio), False, ("millimetres",)),
+        ("stroke: ratio in degrees", stroke_check, (stroke, 360 * ratio / (1 + ratio)), False,
+         ("crank angle",)),
+        ("stroke: swapped", stroke_check, figures((ratio, stroke), 3), False, ("wrong order",)),
+        ("stroke: stroke sign", stroke_check, (-stroke, ratio), False, ("positive",)),
+        ("stroke: ratio sign", stroke_check, (stroke, -ratio), False, ("positive",)),
+        ("stroke: the other way", stroke_check, (stroke, 1 / ratio), False, ("slow over fast",)),
+        ("stroke: a Motion", stroke_check, sweep, False, ("not the Motion",)),
+        ("stroke: NaN", stroke_check, (stroke, np.nan), False, ("NaN",)),
+        ("stroke: None", stroke_check, (None, ratio), False, ("None",)),
+        ("stroke: text", stroke_check, ("0.24", "1.71"), False, ("string",)),
+        ("stroke: cutting wrong", lambda answer: stroke_check(answer, "right"), (stroke, ratio), False,
+         ("cutting is not",)),
+        ("Try it: 3 figures", try_it, figures(lesson, 3)[0], True, ()),
+        ("Try it: 2 figures", try_it, figures(lesson, 2)[0], False, ("give more digits",)),
+        ("Try it: in degrees", try_it, 360 * lesson / (1 + lesson), False, ("crank angle",)),
+        ("Try it: sign", try_it, -lesson, False, ("positive",)),
+        ("Try it: fast over slow", try_it, 1 / lesson, False, ("slow over fast",)),
+        ("Try it: a Motion", try_it, sweep, False, ("Motion",)),
+        ("Try it: NaN", try_it, np.nan, False, ("NaN",)),
+        ("Try it: text", try_it, "2.51", False, ("string",)),
+    ]
+
+
+TYPED = typed_answers()
+
+
+@pytest.mark.parametrize("case", TYPED, ids=[case[0] for case in TYPED])
+def test_answers_as_students_type_them(case):
+    """No false ✔, a named cause, never a traceback."""
+    _, check, answer, ok, words = case
+    feedback = check(answer)
+    if ok:
+        accepts(feedback)
+    else:
+        rejects(feedback, *words)
+        assert "could not be checked" not in feedback.message, feedback

@@ -189,9 +189,30 @@ def _turns(shaper: ShaperDrawing) -> None:
                   "line at some crank angle theta2)")
 
 
+def _is_motion(answer) -> bool:
+    """Whether ``answer`` is a solve's :class:`~course_lib.motion.Motion` (or reads like one)."""
+    return all(isinstance(getattr(answer, part, None), Mapping) for part in ("position", "inputs"))
+
+
+def _is_declaration(answer) -> bool:
+    """Whether ``answer`` is a :class:`~course_lib.mechanism.Mechanism` (a declaration)."""
+    module = getattr(type(answer), "__module__", None)
+    return (isinstance(module, str) and module.startswith("course_lib.mechanism")
+            and hasattr(answer, "unknowns"))
+
+
+def _crank_angle(motion) -> float | None:
+    """The crank angle θ2 a one-instant ``motion`` was solved at; None when it has none (or several)."""
+    values = np.asarray(motion.inputs.get("theta2", np.nan), dtype=float)
+    return float(values) if values.ndim == 0 and np.isfinite(values) else None
+
+
 def _loop_rows(answer):
     """The answer's scalar equations as sympy expressions in plain real symbols; else the feedback."""
     import sympy as sp
+    if _is_motion(answer):
+        return wrong("that is a Motion, what a solve returns: this task asks for the loops themselves, "
+                     "loops = [lever_loop, ram_loop], two 2×1 sympy matrices.")
     if isinstance(getattr(answer, "equations", None), sp.MatrixBase):
         return wrong("that is a Mechanism, a declaration: this task asks for the loops themselves, loops = "
                      "[lever_loop, ram_loop], two 2×1 sympy matrices; Task 2 declares the Mechanism from "
@@ -378,6 +399,11 @@ def check_shaper_loops(read, shaper: ShaperDrawing = SHAPER) -> Feedback:
     scale = np.abs(evaluate(_PROBES, probes + _NUDGE[:, None])).max(axis=1)
     holds = _vanishes(at_drawing, scale)
     if not holds.all():
+        # the angles read in degrees (a factor π/180 on each angle): the rows vanish at the angles in degrees
+        in_degrees = np.degrees(q) * np.array([[1], [np.pi / 180], [1], [np.pi / 180]])
+        if _vanishes(evaluate(np.degrees(_CLOSED), in_degrees), scale).all():
+            return wrong("your loops read the angles in degrees (a factor π/180 on θ): θ2, θ4 and θ5 are in "
+                         "radians here, as sp.sin and sp.cos take them; drop the conversion.")
         # a sign slip: turning one vector round (in every component it appears in) closes failing rows and
         # opens none; the vector that closes the most is the one that flipped
         fixes = {vector: _vanishes(evaluate(_CLOSED, q, symbols), scale)
@@ -445,24 +471,6 @@ def check_shaper_loops(read, shaper: ShaperDrawing = SHAPER) -> Feedback:
         return wrong(problem)
     return right("Correct: four scalar equations that the drawn shaper satisfies at every crank angle "
                  "tried, and that fix θ4, r4, θ5 and x.")
-
-
-def _is_motion(answer) -> bool:
-    """Whether ``answer`` is a solve's :class:`~course_lib.motion.Motion` (or reads like one)."""
-    return all(isinstance(getattr(answer, part, None), Mapping) for part in ("position", "inputs"))
-
-
-def _is_declaration(answer) -> bool:
-    """Whether ``answer`` is a :class:`~course_lib.mechanism.Mechanism` (a declaration)."""
-    module = getattr(type(answer), "__module__", None)
-    return (isinstance(module, str) and module.startswith("course_lib.mechanism")
-            and hasattr(answer, "unknowns"))
-
-
-def _crank_angle(motion) -> float | None:
-    """The crank angle θ2 a one-instant ``motion`` was solved at; None when it has none (or several)."""
-    values = np.asarray(motion.inputs.get("theta2", np.nan), dtype=float)
-    return float(values) if values.ndim == 0 and np.isfinite(values) else None
 
 
 def _by_name(names: tuple[str, ...], what: str):
@@ -538,6 +546,17 @@ def _same(values: np.ndarray, reference: np.ndarray) -> np.ndarray:
 def _declared(declaration, guess, theta2: float, shaper: ShaperDrawing) -> Feedback | None:
     """What is wrong with a student's declaration of the shaper, solved from their guess at ``theta2`` and at
     fresh crank angles, against ``shaper`` as drawn; None when it is the drawn shaper at all of them."""
+    given = {getattr(symbol, "name", str(symbol)): value for symbol, value in declaration.parameters.items()}
+    drawing = dict(zip(NAMES[5:], astuple(shaper), strict=True))
+    if set(drawing) <= set(given):  # the drawing's names: its numbers, in metres
+        if all(abs(given[name] - 1000 * value) <= 1e-9 * 1000 * value for name, value in drawing.items()):
+            return wrong("your parameters look like millimetres (1000 times the drawing's): give the lengths "
+                         "in metres, as the drawing's table does.")
+        if off := [name for name, value in drawing.items() if not abs(given[name] - value) <= 1e-9 * value]:
+            return wrong(f"your parameter{'s' if len(off) > 1 else ''} {', '.join(off)} "
+                         f"{'are' if len(off) > 1 else 'is'} not the drawing's: give r2, d, l4, l5, h as its "
+                         "table does, in metres.")
+
     def solved(angles):
         position = declaration.solve({"theta2": angles}, guess=guess).position
         return np.array([position[name] for name in UNKNOWNS], dtype=float)
@@ -699,6 +718,8 @@ def _time_ratio(ratio: float, reference: float, correct: str) -> Feedback:
     return diagnose(ratio, _THREE, [
         (reference, correct),
         (1 / reference, "that is the fast stroke over the slow one; the time ratio is slow over fast (> 1)."),
+        (lambda v: v <= 0, "a time ratio divides two crank angles the crank turns, both positive: it is "
+                           "positive (and > 1, slow over fast)."),
         ([slow, 2 * np.pi - slow, np.degrees(slow), 360 - np.degrees(slow)], "that is a crank angle; the "
          "time ratio divides the crank angle of the slow stroke by that of the fast one."),
         (lambda v: abs(v / reference - 1) < 0.05,
@@ -723,6 +744,9 @@ def check_quick_return_time_ratio(answer, crank: float, pivot_distance: float) -
         raise InvalidArgumentError("a quick return needs crank < pivot_distance (else the lever turns "
                                    f"fully); got crank={crank!r}, pivot_distance={pivot_distance!r}: no "
                                    "reference answer exists for this task")
+    if _is_motion(answer):
+        return wrong("that is a Motion, what a solve returns: give the time ratio, one number you compute "
+                     "from the crank angles where its ω4 changes sign.")
     return _time_ratio(answer, quick_return_time_ratio(crank, pivot_distance), "Correct: the crank turns "
                        "π + 2β for the slow stroke and π − 2β for the fast one, sin β = r2/d.")
 

@@ -148,6 +148,11 @@ def test_drawings_that_are_no_quick_return_are_refused():
         checks.ShaperDrawing(ram_height=0.6)
     with pytest.raises(InvalidGeometryError, match="pivot_distance"):
         checks.check_quick_return_time_ratio(2.0, 0.1, 0.05)
+    for arguments, name in (({"theta2": "x"}, "theta2"), ({"theta2": 1.0, "omega2": None}, "omega2"),
+                            ({"theta2": 1.0, "alpha2": float("nan")}, "alpha2"),
+                            ({"theta2": 1.0, "assembly": "crossed"}, "assembly")):
+        with pytest.raises(InvalidGeometryError, match=name):
+            checks.SHAPER.solve(**arguments)
 
 
 # ---------------------------------------------------------------- task 1: the loops

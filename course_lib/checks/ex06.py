@@ -14,7 +14,7 @@ from itertools import permutations
 
 import numpy as np
 
-from ..errors import InvalidArgumentError, InvalidGeometryError, require_positive
+from ..errors import InvalidArgumentError, InvalidGeometryError, require_finite, require_positive
 from .engine import *  # the feedback engine's helpers (engine.__all__)
 
 __all__ = ["ShaperDrawing", "SHAPER", "quick_return_time_ratio", "check_shaper_loops",
@@ -98,8 +98,9 @@ class ShaperDrawing:
 
     def __post_init__(self) -> None:
         quick_return_time_ratio(self.crank, self.pivot_distance)  # checks crank and pivot_distance
-        for name in ("lever", "link", "ram_height"):
+        for name in ("lever", "link"):
             require_positive(name, getattr(self, name))
+        require_finite("ram_height", self.ram_height, unit="metres")
         if not abs(self.ram_height - self.lever) < self.link:
             raise InvalidGeometryError(f"the link cannot reach the ram line from the lever's top; got "
                                        f"lever={self.lever}, link={self.link}, ram_height={self.ram_height}")
@@ -130,6 +131,8 @@ class ShaperDrawing:
         >>> round(float(motion.velocity["x"]), 6), motion.assembly["x"]
         (-0.085714, -1)
         """
+        theta2, omega2, alpha2 = (require_finite(name, value, unit=unit) for name, value, unit in (
+            ("theta2", theta2, "rad"), ("omega2", omega2, "rad/s"), ("alpha2", alpha2, "rad/s²")))
         mechanism = self.mechanism
         sigma = {"r4": +1, **mechanism.assembly_sigma(assembly, _ASSEMBLIES)}
         return mechanism.solve({"theta2": theta2}, {"theta2": omega2}, {"theta2": alpha2}, assembly=sigma,

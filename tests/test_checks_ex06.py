@@ -21,6 +21,7 @@ from test_checks_bad_input import SILLY as SHARED_SILLY
 from course_lib import checks
 from course_lib.errors import InvalidGeometryError
 from course_lib.mechanism import Mechanism
+from course_lib.motion import Motion
 from course_lib.symbolic import time_symbols
 
 R2, D, L4, L5, H = 0.06, 0.15, 0.30, 0.15, 0.30  # the drawing of exercise 06 (m)
@@ -126,6 +127,18 @@ def test_the_declaration_is_the_shapers_loops_and_points():
     assert abs(np.hypot(*(C - B)) - 0.15) < 1e-12 and abs(C[1] - 0.30) < 1e-12
     assert joints["C"][0] > joints["B"][0]  # as drawn
     assert mechanism.links.named() == {"crank": ("O2", "A"), "lever": ("O4", "B"), "link": ("B", "C")}
+
+
+def test_the_drawings_solve_is_its_declarations_solve():
+    """One solver: ShaperDrawing.solve is the core's solve of its declaration, the same Motion to the bit."""
+    theta2 = ANGLES_TRIED
+    ours = checks.SHAPER.solve(theta2, 8.0, 2.0)
+    core = checks.SHAPER.mechanism.solve({"theta2": theta2}, {"theta2": 8.0}, {"theta2": 2.0},
+                                         assembly={"r4": +1, "x": -1})
+    assert type(ours) is Motion and type(core) is Motion
+    for part in ("position", "velocity", "acceleration", "assembly"):
+        assert all(np.array_equal(getattr(ours, part)[name], getattr(core, part)[name])
+                   for name in ("theta4", "r4", "theta5", "x")), part
 
 
 def test_the_stops_stroke_and_time_ratio_match_a_fine_sweep():

@@ -29,7 +29,17 @@ from feedback import course_newton_count
 from geometry import circle_intersections, course_inverse_angles
 from test_checks import BENCH, MY_SAW, ROBOT, _fivebar_points, _rates_by_sympy, _saw_by_slider_crank
 from test_checks import fourbar_by_circles as circles
-from test_checks_ex06 import LEVER_LOOP, R2, RAM_LOOP, D, by_hand, ram_by_differences, sweep_ratio
+from test_checks_ex06 import (
+    DECLARED,
+    GUESS,
+    LEVER_LOOP,
+    R2,
+    RAM_LOOP,
+    D,
+    by_hand,
+    ram_by_differences,
+    sweep_ratio,
+)
 
 from course_lib import checks
 from course_lib.checks import ShaperDrawing
@@ -424,8 +434,8 @@ TABLE = {
         [bad("shaper", None), bad("shaper", "SHAPER"), bad("shaper", BENCH),
          impossible("a drawing that cannot turn fully", "shaper", shaper=HIGH_RAM)]),
     "check_shaper_position": Task(
-        {"theta2": np.radians(60.0)}, lambda: by_hand(np.radians(60.0)),
-        lambda: by_hand(np.radians(60.0), right=False),
+        {"theta2": np.radians(60.0)}, lambda: (DECLARED, GUESS, by_hand(np.radians(60.0))),
+        lambda: (DECLARED, GUESS, by_hand(np.radians(60.0), right=False)),
         [bad("theta2", None), bad("theta2", "60"), bad("theta2", NAN), bad("shaper", None),
          bad("shaper", {"crank": 0.06}),
          impossible("no assembly at θ2", "theta2", theta2=0.0, shaper=HIGH_RAM)]),
@@ -435,7 +445,8 @@ TABLE = {
         [bad("theta2", INF), bad("omega2", None), bad("omega2", "8"), bad("alpha2", NAN), bad("alpha2", "0"),
          bad("shaper", 5), impossible("no assembly at θ2", "theta2", theta2=0.0, shaper=HIGH_RAM)]),
     "check_ram_stroke": Task(
-        {}, stroke_and_ratio, lambda: (stroke_and_ratio()[0] / 2, stroke_and_ratio()[1]),
+        {}, lambda: (stroke_and_ratio(), "left"), lambda: ((stroke_and_ratio()[0] / 2, stroke_and_ratio()[1]),
+                                                           "left"),
         [bad("shaper", None), bad("shaper", "x"), bad("shaper", (0.06, 0.15)),
          impossible("a drawing that cannot turn fully", "shaper", shaper=HIGH_RAM)]),
     "check_quick_return_time_ratio": Task(

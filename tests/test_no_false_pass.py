@@ -11,7 +11,7 @@ import itertools
 
 import numpy as np
 from test_checks import MY_SAW, ROBOT, _saw_by_slider_crank
-from test_checks_ex06 import L4, L5, R2, D, H, by_hand
+from test_checks_ex06 import DECLARED, GUESS, L4, L5, R2, D, H, by_hand
 
 from course_lib import checks
 
@@ -33,7 +33,10 @@ def accepted(checker, position, angles, *arguments):
 
 def test_every_shaper_position_accepted_closes_both_loops():
     theta2 = np.radians(60.0)
-    answers = accepted(checks.check_shaper_position, by_hand(theta2), (1, 0, 1, 0), theta2)
+    def check(position, theta2):  # Task 2's check cell: the declaration, its guess and the position
+        return checks.check_shaper_position((DECLARED, GUESS, position), theta2)
+
+    answers = accepted(check, by_hand(theta2), (1, 0, 1, 0), theta2)
     for theta4, r4, theta5, x in answers:
         block = [r4 * np.cos(theta4) - R2 * np.cos(theta2), r4 * np.sin(theta4) - D - R2 * np.sin(theta2)]
         ram = [L4 * np.cos(theta4) + L5 * np.cos(theta5) - x, L4 * np.sin(theta4) + L5 * np.sin(theta5) - H]

@@ -22,7 +22,7 @@ from test_checks import (
     _saw_by_slider_crank,
     fourbar_by_circles,
 )
-from test_checks_ex06 import L4, R2, D, by_hand, ram_by_differences
+from test_checks_ex06 import DECLARED, GUESS, L4, R2, D, by_hand, ram_by_differences
 
 from course_lib import checks
 from course_lib.fourbar import FourBar
@@ -76,6 +76,16 @@ def _time_ratio(crank, distance):
     return (np.pi + 2 * beta) / (np.pi - 2 * beta)
 
 
+def _ex06_position(position, theta2):
+    """Task 2's check cell, the declaration and its guess right: the position to 4 decimals."""
+    return checks.check_shaper_position((DECLARED, GUESS, position), theta2)
+
+
+def _ex06_stroke(stroke_and_ratio):
+    """Task 4's check cell, cutting right: stroke and time ratio to 3 significant figures."""
+    return checks.check_ram_stroke((stroke_and_ratio, "left"))
+
+
 FIGURES, DECIMALS = (4, False), (4, True)
 # name: (checker, (reference, arguments), (digits, decimals), angles)
 LINK = 0.06 * np.array([np.cos(np.pi / 6), np.sin(np.pi / 6)])
@@ -113,11 +123,11 @@ CASES = {
                  FIGURES, False),
     "lesson 08 / ex05 forward": (checks.check_fivebar_forward, _fivebar_forward(), (6, True), False),
     "ex05 inverse": (checks.check_fivebar_inverse, _fivebar_inverse(), DECIMALS, True),
-    "ex06 position": (checks.check_shaper_position, (SHAPER_AT_60, (np.radians(60.0),)), DECIMALS,
+    "ex06 position": (_ex06_position, (SHAPER_AT_60, (np.radians(60.0),)), DECIMALS,
                       (True, False, True, False)),
     "ex06 ram motion": (checks.check_ram_motion, (ram_by_differences(np.radians(60.0), 8.0),
                                                   (np.radians(60.0), 8.0)), FIGURES, False),
-    "ex06 stroke and ratio": (checks.check_ram_stroke, ((2 * L4 * R2 / D, _time_ratio(R2, D)), ()),
+    "ex06 stroke and ratio": (_ex06_stroke, ((2 * L4 * R2 / D, _time_ratio(R2, D)), ()),
                               (3, False), False),
 }
 

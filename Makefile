@@ -27,12 +27,12 @@ PYTHONS ?= 3.11 3.12 3.13
 
 .PHONY: FORCE lab check test test-portable test-pythons execute exercises bench clean site nbgrader dist
 
-$(STUDENT_STAMP): environment.txt pyproject.toml $(PYTHON_STAMP)
-	$(PIP) -r environment.txt
+$(STUDENT_STAMP): environment.txt environment.lock pyproject.toml $(PYTHON_STAMP)
+	$(PIP) -c environment.lock -r environment.txt
 	touch $@
 
-$(DEV_STAMP): environment-dev.txt environment.txt pyproject.toml $(PYTHON_STAMP)
-	$(PIP) -r environment-dev.txt
+$(DEV_STAMP): environment-dev.txt environment.txt environment.lock pyproject.toml $(PYTHON_STAMP)
+	$(PIP) -c environment.lock -r environment-dev.txt
 	touch $@ $(STUDENT_STAMP)
 
 # An interpreter as .venv/.python records it, "X.Y /its/real/path" (a venv's python answers with the Python

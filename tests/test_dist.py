@@ -55,7 +55,7 @@ def test_the_student_bundle_has_lessons_exercises_and_course_lib_and_no_solution
     exercises = {path for path in files if re.fullmatch(r"notebooks/exercises/[^/]+\.ipynb", path)}
     assert lessons <= names and exercises <= names and len(lessons) >= 12 and len(exercises) >= 5
     assert {"course_lib/__init__.py", "course_lib/checks/__init__.py", "pyproject.toml", "environment.txt",
-            "README.md", "LICENSE", "LICENSE-content", "CITATION.cff"} <= names
+            "environment.lock", "README.md", "LICENSE", "LICENSE-content", "CITATION.cff"} <= names
     assert not any(name.startswith(("notebooks/solutions/", "nbgrader/", "tests/", "tools/", "binder/"))
                    for name in names)
     assert "environment-dev.txt" not in names
@@ -64,7 +64,8 @@ def test_the_student_bundle_has_lessons_exercises_and_course_lib_and_no_solution
         for name in names:  # no solution text reaches a student
             if name.startswith("notebooks/"):
                 assert "BEGIN SOLUTION" not in opened.read(f"{bundles['top']}/{name}").decode(), name
-    assert "pip install -r environment.txt" in readme and "00_start_here" in readme
+    assert "pip install -c environment.lock -r environment.txt" in readme and "00_start_here" in readme
+    assert "python3 -m venv" in readme and "140 MB" in readme  # where only python3 exists; the download
 
 
 def test_the_instructor_bundle_is_everything_tracked(bundles):

@@ -41,7 +41,8 @@ def _files(version_line: str = 'version = "1.0.0"', library: str = "1.0.0") -> d
     return {
         "pyproject.toml": _pyproject(version_line),
         "course_lib/__init__.py": f'"""course_lib."""\n\n__version__ = {library!r}\n',
-        "environment.txt": "numpy\n", "LICENSE": "BSD\n", "LICENSE-content": "CC-BY\n",
+        "environment.txt": "numpy\n", "environment.lock": "numpy==2.4.6\n", "LICENSE": "BSD\n",
+        "LICENSE-content": "CC-BY\n",
         "CITATION.cff": CITATION, "notebooks/00_start_here.ipynb": "{}\n",
     }
 

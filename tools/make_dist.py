@@ -4,9 +4,9 @@ Usage: python tools/make_dist.py [--output DIR]
 
 * ``mechanism-kinematics-VERSION-student.zip``: what a student needs to run the lessons and practise —
   the lessons (``notebooks/NN_*.ipynb``), the exercise sets (``notebooks/exercises/``), ``course_lib``,
-  ``pyproject.toml``, the student set ``environment.txt``, the licences and the citation, and a short
-  ``README.md`` (START HERE) that says how to install and open them.  No solutions, no nbgrader, no
-  tests or tools.
+  ``pyproject.toml``, the student set ``environment.txt`` and its lock ``environment.lock``, the licences
+  and the citation, and a short ``README.md`` (START HERE) that says how to install and open them.  No
+  solutions, no nbgrader, no tests or tools.
 * ``mechanism-kinematics-VERSION-instructor.zip``: every file git tracks, solutions and nbgrader included.
 
 Each archive holds one top folder, ``mechanism-kinematics-VERSION/``.  The files are those of the
@@ -42,7 +42,8 @@ except ImportError:  # pragma: no cover - packaging comes with pip's environment
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 NAME = "mechanism-kinematics"
-STUDENT_FILES = ["pyproject.toml", "environment.txt", "LICENSE", "LICENSE-content", "CITATION.cff"]
+STUDENT_FILES = ["pyproject.toml", "environment.txt", "environment.lock", "LICENSE", "LICENSE-content",
+                 "CITATION.cff"]
 STUDENT_PATTERNS = [re.compile(r"notebooks/\d\d_[^/]+\.ipynb"),
                     re.compile(r"notebooks/exercises/[^/]+\.ipynb"), re.compile(r"course_lib/.+\.py")]
 # a PEP 440 public version in its normal form (PEP 440, appendix B, without the spellings normalisation
@@ -66,14 +67,16 @@ of a power saw, a five-bar parallel robot) and `course_lib`, the small library t
 You need Python 3.11, 3.12 or 3.13. In this folder, in a terminal:
 
 ```bash
-python -m venv .venv
+python3 -m venv .venv                # Windows: py -m venv .venv
 source .venv/bin/activate            # Windows: .venv\\Scripts\\activate
-python -m pip install -r environment.txt
+python -m pip install -c environment.lock -r environment.txt
 jupyter lab notebooks/00_start_here.ipynb
 ```
 
-`environment.txt` installs the tested versions of everything the lessons use, JupyterLab, and
-`course_lib` from this folder. Lesson 00 checks your set-up and shows how to run a lesson.
+The install needs the internet once: it downloads about 140 MB. `environment.txt` installs the tested
+versions of everything the lessons use, JupyterLab, and `course_lib` from this folder; `environment.lock`
+holds every package they pull in to the version the collection was tested with. Lesson 00 checks your
+set-up and shows how to run a lesson.
 
 ## What is here
 

@@ -25,7 +25,8 @@ import sys
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-REQUIREMENTS = [ROOT / "environment-dev.txt", ROOT / "environment.txt", ROOT / "pyproject.toml"]
+REQUIREMENTS = [ROOT / "environment-dev.txt", ROOT / "environment.txt", ROOT / "environment.lock",
+                ROOT / "pyproject.toml"]
 # the tooling's tests: they check the site, the browser, Binder, the bundles, make lab and nbgrader
 TOOLING_TESTS = ["tests/test_site.py", "tests/browser", "tests/test_binder.py", "tests/test_dist.py",
                  "tests/test_make_lab.py", "tests/test_nbgrader.py"]
@@ -86,7 +87,8 @@ def environment(version: str, interpreter: str) -> pathlib.Path:
         subprocess.run([interpreter, "-m", "venv", str(venv)], check=True)
     started = time.monotonic()
     subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "--quiet",
-                    "--disable-pip-version-check", "-r", "environment-dev.txt"], cwd=ROOT, check=True)
+                    "--disable-pip-version-check", "-c", "environment.lock", "-r", "environment-dev.txt"],
+                   cwd=ROOT, check=True)
     print(f"[{version}] installed environment-dev.txt into {venv.relative_to(ROOT)} "
           f"in {time.monotonic() - started:.0f} s")
     stamp.touch()

@@ -75,6 +75,8 @@ def test_make_lab_installs_the_student_set_and_make_test_the_whole_set(tmp_path)
     assert "-r environment.txt" in check and "environment-dev.txt" not in check  # the student set alone
     assert "--nbval-lax" in check and "ex01_vector_loops_and_mobility.ipynb" in check
     assert "-r environment-dev.txt" in test and ".installed-dev" in test
+    for plan in (lab, check, test):  # every install takes the locked versions
+        assert "-c environment.lock -r environment" in plan
     dev = (ROOT / "environment-dev.txt").read_text(encoding="utf-8").splitlines()
     assert "-r environment.txt" in dev  # the whole set is the student set plus the tools
     student = (ROOT / "environment.txt").read_text(encoding="utf-8")
@@ -120,7 +122,7 @@ VENV_TARGETS = re.findall(r"^([a-z][\w-]*):.*\$\((?:STUDENT|DEV)_STAMP\)", MAKEF
 class Sandbox:
     def __init__(self, root: pathlib.Path):
         self.repo, self.bin, self.log = root / "repo", root / "bin", root / "calls.log"
-        for name in ("Makefile", "environment.txt", "environment-dev.txt", "pyproject.toml",
+        for name in ("Makefile", "environment.txt", "environment-dev.txt", "environment.lock", "pyproject.toml",
                      "tools/lab-settings/overrides.json"):
             (self.repo / name).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(ROOT / name, self.repo / name)
@@ -214,7 +216,7 @@ def test_the_venv_is_made_again_when_another_python_made_it(sandbox):
     assert result.returncode == 0, result.stderr
     assert sandbox.calls()[:2] == [f"{sandbox.bin}/python3.12 -m venv .venv",
                                    ".venv/bin/python -m pip install --quiet --disable-pip-version-check "
-                                   "-r environment.txt"]
+                                   "-c environment.lock -r environment.txt"]
     assert sandbox.stamp() == "3.12 /opt/python3.12/bin/python3.12"
     (sandbox.venv / "pythons" / "3.13").mkdir(parents=True)  # make test-pythons' venvs stay
     (sandbox.venv / "pythons" / "3.13" / "pyvenv.cfg").touch()
@@ -310,4 +312,4 @@ def test_a_working_venv_made_before_the_check_is_kept_without_installing_again(s
     os.utime(sandbox.repo / "environment.txt")
     assert sandbox.make("lab", "PYTHON=python3.12").returncode == 0
     assert [call for call in sandbox.calls() if "jupyter" not in call] == [
-        ".venv/bin/python -m pip install --quiet --disable-pip-version-check -r environment.txt"]
+        ".venv/bin/python -m pip install --quiet --disable-pip-version-check -c environment.lock -r environment.txt"]

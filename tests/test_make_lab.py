@@ -122,8 +122,8 @@ VENV_TARGETS = re.findall(r"^([a-z][\w-]*):.*\$\((?:STUDENT|DEV)_STAMP\)", MAKEF
 class Sandbox:
     def __init__(self, root: pathlib.Path):
         self.repo, self.bin, self.log = root / "repo", root / "bin", root / "calls.log"
-        for name in ("Makefile", "environment.txt", "environment-dev.txt", "environment.lock", "pyproject.toml",
-                     "tools/lab-settings/overrides.json"):
+        for name in ("Makefile", "environment.txt", "environment-dev.txt", "environment.lock",
+                     "pyproject.toml", "tools/lab-settings/overrides.json"):
             (self.repo / name).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(ROOT / name, self.repo / name)
         tools = root / "tools"
@@ -312,4 +312,5 @@ def test_a_working_venv_made_before_the_check_is_kept_without_installing_again(s
     os.utime(sandbox.repo / "environment.txt")
     assert sandbox.make("lab", "PYTHON=python3.12").returncode == 0
     assert [call for call in sandbox.calls() if "jupyter" not in call] == [
-        ".venv/bin/python -m pip install --quiet --disable-pip-version-check -c environment.lock -r environment.txt"]
+        ".venv/bin/python -m pip install --quiet --disable-pip-version-check "
+        "-c environment.lock -r environment.txt"]

@@ -25,7 +25,7 @@ NBVAL := --nbval --nbval-current-env --nbval-sanitize-with tests/sanitize.cfg --
 # make test-pythons: the versions it tests (each in a venv of its own, .venv/pythons/X.Y)
 PYTHONS ?= 3.11 3.12 3.13
 
-.PHONY: FORCE lab check test test-portable test-pythons execute exercises bench clean site nbgrader dist
+.PHONY: FORCE lab lab-instructor check test test-portable test-pythons execute exercises bench clean site nbgrader dist
 
 $(STUDENT_STAMP): environment.txt environment.lock pyproject.toml $(PYTHON_STAMP)
 	$(PIP) -c environment.lock -r environment.txt
@@ -93,11 +93,19 @@ $(PYTHON_STAMP): FORCE
 
 FORCE:
 
-# JupyterLab's settings for this project (no news pop-up): tools/lab-settings/overrides.json
+# JupyterLab's settings for this project (no news pop-up): tools/lab-settings/overrides.json. `make lab` is the
+# students' route: the file browser lists the lessons and the exercise copies, not notebooks/solutions/ (Jupyter
+# server's default hidden names plus "solutions"); `make lab-instructor` lists everything.
+LAB_HIDDEN := "__pycache__", "*.pyc", "*.pyo", ".DS_Store", "*~", "*.so", "*.dylib"
+LAB_START = mkdir -p $(VENV)/share/jupyter/lab/settings && \
+	cp tools/lab-settings/overrides.json $(VENV)/share/jupyter/lab/settings/overrides.json && \
+	$(BIN)/jupyter lab $(LAB_ROOT) --ServerApp.root_dir=notebooks --LabApp.default_url=/lab/tree/00_start_here.ipynb
+
 lab: $(STUDENT_STAMP)
-	mkdir -p $(VENV)/share/jupyter/lab/settings
-	cp tools/lab-settings/overrides.json $(VENV)/share/jupyter/lab/settings/overrides.json
-	$(BIN)/jupyter lab $(LAB_ROOT) --ServerApp.root_dir=notebooks --LabApp.default_url=/lab/tree/00_start_here.ipynb $(LAB_ARGS)
+	$(LAB_START) --ContentsManager.hide_globs='[$(LAB_HIDDEN), "solutions"]' $(LAB_ARGS)
+
+lab-instructor: $(STUDENT_STAMP)
+	$(LAB_START) --ContentsManager.hide_globs='[$(LAB_HIDDEN)]' $(LAB_ARGS)
 
 # a student's check that one notebook runs top to bottom without an error (the student set alone):
 # make check NOTEBOOK=notebooks/exercises/ex01_vector_loops_and_mobility.ipynb

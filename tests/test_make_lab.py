@@ -25,11 +25,20 @@ def free_port() -> int:
 
 
 @pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
-def test_make_lab_serves_the_lessons():
+def _listing(port: int, token: str) -> set[str]:
+    request = urllib.request.Request(f"http://127.0.0.1:{port}/api/contents/",
+                                     headers={"Authorization": f"token {token}"})
+    with urllib.request.urlopen(request, timeout=5) as response:
+        return {entry["name"] for entry in json.load(response)["content"]}
+
+
+@pytest.mark.parametrize("target", ["lab", "lab-instructor"])
+def test_make_lab_serves_the_lessons(target):
+    # make lab, the students' route, lists lessons and exercise copies; make lab-instructor the solutions too
     port, token = free_port(), "course-test-token"
     args = f"--no-browser --ServerApp.ip=127.0.0.1 --ServerApp.port={port} --IdentityProvider.token={token}"
     server = subprocess.Popen(
-        ["make", "--no-print-directory", "lab", f"LAB_ARGS={args}"],
+        ["make", "--no-print-directory", target, f"LAB_ARGS={args}"],
         cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True,
     )
     try:
@@ -48,6 +57,9 @@ def test_make_lab_serves_the_lessons():
                                          headers={"Authorization": f"token {token}"})
         with urllib.request.urlopen(request, timeout=5) as response:
             assert json.load(response)["type"] == "notebook"  # served from notebooks/
+        listed = _listing(port, token)
+        assert {"00_start_here.ipynb", "exercises"} <= listed
+        assert ("solutions" in listed) == (target == "lab-instructor")
         # tools/lab-settings/overrides.json changes the defaults the frontend reads: news "Never"
         request = urllib.request.Request(
             f"http://127.0.0.1:{port}/lab/api/settings/@jupyterlab/apputils-extension:notification",

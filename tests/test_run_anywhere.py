@@ -30,7 +30,14 @@ import nbformat
 import numpy as np
 import pytest
 
-from course_lib.checks import WORKED_ANSWERS_FILE, WorkedAnswerError, run_worked_answer, worked_answers
+from course_lib.checks import (
+    WORKED_ANSWERS_FILE,
+    WorkedAnswerError,
+    packaged_answers,
+    run_worked_answer,
+    worked_answers,
+)
+from course_lib.errors import InvalidArgumentError
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
@@ -128,6 +135,12 @@ def test_without_the_notebook_file_the_packaged_answer_is_run(tmp_path, monkeypa
     assert worked.numbers == pytest.approx((0.0, 0.06), abs=1e-12)  # l2 (cos 90°, sin 90°), by hand
     with pytest.raises(WorkedAnswerError, match=r"'99_no.ipynb' is not a file here, and course_lib holds no"):
         run_worked_answer("99_no.ipynb", {})
+
+
+@pytest.mark.parametrize("notebooks", ["00_start_here.ipynb", Path("x.ipynb"), None, 3, [None]])
+def test_packaged_answers_refuses_what_is_not_a_list_of_lessons_by_name(notebooks):
+    with pytest.raises(InvalidArgumentError, match="notebook"):
+        packaged_answers(notebooks)
 
 
 def test_the_notebook_file_wins_over_the_packaged_answer(tmp_path, monkeypatch):

@@ -172,9 +172,15 @@ def packaged_answers(notebooks: Iterable[str | Path]) -> dict[str, list[dict[str
     ...     packaged_answers([path])
     {'lesson.ipynb': [{'cell': 2, 'code': 'print(2)\\n', 'printed': '2\\n'}]}
     """
-    return {Path(notebook).name: [{"cell": cell, "code": code, "printed": printed}
-                                  for cell, code, printed in _answers(notebook)]
-            for notebook in notebooks}
+    if isinstance(notebooks, str | bytes | os.PathLike) or not isinstance(notebooks, Iterable):
+        raise InvalidArgumentError(f"notebooks must be a list of lesson file names (str or Path); "
+                                   f"got {_short(notebooks)}")
+    found = {}
+    for notebook in notebooks:
+        answers = _answers(notebook)  # the name checked first
+        found[Path(notebook).name] = [{"cell": cell, "code": code, "printed": printed}
+                                      for cell, code, printed in answers]
+    return found
 
 
 def _short(value: Any, most: int = 80) -> str:
@@ -346,6 +352,8 @@ def run_worked_answer(notebook: str | Path, namespace: Mapping[str, Any], which:
                       timeout: float = WORKED_TIMEOUT) -> WorkedAnswer:
     """Run the worked answer ``which`` (default: the last) of ``notebook`` on a copy of ``namespace`` (the
     lesson's ``globals()``); raises :class:`WorkedAnswerError` unless it prints exactly the text it shows.
+    The answer is read from ``notebook`` when that file is here, else from course_lib's copy of the lesson's
+    answers (:data:`WORKED_ANSWERS_FILE`, found by the file's name): a lesson on Colab or run as a script.
 
     The answer runs in a box: every variable it names is a deep copy (modules, functions and what cannot
     be copied are shared), so the lesson's variables never change; it may run ``timeout`` seconds

@@ -152,8 +152,9 @@ def landing_page(readme: str, url: str | None = None, pdf: bool = False) -> str:
     how_to = (
         "Every page is a notebook shown with the outputs it was committed with. The download button "
         "at the top of a page (↓) gives you the notebook itself (`.ipynb`) or the same cells as a Python "
-        "script (`.py`); to run it you need `course_lib` and the packages of `environment.txt` (see "
-        "*Start here*)."
+        "script (`.py`), which runs top to bottom with `python`. Either needs `course_lib` and the packages "
+        "of `environment.txt` (see *Start here*); where `course_lib` is missing, as on Colab, a lesson's "
+        "first cell says so."
     )
     parts = [title, paragraphs[0], how_to]
     if pdf:

@@ -1,15 +1,17 @@
 """The repository's address, one setting, and the links made from it.
 
 Usage: python tools/repository.py            print the address and the links made from it
-       python tools/repository.py --write    bring README.md and CITATION.cff in line with it
-       python tools/repository.py --check    exit 1 if README.md or CITATION.cff disagree with it
+       python tools/repository.py --write    bring README.md, CITATION.cff and the lessons in line with it
+       python tools/repository.py --check    exit 1 if README.md, CITATION.cff or a lesson disagree with it
 
 The address is ``[project.urls] Repository`` in ``pyproject.toml``; the environment variable
 ``COURSE_REPOSITORY_URL`` overrides it for one command (empty: no address), as the website's tests do.
 Everything that links to the repository takes the address from here: the website's launch buttons and
 repository, source and issue links (tools/build_site.py), the README's block of links in *Run it
-elsewhere* (between the ``repository-links`` comments) and ``repository-code`` in CITATION.cff.  With no
-address, none of them shows a link, and nothing stands in for one.
+elsewhere* (between the ``repository-links`` comments), ``repository-code`` in CITATION.cff and the set-up
+cell that opens every lesson (:data:`SETUP_CELL`): where ``course_lib`` is missing (Colab) it installs it with
+pip from ``git+ADDRESS@BRANCH``.  With no address, none of them shows a link, and nothing stands in for one
+(the set-up cell then says which command installs ``course_lib``).
 
 The branch the links point at is ``[tool.course] branch`` (default ``main``), or ``COURSE_REPOSITORY_BRANCH``
 for one command: a git branch name of plain segments (letters, digits, ``-``, ``_``, ``.``, separated by
@@ -51,6 +53,32 @@ FIRST_LESSON = "notebooks/00_start_here.ipynb"
 README_START = "<!-- repository-links: made by tools/repository.py -->"
 README_END = "<!-- /repository-links -->"
 CITATION_KEY = re.compile(r"^repository-code:.*\n", re.M)
+LESSONS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+
+#: The first code cell of every lesson (its address line made by :func:`setup_cell`): nothing happens where
+#: course_lib is installed; elsewhere (Colab) it says so and installs it from the repository, or, with no
+#: address set, stops with the command that installs it.
+SETUP_CELL = """\
+# Colab, or any kernel without the course's library: this cell says so and installs it. Where course_lib
+# is installed (the course's own environment), it does nothing.
+import importlib.util
+import subprocess
+import sys
+
+# where pip gets course_lib: the collection's repository (written by tools/repository.py; "" when it has none)
+COURSE_LIB_SOURCE = ""
+if importlib.util.find_spec("course_lib") is None:
+    if not COURSE_LIB_SOURCE:
+        raise ModuleNotFoundError(
+            "course_lib is not installed in this kernel. In a terminal, in the collection's top folder "
+            f"(the one holding environment.txt), run\\n    \\"{sys.executable}\\" -m pip install -r "
+            "environment.txt\\nthen restart the kernel and run this lesson again.")
+    print(f"course_lib is not installed in this kernel: installing it from {COURSE_LIB_SOURCE} …")
+    subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", COURSE_LIB_SOURCE], check=True)
+    importlib.invalidate_caches()
+    print("course_lib is installed.")"""
+# the set-up cell's address line as it stands in the notebook's JSON (one string of its "source" list)
+_SETUP_LINE = re.compile(r'^(\s*")COURSE_LIB_SOURCE = \\"[^"\\]*\\"', re.M)
 
 
 class RepositoryError(ValueError):
@@ -225,10 +253,38 @@ def expected_citation(text: str, url: str | None) -> str:
     return text[: anchor.start()] + line + text[anchor.start():] if anchor else text + line
 
 
+def setup_cell(url: str | None) -> str:
+    """The lessons' set-up cell (:data:`SETUP_CELL`) installing from ``url``'s repository (None: none)."""
+    return SETUP_CELL.replace('COURSE_LIB_SOURCE = ""', f'COURSE_LIB_SOURCE = "{pip_source(url)}"', 1)
+
+
+def pip_source(url: str | None) -> str:
+    """What pip installs course_lib from: ``git+ADDRESS@BRANCH``, or "" without an address."""
+    if url is None:
+        return ""
+    made = links(url)
+    return f"git+{made.repository}@{made.branch}"
+
+
+def expected_lesson(text: str, url: str | None, name: str = "the lesson") -> str:
+    """A lesson's JSON ``text`` with its set-up cell installing from ``url`` (only that line changes, so the
+    file stays as JupyterLab saves it); RepositoryError when the lesson has no set-up cell."""
+    found = _SETUP_LINE.findall(text)
+    if len(found) != 1:
+        raise RepositoryError(f"{name} has {len(found)} set-up lines (COURSE_LIB_SOURCE = ...), not one: "
+                              "its first code cell is tools/repository.py's SETUP_CELL")
+    # a checked address and branch hold no quote or backslash: the JSON string needs no escaping
+    return _SETUP_LINE.sub(lambda match: f'{match[1]}COURSE_LIB_SOURCE = \\"{pip_source(url)}\\"', text)
+
+
 def expected_files(url: str | None) -> dict[pathlib.Path, str]:
-    """README.md and CITATION.cff as they follow ``url``: what ``--write`` writes and ``--check`` wants."""
-    return {README: expected_readme(README.read_text(encoding="utf-8"), url),
-            CITATION: expected_citation(CITATION.read_text(encoding="utf-8"), url)}
+    """README.md, CITATION.cff and the lessons as they follow ``url``: what ``--write`` writes and ``--check``
+    wants."""
+    files = {README: expected_readme(README.read_text(encoding="utf-8"), url),
+             CITATION: expected_citation(CITATION.read_text(encoding="utf-8"), url)}
+    for lesson in LESSONS:
+        files[lesson] = expected_lesson(lesson.read_text(encoding="utf-8"), url, lesson.name)
+    return files
 
 
 def citation_problem(text: str, url: str | None) -> str | None:

@@ -7,6 +7,11 @@ reads the lesson file, runs that code on the lesson's variables and checks that 
 shown, so the cell after the answer can assert that the printed answer passes the Try-it's own checker —
 without showing the answer in its source.
 
+Where the lesson file is not in the working folder (Colab, a kernel started elsewhere, the lesson run as a
+``.py`` script), the answers come from the copy course_lib ships, :data:`WORKED_ANSWERS_FILE`, written by
+``python tools/package_data.py`` from the lessons (``tests/test_run_anywhere.py`` keeps it equal to them);
+the notebook file, when it is there, wins.
+
 The answer runs in a box: on deep copies of the lesson's variables (the lesson's own are never changed),
 with a time limit, and with ``input()`` refused; a hang, an ``exit()``, a request for input or an
 exception in the answer is a :class:`WorkedAnswerError` naming the notebook and the cell.
@@ -29,20 +34,25 @@ import threading
 import time
 import traceback
 import types
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from ..errors import CourseLibError, InvalidArgumentError
 
-__all__ = ["WorkedAnswer", "WorkedAnswerError", "worked_answers", "run_worked_answer", "WORKED_TIMEOUT"]
+__all__ = ["WorkedAnswer", "WorkedAnswerError", "worked_answers", "run_worked_answer", "WORKED_TIMEOUT",
+           "WORKED_ANSWERS_FILE", "packaged_answers"]
 
 _FENCE = re.compile(r"```python\n(?P<code>.*?)```\s*```text\n(?P<printed>.*?)```", re.S)
 
 #: Seconds a worked answer may run by default: the slowest lesson answer (lesson 12, sympy) takes about 1 s
 #: on a fresh kernel, and a shared machine (Binder, CI on two busy cores) may be several times slower.
 WORKED_TIMEOUT = 10.0
+
+#: The lessons' worked answers as course_lib ships them (package data): lesson file name → its answers,
+#: each ``{"cell": n, "code": …, "printed": …}``; read where the lesson file is not at hand.
+WORKED_ANSWERS_FILE = Path(__file__).with_name("worked_answers.json")
 
 #: Names through which code reaches every variable by its name as text: with one of them, the answer works
 #: on a copy of every variable, not only of those it names.
@@ -104,11 +114,15 @@ def _path(notebook: Any) -> Path:
 
 
 def _answers(notebook: str | Path) -> list[tuple[int, str, str]]:
-    """(cell number counted from 1, code, printed text) of each worked answer folded in ``notebook``."""
+    """(cell number counted from 1, code, printed text) of each worked answer folded in ``notebook``: read
+    from the file when it is there, else from course_lib's copy of the lesson's answers."""
     path = _path(notebook)
     if not path.is_file():
-        raise WorkedAnswerError(f"notebook {str(notebook)!r} is not a file here: the worked answer is "
-                                "re-checked when the lesson runs from its own folder")
+        shipped = _shipped().get(path.name)
+        if shipped is None:
+            raise WorkedAnswerError(f"notebook {str(notebook)!r} is not a file here, and course_lib holds no "
+                                    "copy of its worked answers: run the lesson from its own folder")
+        return [(answer["cell"], answer["code"], answer["printed"]) for answer in shipped]
     try:
         content = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError) as error:
@@ -133,6 +147,39 @@ def _answers(notebook: str | Path) -> list[tuple[int, str, str]]:
                                     f"not text; got {_short(source)}")
         if cell["cell_type"] == "markdown" and "<details" in source:
             found += [(number, match["code"], match["printed"]) for match in _FENCE.finditer(source)]
+    return found
+
+
+def _shipped() -> dict[str, list[dict[str, Any]]]:
+    """The content of :data:`WORKED_ANSWERS_FILE` (empty when it is missing: a checkout before its first
+    ``tools/package_data.py``)."""
+    try:
+        return json.loads(WORKED_ANSWERS_FILE.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        return {}
+
+
+def packaged_answers(notebooks: Iterable[str | Path]) -> dict[str, list[dict[str, Any]]]:
+    """The worked answers of ``notebooks`` as :data:`WORKED_ANSWERS_FILE` holds them: each lesson's file name
+    → its answers in order, ``{"cell": n, "code": …, "printed": …}`` (cells counted from 1).
+
+    >>> import tempfile
+    >>> cell = {"cell_type": "markdown", "metadata": {},
+    ...         "source": "<details>\\n\\n```python\\nprint(2)\\n```\\n```text\\n2\\n```\\n</details>"}
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = Path(folder, "lesson.ipynb")
+    ...     _ = path.write_text(json.dumps({"cells": [{"cell_type": "code", "source": ""}, cell]}))
+    ...     packaged_answers([path])
+    {'lesson.ipynb': [{'cell': 2, 'code': 'print(2)\\n', 'printed': '2\\n'}]}
+    """
+    if isinstance(notebooks, str | bytes | os.PathLike) or not isinstance(notebooks, Iterable):
+        raise InvalidArgumentError(f"notebooks must be a list of lesson file names (str or Path); "
+                                   f"got {_short(notebooks)}")
+    found = {}
+    for notebook in notebooks:
+        answers = _answers(notebook)  # the name checked first
+        found[Path(notebook).name] = [{"cell": cell, "code": code, "printed": printed}
+                                      for cell, code, printed in answers]
     return found
 
 
@@ -305,6 +352,8 @@ def run_worked_answer(notebook: str | Path, namespace: Mapping[str, Any], which:
                       timeout: float = WORKED_TIMEOUT) -> WorkedAnswer:
     """Run the worked answer ``which`` (default: the last) of ``notebook`` on a copy of ``namespace`` (the
     lesson's ``globals()``); raises :class:`WorkedAnswerError` unless it prints exactly the text it shows.
+    The answer is read from ``notebook`` when that file is here, else from course_lib's copy of the lesson's
+    answers (:data:`WORKED_ANSWERS_FILE`, found by the file's name): a lesson on Colab or run as a script.
 
     The answer runs in a box: every variable it names is a deep copy (modules, functions and what cannot
     be copied are shared), so the lesson's variables never change; it may run ``timeout`` seconds

@@ -55,7 +55,8 @@ def test_the_student_bundle_has_lessons_exercises_and_course_lib_and_no_solution
     exercises = {path for path in files if re.fullmatch(r"notebooks/exercises/[^/]+\.ipynb", path)}
     assert lessons <= names and exercises <= names and len(lessons) >= 12 and len(exercises) >= 5
     assert {"course_lib/__init__.py", "course_lib/checks/__init__.py", "pyproject.toml", "environment.txt",
-            "environment.lock", "README.md", "LICENSE", "LICENSE-content", "CITATION.cff"} <= names
+            "environment.lock", "README.md", "LICENSE", "LICENSE-content", "CITATION.cff",
+            "course_lib/checks/worked_answers.json", "course_lib/environment.txt"} <= names  # its package data
     assert not any(name.startswith(("notebooks/solutions/", "nbgrader/", "tests/", "tools/", "binder/"))
                    for name in names)
     assert "environment-dev.txt" not in names

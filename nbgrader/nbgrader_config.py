@@ -1,5 +1,6 @@
 # nbgrader's configuration for this course directory (nbgrader/): run nbgrader commands from here.
 # `make nbgrader` (tools/export_nbgrader.py) writes source/exNN/ from notebooks/solutions/.
+import functools
 import pathlib
 import shutil
 from importlib.util import find_spec
@@ -27,14 +28,16 @@ c.ExecutePreprocessor.timeout = 300
 # students and assignments are added to the gradebook as they appear
 c.CourseDirectory.db_url = "sqlite:///gradebook.db"
 
-# Feedback that typesets offline: nbgrader's feedback template, with MathJax 3 loaded from feedback/mathjax/
-# (templates/feedback_offline/mathjax.html.j2) instead of a CDN, and long messages wrapped.
+# Feedback that typesets offline: nbgrader's feedback template, with MathJax 3 in each page and in
+# feedback/mathjax/ (templates/feedback_offline/mathjax.html.j2) instead of a CDN, and long messages wrapped.
 MATHJAX_PACKAGE = "sphinx-mathjax-offline"  # on PyPI: MathJax 3's files, the same the course website uses
 MATHJAX_ENTRY = "tex-svg.js"
 
 
 class LocalMathJax(Preprocessor):
-    """Puts a copy of MathJax 3 in feedback/mathjax/ (once), where the feedback pages load it from."""
+    """Puts a copy of MathJax 3 in feedback/mathjax/ (once), where a page loads what MathJax loads lazily; the
+    combined component itself is in each page (:func:`course_mathjax`), so a page fetched alone into a
+    student's folder (through the hub) still typesets offline."""
 
     enabled = Bool(True)
 
@@ -57,8 +60,21 @@ class LocalMathJax(Preprocessor):
         return nb, resources
 
 
+@functools.cache
+def course_mathjax(_: object = None) -> str:
+    """MathJax's combined component as text, for the page itself (the template's ``course_mathjax`` filter);
+    "" where the package is missing or the text could not stand in a ``<script>`` element."""
+    spec = find_spec(MATHJAX_PACKAGE)
+    if spec is None:
+        return ""
+    entry = pathlib.Path(spec.origin).parent / "static" / "mathjax" / MATHJAX_ENTRY
+    script = entry.read_text(encoding="utf-8")
+    return "" if "</script" in script.lower() else script
+
+
 c.GenerateFeedback.preprocessors = [GetGrades, CSSHTMLHeaderPreprocessor, LocalMathJax]
 c.HTMLExporter.template_name = "feedback_offline"
+c.HTMLExporter.filters = {"course_mathjax": course_mathjax}
 c.HTMLExporter.extra_template_basedirs = [
     str(COURSE / "templates"),
     str(pathlib.Path(nbgrader.__file__).parent / "server_extensions" / "formgrader" / "templates"),

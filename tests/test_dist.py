@@ -56,7 +56,7 @@ def test_the_student_bundle_has_lessons_exercises_and_course_lib_and_no_solution
     assert lessons <= names and exercises <= names and len(lessons) >= 12 and len(exercises) >= 5
     assert {"course_lib/__init__.py", "course_lib/checks/__init__.py", "pyproject.toml", "environment.txt",
             "environment.lock", "README.md", "LICENSE", "LICENSE-content", "CITATION.cff",
-            "course_lib/checks/worked_answers.json", "course_lib/environment.txt"} <= names  # its package data
+            "course_lib/checks/worked_answers.json", "course_lib/environment.txt"} <= names  # + package data
     assert not any(name.startswith(("notebooks/solutions/", "nbgrader/", "tests/", "tools/", "binder/"))
                    for name in names)
     assert "environment-dev.txt" not in names

@@ -45,7 +45,8 @@ NAME = "mechanism-kinematics"
 STUDENT_FILES = ["pyproject.toml", "environment.txt", "environment.lock", "LICENSE", "LICENSE-content",
                  "CITATION.cff"]
 STUDENT_PATTERNS = [re.compile(r"notebooks/\d\d_[^/]+\.ipynb"),
-                    re.compile(r"notebooks/exercises/[^/]+\.ipynb"), re.compile(r"course_lib/.+\.(?:py|json|txt)")]
+                    re.compile(r"notebooks/exercises/[^/]+\.ipynb"),
+                    re.compile(r"course_lib/.+\.(?:py|json|txt)")]  # the library and its package data
 # a PEP 440 public version in its normal form (PEP 440, appendix B, without the spellings normalisation
 # would rewrite): 1.0.0, 2.1rc1, 1.0.post2, 3.0.dev4, 1!2.0
 VERSION = re.compile(r"(?:[1-9][0-9]*!)?(?:0|[1-9][0-9]*)(?:\.(?:0|[1-9][0-9]*))*"

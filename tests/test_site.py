@@ -154,6 +154,10 @@ def test_the_whole_course_is_one_pdf_linked_from_the_landing_page(site):
     print(json.dumps({"course_pdf_pages": pages, "course_pdf_mb": round(len(pdf) / 1e6, 1)}))
     assert pdf.startswith(b"%PDF-") and pages >= 100
     assert 'href="course.pdf"' in (site / "index.html").read_text(encoding="utf-8")
+    # nothing runs past the page's right margin: measured in the print layout the PDF is made from, at A4's
+    # printable width (a formula wider than the page is shrunk to it, code wraps, pictures shrink)
+    wide = json.loads((site / build_site.OVERFLOW.name).read_text(encoding="utf-8"))
+    assert wide == [], wide
     single = html.unescape((build_site.SINGLE / "index.html").read_text(encoding="utf-8")).replace("’", "'")
     for path in build_site.page_paths():  # every page is in the printed single page
         cells = nbformat.read(path, as_version=4).cells

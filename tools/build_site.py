@@ -68,6 +68,7 @@ STAGE = BUILD / "source"
 HTML = BUILD / "html"
 SINGLE = BUILD / "singlehtml"
 PDF = HTML / "course.pdf"
+OVERFLOW = HTML / "course-pdf-overflow.json"  # what prints wider than the PDF's page (tests/test_site.py)
 CHROMIUM = pathlib.Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
@@ -493,6 +494,10 @@ def print_pdf(single: pathlib.Path = SINGLE, target: pathlib.Path = PDF) -> int:
                 await Promise.all([...document.images].map(img => img.decode().catch(() => null)));
             }""")
             page.emulate_media(media="print")
+            page.set_viewport_size({"width": PRINT_WIDTH, "height": 1400})  # A4's 210 mm less the margins
+            page.add_style_tag(content=PRINT_CSS)
+            page.evaluate(FIT_FORMULAS)
+            wide = page.evaluate(WIDER_THAN_THE_PAGE)
             pdf = page.pdf(format="A4", print_background=True, display_header_footer=True,
                            header_template="<span></span>",
                            footer_template='<div style="font-size:8px;width:100%;text-align:center">'
@@ -505,7 +510,55 @@ def print_pdf(single: pathlib.Path = SINGLE, target: pathlib.Path = PDF) -> int:
         raise SiteError("the single-page build asked for files from outside the site:\n  "
                         + "\n  ".join(refused))
     target.write_bytes(pdf)
+    OVERFLOW.write_text(json.dumps(wide, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
+    if wide:
+        shown = "; ".join(f"{w['where']}: {w['what'][:60]}" for w in wide[:5])
+        print(f"warning: {len(wide)} formulas, code or pictures are wider than the PDF's page (see "
+              f"{OVERFLOW.relative_to(ROOT)}): {shown}")
     return pdf_page_count(pdf)
+
+
+#: The printable width of an A4 page with 12 mm margins, in CSS pixels (96 per inch): 186 mm.
+PRINT_WIDTH = round((210 - 2 * 12) / 25.4 * 96)
+#: On paper nothing scrolls: code and outputs wrap at the page's edge, pictures shrink to it.
+PRINT_CSS = """
+div.cell_input pre, div.cell_output pre { white-space: pre-wrap; overflow-wrap: anywhere; }
+img { max-width: 100%; height: auto; }
+"""
+#: A display formula wider than its column (a matrix, a long derived equation) is shrunk to fit the page:
+#: on screen it scrolls, on paper it would be cut at the margin.
+FIT_FORMULAS = """() => {
+    document.querySelectorAll('mjx-container[display="true"]').forEach(formula => {
+        const room = formula.clientWidth, needed = formula.scrollWidth;
+        if (room > 0 && needed > room + 1) formula.style.zoom = (room - 2) / needed;
+    });
+}"""
+#: What the print layout shows wider than its page: display formulas, code and output blocks, pictures and
+#: tables whose content runs past the text column (cut at the PDF's margin), each with the section it is in.
+WIDER_THAN_THE_PAGE = """() => {
+    const column = document.querySelector('article, main, body').getBoundingClientRect();
+    const found = [];
+    const section = element => {
+        let node = element;
+        while (node && node !== document.body) {
+            const heading = node.querySelector ? node.querySelector(':scope > h1, :scope > h2') : null;
+            if (heading) return heading.textContent.replace('#', '').trim();
+            node = node.parentElement;
+        }
+        return '';
+    };
+    const selector = 'mjx-container[display="true"], div.cell_input pre, div.cell_output pre, img, table';
+    document.querySelectorAll(selector).forEach(element => {
+        const box = element.getBoundingClientRect();
+        const clipped = element.scrollWidth > element.clientWidth + 1 && element.clientWidth > 0;
+        if (box.width > 0 && (box.right > column.right + 1 || clipped)) {
+            found.push({where: section(element), what: (element.getAttribute('alt')
+                        || element.textContent || element.tagName).trim().slice(0, 120),
+                        width: Math.round(Math.max(box.width, element.scrollWidth))});
+        }
+    });
+    return found;
+}"""
 
 
 def main() -> int:

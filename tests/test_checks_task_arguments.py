@@ -368,13 +368,15 @@ TABLE = {
         {"saw": MY_SAW, "theta2": np.radians(50.0)}, lambda: _saw_by_slider_crank(np.radians(50.0))[:3],
         lambda: (lambda r1, t1, t3: (r1, t1, np.pi - t3))(*_saw_by_slider_crank(np.radians(50.0))[:3]),
         [bad("saw", None), bad("saw", BENCH), bad("theta2", "50"), bad("theta2", NAN), bad("theta2", None),
+         bad("method", "Newton"), bad("method", "simultaneous"),
          impossible("the rod cannot reach", "theta2", saw=SHORT_ROD, theta2=-np.pi / 2)]),
     "check_saw_slider_acceleration": Task(
         {"saw": MY_SAW, "theta2": np.radians(50.0), "omega2": 6.0, "alpha2": 4.0},
         lambda: _saw_by_slider_crank(np.radians(50.0), 6.0, 4.0)[3],
         lambda: -_saw_by_slider_crank(np.radians(50.0), 6.0, 4.0)[3],
         [bad("saw", "my_saw"), bad("theta2", INF), bad("omega2", None), bad("omega2", NAN),
-         bad("alpha2", "4"), impossible("the rod cannot reach", "theta2", saw=SHORT_ROD, theta2=-np.pi / 2)]),
+         bad("alpha2", "4"), bad("method", "consecutive"), bad("method", True),
+         impossible("the rod cannot reach", "theta2", saw=SHORT_ROD, theta2=-np.pi / 2)]),
     "check_saw_linear_stage": choice("a", "d"),
     # ---- ex05
     "check_fivebar_forward": Task(

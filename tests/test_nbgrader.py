@@ -34,7 +34,7 @@ from course_lib.fourbar import FourBar  # noqa: E402
 
 SOLUTIONS = sorted((ROOT / "notebooks" / "solutions").glob("ex*.ipynb"))
 SHIPPED = ROOT / "nbgrader"
-HEADING = re.compile(r"^## Task (\d+) · .*\(([^()]+)\)\s*$")
+HEADING = re.compile(r"^## Task (\d+) · .*\(([^(),]+)(?:, (\d+) points?)?\)\s*$")
 
 EX03 = ROOT / "notebooks" / "solutions" / "ex03_fourbar.ipynb"
 EX06 = ROOT / "notebooks" / "solutions" / "ex06_your_own_mechanism.ipynb"
@@ -50,7 +50,8 @@ SETS = {
 
 
 def heading_points(solution: pathlib.Path) -> dict[int, int]:
-    """Task number → points, from the ``## Task N · … (kinds)`` headings on any line of a markdown cell."""
+    """Task number → points, from the kinds of the ``## Task N · … (kinds)`` or ``(kinds, P points)``
+    headings on any line of a markdown cell; the points a heading writes must be those of its kinds."""
     points = {}
     for cell in nbformat.read(solution, as_version=4).cells:
         if cell.cell_type == "markdown":
@@ -59,6 +60,7 @@ def heading_points(solution: pathlib.Path) -> dict[int, int]:
                 if found:
                     kinds = [kind.strip() for kind in found[2].split("+")]
                     points[int(found[1])] = sum(1 if kind == "interpret" else 2 for kind in kinds)
+                    assert found[3] is None or int(found[3]) == points[int(found[1])], line
     return points
 
 

@@ -18,11 +18,14 @@ nbgrader's cell metadata:
   (what looks wrong, never the expected value), which nbgrader's feedback shows;
 * **read-only** (``locked: true``) for every other cell: statements, given data, set-up code.
 
-Points go by task, from the ``(…)`` at the end of its ``## Task N · …`` heading, which may stand on any
-line of a markdown cell (below the end of the previous task's text, say): ``POINTS`` below
+Points go by task, from the kinds in the ``(…)`` at the end of its ``## Task N · …`` heading, which may
+stand on any line of a markdown cell (below the end of the previous task's text, say): ``POINTS`` below
 (``compute + interpret`` = 2 + 1; any other kind ``DEFAULT_POINTS``); a task with several check
-cells shares its points between them.
-Edit ``nbgrader/source/`` afterwards to weigh tasks differently, or change ``POINTS``.
+cells shares its points between them.  The heading shows the student those points,
+``(compute + interpret, 3 points)``: points written there that differ from its kinds' are refused
+(``ExerciseFormatError``), so the heading and the grade cannot disagree; a heading without points is
+graded by its kinds alone.
+Edit ``nbgrader/source/`` afterwards to weigh tasks differently, or change ``POINTS`` (and the headings).
 The course's ``nbgrader/nbgrader_config.py`` sets the course id, the stub, the execution time limit and
 the feedback page (``nbgrader/templates/feedback_offline/``: MathJax from a local copy, long lines wrapped).
 """
@@ -45,8 +48,8 @@ from make_exercises import (  # noqa: E402
     SOLUTIONS,
     ExerciseFormatError,
     _answer_names,
-    headings,
     split_solution,
+    task_headings,
 )
 
 COURSE = ROOT / "nbgrader"
@@ -68,6 +71,26 @@ def task_points(kinds: str | None) -> float:
     """
     parts = [part.strip() for part in (kinds or "").split("+") if part.strip()] or [""]
     return sum(POINTS.get(kind, DEFAULT_POINTS) for kind in parts)
+
+
+def points_text(points: float) -> str:
+    """How a heading writes a task's points: ``"2 points"``, ``"1 point"``."""
+    points = int(points) if float(points).is_integer() else points
+    return f"{points:g} point" + ("" if points == 1 else "s")
+
+
+def heading_kinds(markdown: str, where: str = "cell") -> list[tuple[int | None, str | None]]:
+    """The ``(task, kinds)`` of each level-2 heading of a markdown cell (``(None, None)`` for a heading that
+    is not a task's), with the points a task heading writes checked against its kinds' (:func:`task_points`):
+    ``ExerciseFormatError`` when they differ."""
+    found = []
+    for task, kinds, written in task_headings(markdown):
+        if written is not None and written != points_text(task_points(kinds)):
+            worth = points_text(task_points(kinds))
+            raise ExerciseFormatError(f"{where}: Task {task}'s heading says ({kinds}, {written}), but its "
+                                      f"kinds are worth {worth} (POINTS in tools/export_nbgrader.py)")
+        found.append((task, kinds))
+    return found
 
 
 def check_call(source: str, where: str = "cell") -> str | None:
@@ -126,7 +149,7 @@ def nbgrader_source(solution: nbformat.NotebookNode, name: str = "") -> nbformat
     for index, cell in enumerate(notebook.cells):
         where = f"{name} cell {index}"
         if cell.cell_type == "markdown":
-            found = headings(cell.source)  # on any line: a task may start below another part's text
+            found = heading_kinds(cell.source, where)  # on any line: a task may start below other text
             if found:
                 task, kinds = found[-1]
             roles.append((cell, "statement", task, kinds))

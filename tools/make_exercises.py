@@ -3,7 +3,9 @@
 Usage: python tools/make_exercises.py [notebooks/solutions/exNN_name.ipynb ...]   (default: all)
 
 Every code cell of ``notebooks/solutions/*.ipynb`` may hold one solution block, under a heading
-``## Task N · … (kind)`` that may stand anywhere in a markdown cell above it::
+``## Task N · … (kind, P points)`` that may stand anywhere in a markdown cell above it (the points are
+nbgrader's, ``tools/export_nbgrader.py``: interpret 1, any other kind 2, a sum such as
+``compute + interpret`` added up)::
 
     ### BEGIN SOLUTION
     # HINT: what to try, written once by the author
@@ -50,8 +52,12 @@ BEGIN = "### BEGIN SOLUTION"
 END = "### END SOLUTION"
 HINT = "# HINT:"
 RAISES = "raises-exception"
-#: ``## Task N · what it asks (kind)``: a task's heading, on any line of a markdown cell
+#: ``## Task N · what it asks (kinds, P points)``: a task's heading, on any line of a markdown cell; the last
+#: parentheses hold its kinds (``compute``, ``compute + interpret``, …) and the points they are worth
+#: (``2 points``, ``1 point``; an older heading may leave the points out)
 TASK_HEADING = re.compile(r"^##\s+Task\s+(\d+)\b(?:.*\(([^()]*)\)\s*$)?")
+#: the inside of those parentheses: the kinds, then optionally ", P point(s)"
+KINDS_AND_POINTS = re.compile(r"^(?P<kinds>.*?)(?:\s*,\s*(?P<points>\d+)\s+(?P<word>points?))?\s*$")
 
 NOTE = (
     "*Your copy of this exercise set.* Each task's answer cell gives a hint and sets the answer to `None`: "
@@ -67,15 +73,31 @@ class ExerciseFormatError(ValueError):
     """A solution notebook breaks the block conventions (message names the cell)."""
 
 
-def headings(markdown: str) -> list[tuple[int | None, str | None]]:
-    """The level-2 headings of a markdown cell, in order: ``(N, kinds)`` for ``## Task N · … (kinds)``
-    (``kinds`` ``None`` without the parentheses), ``(None, None)`` for any other ``## `` heading."""
+def task_headings(markdown: str) -> list[tuple[int | None, str | None, str | None]]:
+    """The level-2 headings of a markdown cell, in order: ``(N, kinds, points)`` for
+    ``## Task N · … (kinds, P points)`` — ``points`` as written ("2 points", "1 point"; ``None`` when the
+    heading gives none, ``kinds`` ``None`` without the parentheses) — and ``(None, None, None)`` for any
+    other ``## `` heading."""
     found = []
     for line in markdown.split("\n"):
         if line.startswith("## "):
             task = TASK_HEADING.match(line.rstrip())
-            found.append((int(task.group(1)), task.group(2)) if task else (None, None))
+            if not task:
+                found.append((None, None, None))
+            elif task.group(2) is None:
+                found.append((int(task.group(1)), None, None))
+            else:
+                parts = KINDS_AND_POINTS.match(task.group(2))
+                points = f"{parts['points']} {parts['word']}" if parts["points"] else None
+                found.append((int(task.group(1)), parts["kinds"].strip(), points))
     return found
+
+
+def headings(markdown: str) -> list[tuple[int | None, str | None]]:
+    """The level-2 headings of a markdown cell, in order: ``(N, kinds)`` for ``## Task N · … (kinds)`` or
+    ``(kinds, P points)`` (``kinds`` ``None`` without the parentheses), ``(None, None)`` for any other
+    ``## `` heading."""
+    return [(task, kinds) for task, kinds, _ in task_headings(markdown)]
 
 
 def split_solution(

@@ -11,7 +11,16 @@ One module per exercise set (``ex01`` … ``ex06``) and one for the lessons, on 
 # ruff: noqa: F403 — each module lists its checkers in its __all__
 
 from . import ex01, ex02, ex03, ex04, ex05, ex06, lessons, worked
-from .engine import ANGLE_TOL, DECIMALS, FIGURES, RELATIVE_TOL, Feedback, Precision
+from .engine import (
+    ANGLE_TOL,
+    DECIMALS,
+    FIGURES,
+    RELATIVE_TOL,
+    Feedback,
+    Precision,
+    as_expressions,
+    same_equations,
+)
 from .ex01 import *
 from .ex02 import *
 from .ex03 import *
@@ -21,6 +30,7 @@ from .ex06 import *
 from .lessons import *
 from .worked import *
 
-__all__ = ["ANGLE_TOL", "RELATIVE_TOL", "Feedback", "Precision", "FIGURES", "DECIMALS"]
+__all__ = ["ANGLE_TOL", "RELATIVE_TOL", "Feedback", "Precision", "FIGURES", "DECIMALS", "as_expressions",
+           "same_equations"]
 for _module in (ex01, ex02, ex03, ex04, ex05, ex06, lessons, worked):
     __all__ += _module.__all__

@@ -27,7 +27,7 @@ from ..planar import wrap_angle
 __all__ = ["ANGLE_TOL", "RELATIVE_TOL", "MOST_TYPED", "Precision", "FIGURES", "DECIMALS", "Feedback", "reads",
            "right", "wrong", "vector", "number", "integer", "word", "fields", "choice", "close", "near",
            "angles_close", "in_degrees", "diagnose", "first", "angle_verdict", "plain", "judge_expression",
-           "task_argument", "task_possible"]
+           "as_expressions", "same_equations", "task_argument", "task_possible"]
 
 #: Absolute tolerance on angles (rad) and relative tolerance on other numbers, where a checker compares
 #: computed quantities (not a student's rounded numbers: those are judged by a :class:`Precision`).
@@ -122,16 +122,23 @@ class Precision:
 
     def unit(self, reference, digits: int | None = None) -> np.ndarray:
         """Half a unit of the last digit asked for, per entry of ``reference`` (with 2 % slack for a
-        reference that lies on a rounding boundary); a zero reference counts as one of size 1e-9.
+        reference that lies on a rounding boundary).  An entry that is zero beside others (below 1e-9 of
+        the largest: cos 90° in a rate vector) counts as one of the vector's size, so a rate computed from an
+        input rounded as asked passes; a zero reference alone counts as one of size 1e-9.
 
         >>> FIGURES.unit([0.5, 120.0]).tolist(), DECIMALS.unit(2.5).tolist()
         ([5.1e-05, 0.051000000000000004], 5.1e-05)
+        >>> FIGURES.unit([0.73, 0.0]).tolist()
+        [5.1e-05, 5.1e-05]
         """
         digits = self._digits(digits)
         reference = np.abs(_require_reals("reference", reference))
         if self.decimals:
             return np.full(reference.shape, 0.51 * 10.0 ** -digits)
         size = reference if self.scale is None else np.full(reference.shape, abs(self.scale))
+        largest = reference.max() if reference.size > 1 else 0.0
+        if self.scale is None and np.isfinite(largest) and largest > 0:
+            size = np.where(reference <= 1e-9 * largest, largest, reference)
         exponent = np.floor(np.log10(np.maximum(size, 1e-9)))
         return 0.51 * 10.0 ** (exponent - digits + 1)
 
@@ -469,6 +476,21 @@ def _floats(answer: Any) -> tuple[np.ndarray | None, str]:
     return array.astype(float).ravel(), ""
 
 
+def _whole_result(answer: Any) -> str:
+    """What a solve's whole result is, in words ("a Motion, a solve's whole result (r1, theta1, …)"), when
+    ``answer`` is one (a Motion, a Newton run); "" otherwise."""
+    from ..motion import Motion
+    from ..newton import NewtonResult
+
+    if isinstance(answer, Motion):
+        names = list(getattr(type(answer), "_values", ()) or answer.position)
+        listed = ", ".join(names[:4]) + (", …" if len(names) > 4 else "")
+        return f"a {type(answer).__name__}, a solve's whole result ({listed})"
+    if isinstance(answer, NewtonResult):
+        return "a NewtonResult, a Newton run's whole result (x, iterations, history, …)"
+    return ""
+
+
 def vector(size: int | tuple[int, ...], what: str):
     """A parser: ``size`` (or any size of a tuple) finite real numbers as a float array; one as a float."""
     sizes = (size,) if isinstance(size, int) else size
@@ -482,7 +504,13 @@ def vector(size: int | tuple[int, ...], what: str):
             return wrong(f"{what} should be {expected}, not {problem}"
                          + (" (for a vector z = x + iy, give (z.real, z.imag))." if vector_z else "."))
         if values.size not in sizes:
+            if whole := _whole_result(answer):
+                return wrong(f"{what} should be {expected}; got {whole}: take from it the "
+                             f"{'value' if count == 1 else 'values'} the task asks for.")
             counted = {0: "no numbers", 1: "a single number"}.get(values.size, f"{values.size} numbers")
+            shape = np.shape(answer) if isinstance(answer, np.ndarray | list | tuple) else ()
+            if len(shape) > 1 and values.size > 1:
+                counted += " (rows of numbers, shape {})".format("×".join(map(str, shape)))
             return wrong(f"{what} should be {expected}; got {counted}.")
         if not np.all(np.isfinite(values)):
             return wrong(f"{what} contains NaN or infinity.")
@@ -522,9 +550,13 @@ def fields(what: str, *parts, keys: Sequence[str] = ()):
         answer = answer.tolist() if isinstance(answer, np.ndarray) and answer.ndim == 1 else answer
         if not isinstance(answer, list | tuple) or len(answer) != len(parts):
             got = f"{len(answer)} entries" if isinstance(answer, list | tuple) else _not_a_number(answer)
-            return wrong(f"give {what}; got {got or 'a single value'}.")
+            return wrong(f"give {what}; got {_whole_result(answer) or got or 'a single value'}.")
         values = [part(entry) for part, entry in zip(parts, answer, strict=True)]
-        return next((v for v in values if isinstance(v, Feedback)), values)
+        problem = next((v for v in values if isinstance(v, Feedback)), None)
+        if problem is not None and len(parts) == 2 and not any(
+                isinstance(part(entry), Feedback) for part, entry in zip(parts, answer[::-1], strict=True)):
+            return wrong(f"the two entries are in the other order: give {what}.")
+        return values if problem is None else problem
 
     return parse
 
@@ -662,10 +694,12 @@ def _recognise(answer, reference, precision: Precision, angles=False) -> str | N
         return None
     flat = np.atleast_1d(values).astype(float)
     size = flat.size
+    sizes = np.abs(np.atleast_1d(references))
+    zero = sizes <= 1e-9 * sizes.max()  # an entry that is zero: no unit shows on it
     for factor, looks in _OTHER_UNITS:
         if precision.agrees(flat / factor, np.atleast_1d(references), angles):
             return f"{'your answer is' if size == 1 else 'every entry is'} the right value {looks}."
-        for i in range(size if size > 1 else 0):
+        for i in (i for i in range(size if size > 1 else 0) if not zero[i]):
             scaled = flat.copy()
             scaled[i] /= factor
             if precision.agrees(scaled, references, angles):
@@ -755,6 +789,8 @@ def plain(answer: Any, names: Sequence[str]):
 
     if isinstance(answer, str):
         return wrong("build a sympy expression (not a string), e.g. with sp.symbols.")
+    if held := _container(answer):
+        return wrong(f"that is {held}, not one sympy expression: give the expression itself.")
     try:
         problem = "" if hasattr(answer, "free_symbols") else _not_a_number(answer)
         expr = None if problem else sp.sympify(answer, strict=True)
@@ -765,7 +801,8 @@ def plain(answer: Any, names: Sequence[str]):
     if isinstance(expr, sp.Equality):
         expr = expr.rhs if expr.lhs.is_Symbol and expr.lhs.name not in names else expr.lhs - expr.rhs
     if not isinstance(expr, sp.Expr) or getattr(expr, "is_Matrix", False):
-        return wrong("expected one sympy expression.")
+        what = _container(expr) or f"a sympy {type(expr).__name__}"
+        return wrong(f"that is {what}, not one sympy expression (a formula such as l2*sp.cos(theta2)).")
     if expr.atoms(sp.Derivative):
         return wrong("your expression still holds a Derivative(θ(t), t); write it with ω "
                      "(course_lib.symbolic.d_dt does that) or with plain symbols.")
@@ -780,22 +817,108 @@ def plain(answer: Any, names: Sequence[str]):
                                                 f"{', '.join(names)}.")
 
 
+def _is_array(answer: Any) -> bool:
+    """Whether ``answer`` is a sympy Array (an N-dim array: it is neither a Matrix nor an expression)."""
+    if not (getattr(type(answer), "__module__", None) or "").startswith("sympy"):
+        return False
+    from sympy import NDimArray  # sympy is imported already: the answer is one of its objects
+
+    return isinstance(answer, NDimArray)
+
+
+def _container(answer: Any) -> str:
+    """What holds several entries, in words ("a list of 2", "a 2×1 Matrix", "a sympy Array of 2", "a numpy
+    array of 3"); "" for anything else (an expression, a number, a string)."""
+    if isinstance(answer, Mapping):
+        return f"a dict of {len(answer)}"
+    if getattr(answer, "is_Matrix", False):
+        return "a {}×{} Matrix".format(*answer.shape)
+    if _is_array(answer):
+        return f"a sympy Array of {len(answer)}" if answer.rank() == 1 else \
+            "a sympy Array of shape {}".format("×".join(map(str, answer.shape)))
+    if isinstance(answer, np.ndarray):
+        return f"a numpy array of {answer.size}" if answer.ndim <= 1 else \
+            "a numpy array of shape {}".format("×".join(map(str, answer.shape)))
+    if isinstance(answer, list | tuple):
+        return f"a {type(answer).__name__ if type(answer) in (list, tuple) else 'sequence'} of {len(answer)}"
+    return ""
+
+
+def _items(answer: Any) -> list[tuple[Any, Any]]:
+    """The entries (label, entry) of a container (:func:`_container`), flattened row by row."""
+    if isinstance(answer, Mapping):
+        return [(str(k), v) for k, v in answer.items()]
+    if _is_array(answer):
+        return list(enumerate(_flatten(answer.tolist())))
+    if isinstance(answer, np.ndarray):
+        return list(enumerate(np.ravel(np.array(answer, dtype=object))))
+    return list(enumerate(answer))  # a Matrix iterates over its entries, row by row
+
+
+def _flatten(nested: Any) -> list:
+    return [leaf for item in nested for leaf in (_flatten(item) if isinstance(item, list) else [item])] \
+        if isinstance(nested, list) else [nested]
+
+
 def _entries(answer: Any) -> tuple[Any, str]:
     """A lone entry out of one-element containers; else the entries (label, entry) and what holds them."""
     while True:
-        if isinstance(answer, Mapping):
-            entries, kind = [(str(k), v) for k, v in answer.items()], f"a dict of {len(answer)}"
-        elif getattr(answer, "is_Matrix", False):
-            entries, kind = list(enumerate(answer)), "a {}×{} Matrix".format(*answer.shape)
-        elif isinstance(answer, list | tuple | np.ndarray):
-            items = np.ravel(np.array(answer, dtype=object)) if isinstance(answer, np.ndarray) else answer
-            name = {"list": "a list", "tuple": "a tuple"}.get(type(answer).__name__, "an array")
-            entries, kind = list(enumerate(items)), f"{name} of {len(items)}"
-        else:
+        kind = _container(answer)
+        if not kind:
             return answer, ""
+        entries = _items(answer)
         if len(entries) != 1:
             return entries, kind if entries else "empty"
         answer = entries[0][1]
+
+
+def _lone(entry: Any) -> Any:
+    """An entry out of the one-element containers around it ([x], Matrix([x]), np.array([x]))."""
+    inner, kind = _entries(entry)
+    return entry if kind else inner
+
+
+def as_expressions(answer: Any) -> list:
+    """The equations of an answer as the checkers read them: one sympy expression per equation, each equal to
+    zero.  ``sp.Eq(lhs, rhs)`` is ``lhs − rhs`` (a Matrix equation gives one per row); a list, tuple, Matrix,
+    sympy Array or numpy array gives its entries (a one-entry container around an entry is taken off); an
+    expression alone is one equation.  Later cells of an exercise use it to take any form its check accepts.
+
+    >>> import sympy as sp
+    >>> x, y = sp.symbols("x y")
+    >>> as_expressions([sp.Eq(x, 2 * y), [y - 1]])
+    [x - 2*y, y - 1]
+    >>> as_expressions(sp.Eq(sp.Matrix([x, y]), sp.Matrix([1, 2])))
+    [x - 1, y - 2]
+    """
+    import sympy as sp
+
+    if isinstance(answer, sp.Equality):
+        answer = answer.lhs - answer.rhs
+    entries, kind = _entries(answer)
+    rows = [_lone(entry) for _, entry in entries] if kind else [entries]
+    return [row.lhs - row.rhs if isinstance(row, sp.Equality) else row for row in rows]
+
+
+def same_equations(rows: Any, reference: Sequence) -> bool:
+    """Whether ``rows`` (any form :func:`as_expressions` reads) are the equations ``reference`` (expressions
+    equal to zero), each up to a non-zero constant factor, in any order: the rule the checkers apply.
+
+    >>> import sympy as sp
+    >>> x, y = sp.symbols("x y")
+    >>> same_equations([2 * y - 2, sp.Eq(x, y)], [x - y, y - 1]), same_equations([x - y], [x - y, y - 1])
+    (True, False)
+    """
+    import sympy as sp
+
+    rows, reference = as_expressions(rows), [sp.sympify(expr) for expr in reference]
+    names = sorted({symbol.name for expr in reference for symbol in expr.free_symbols})
+    exprs = [plain(row, names) for row in rows]
+    real = [plain(expr, names) for expr in reference]
+    if len(exprs) != len(real) or any(isinstance(expr, Feedback) for expr in exprs + real):
+        return False
+    return any(all(_try(lambda a=a, b=b: proportional(a, b, names)) for a, b in zip(order, real, strict=True))
+               for order in itertools.permutations(exprs))
 
 
 def judge_expression(answer: Any, symbols: Sequence, rules, otherwise: str, system: str = "") -> Feedback:
@@ -807,15 +930,9 @@ def judge_expression(answer: Any, symbols: Sequence, rules, otherwise: str, syst
     def matches(expr, candidate):
         return not isinstance(expr, Feedback) and same(expr, candidate, names)
 
-    entries, kind = _entries(answer)
     if system:
-        if not kind or len(entries) != len(rules[0][0]):
-            return wrong(f"give {system}.")
-        exprs = [plain(entry, names) for _, entry in entries]
-        problem = next((expr for expr in exprs if isinstance(expr, Feedback)), None)
-        return problem if problem is not None else diagnose(exprs, lambda exprs, candidate: any(
-            all(proportional(a, b, names) for a, b in zip(order, candidate, strict=True))
-            for order in itertools.permutations(exprs)), rules, otherwise)
+        return _judge_system(answer, names, rules, otherwise, system)
+    entries, kind = _entries(answer)
     if kind:
         hits = [label for label, entry in entries if _holds(matches, plain(entry, names), rules[0][0])]
         where = f"pass its element [{hits[0]}] alone" if hits else "pick the one element the task asks for"
@@ -823,3 +940,40 @@ def judge_expression(answer: Any, symbols: Sequence, rules, otherwise: str, syst
                      + ("build it from sp.symbols(...)." if kind == "empty" else where + "."))
     expr = plain(entries, names)
     return expr if isinstance(expr, Feedback) else diagnose(expr, matches, rules, otherwise)
+
+
+def _judge_system(answer: Any, names: Sequence[str], rules, otherwise: str, system: str) -> Feedback:
+    """Equations "= 0" judged as a set (:func:`judge_expression` with ``system``): the rows as
+    :func:`as_expressions` reads them (an equation is lhs − rhs), each read by :func:`plain`."""
+    import sympy as sp
+
+    count = len(rules[0][0])
+    relation = sp.core.relational.Relational
+    if getattr(answer, "is_Matrix", False) and any(isinstance(entry, relation) for entry in answer):
+        return wrong(f"that is a Matrix of equations (sp.Eq rows), which sympy warns against: a Matrix holds "
+                     f"expressions. Give {system}, each an expression equal to zero (or a list of sp.Eq).")
+    whole = answer.lhs - answer.rhs if isinstance(answer, sp.Equality) else answer
+    kind = _entries(whole)[1]
+    rows = as_expressions(answer)
+    complex_loop = any(isinstance(row, sp.Basic) and row.has(sp.I) and _try(lambda row=row: sp.expand_complex(
+        row.xreplace({s: sp.Symbol(s.name, real=True) for s in row.free_symbols})).has(sp.I)) for row in rows)
+    if complex_loop and len(rows) < count:
+        return wrong(f"that is the loop as one complex number z = x + i·y (each vector l·e^(iθ)); the task "
+                     f"asks for its {count} real components: give {system} — sp.re(z) and sp.im(z) with "
+                     "real symbols, or each component written with cos and sin.")
+    if len(rows) != count:
+        if kind:
+            got = _container(whole)
+        elif isinstance(whole, sp.Expr):
+            got = "one equation" if isinstance(answer, sp.Equality) else "one expression"
+        else:
+            got = _not_a_number(whole) or f"an object of type {type(whole).__name__}"
+        return wrong(f"give {system}; got {got}.")
+    if complex_loop:
+        return wrong("a component holds the imaginary unit I: each component is real — take sp.re(z) and "
+                     "sp.im(z) of the complex loop (with real symbols), or write them with cos and sin.")
+    exprs = [plain(row, names) for row in rows]
+    problem = next((expr for expr in exprs if isinstance(expr, Feedback)), None)
+    return problem if problem is not None else diagnose(exprs, lambda exprs, candidate: any(
+        all(proportional(a, b, names) for a, b in zip(order, candidate, strict=True))
+        for order in itertools.permutations(exprs)), rules, otherwise)

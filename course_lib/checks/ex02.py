@@ -5,7 +5,7 @@ import numpy as np
 
 from ..errors import InvalidArgumentError
 from ..fourbar import BRANCHES, FourBar
-from ..newton import newton
+from ..newton import NewtonResult, newton
 from .engine import *  # the feedback engine's helpers (engine.__all__)
 
 __all__ = ["check_newton_update", "check_newton_iterations", "check_newton_cycle",
@@ -37,15 +37,26 @@ def check_newton_update(answer) -> Feedback:
     ], "set the tangent line f(x) + f'(x)(x_{n+1} − x) to zero and solve for x_{n+1}.")
 
 
-@reads(fields("a pair (root, iterations)", number("the root"), integer("the number of iterations")))
+_ROOT_AND_COUNT = fields("a pair (root, iterations)", number("the root"), integer("the number of iterations"))
+
+
+def _root_and_count(answer):
+    """The pair (root, iterations), and the run itself when it is given (a NewtonResult is
+    (result.x, result.iterations)), else None."""
+    run = answer if isinstance(answer, NewtonResult) else None
+    read = _ROOT_AND_COUNT((run.x, run.iterations) if run is not None else answer)
+    return read if isinstance(read, Feedback) else (*read, run)
+
+
+@reads(_root_and_count)
 def check_newton_iterations(answer) -> Feedback:
     """Exercise 02, task 2: (root to 6 decimals, number of updates) of Newton on x³ − 2x − 5 = 0 from 2,
-    |Δx| < 1e-6.
+    |Δx| < 1e-6; the NewtonResult of the run passes too.
 
     >>> check_newton_iterations((2.0945514815423265, 4)).ok
     True
     """
-    root, count = answer
+    root, count, run = answer
     reference = newton(lambda x: _wallis(x)[0], 2.0, jac=lambda x: _wallis(x)[1])
     six = Precision(6, decimals=True)
     far, n = not six.agrees(root, reference.x), reference.iterations
@@ -56,6 +67,9 @@ def check_newton_iterations(answer) -> Feedback:
         (far and abs(np.polyval([1, 0, -2, -5], root)) < 1e-3, "close, but not within the tolerance: keep "
                                                                "iterating until |Δx| < 1e-6."),
         (far, "that root does not satisfy x³ − 2x − 5 = 0; check f and f' in your loop."),
+        (run is not None and count != n, f"your run stopped {'after' if count > n else 'before'} the first "
+                                         "update whose step |Δx| is below 1e-6, where the task stops: call "
+                                         "newton with tol=1e-6."),
         (count == n + 1, "one iteration too many: the seed x0 is not an iteration; count the updates."),
         (count == n - 1, "one iteration too few: the last update is the one whose step falls below 1e-6."),
         (count != n, "the root is right, but recount the updates x_n → x_{n+1} until |Δx| < 1e-6."),

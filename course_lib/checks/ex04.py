@@ -1,9 +1,25 @@
 """Checkers of exercise set 04 (the power saw)."""
 # ruff: noqa: F403, F405
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from ..saw import COURSE_SAW, Saw, analytic
+from ..motion import Motion
+from ..newton import NewtonResult
+from ..saw import (
+    COURSE_SAW,
+    SEED_CODE,
+    SEED_PRINTED,
+    VARIANTS,
+    Saw,
+    SawMotion,
+    analytic,
+    position_jacobian,
+    position_residual,
+    system_jacobian,
+    system_residual,
+)
 from .engine import *  # the feedback engine's helpers (engine.__all__)
 
 __all__ = ["check_saw_omega3_expression", "check_saw_position", "check_saw_slider_acceleration",
@@ -32,21 +48,169 @@ def check_saw_omega3_expression(answer) -> Feedback:
     ], "use the y-equation without r1: r2 sin θ2 + r3 sin θ3 = r1y, differentiate in time.")
 
 
-def _closes(saw: Saw, theta2: float, omega2: float = 0.0, alpha2: float = 0.0) -> None:
+#: The Newton methods a task may grade, as the course names them: the solver that runs it, the unknowns its
+#: iterates hold (the consecutive method's position stage: r1, θ1, θ3; the simultaneous one: all nine).
+_METHODS = {"consecutive": ("solve_consecutive", 3), "simultaneous": ("solve_simultaneous", 9)}
+
+
+@dataclass(frozen=True)
+class _Solve:
+    """A solve given as the answer: the nine values (or the position alone) it ends at, and the Newton
+    iterates behind them (seed first; None for the closed form), what made them, in words."""
+
+    values: np.ndarray
+    iterates: np.ndarray | None
+    method: str | None  # "consecutive" or "simultaneous" (its iterates), None when it is not known
+    what: str
+
+
+def _solve(answer) -> "_Solve | Feedback | None":
+    """The answer read as a solve — a saw Motion (from a solver or the closed form), a NewtonResult, or a
+    table of Newton iterates (rows of 3 or 9 numbers, the seed first) — or None for plain numbers."""
+    if isinstance(answer, Motion):
+        if not isinstance(answer, SawMotion):
+            return wrong(f"that is a {type(answer).__name__}, a solve of another machine; the task is about "
+                         "the saw (my_saw).")
+        values = np.asarray(answer.x, dtype=float)
+        if values.ndim != 1:
+            return wrong(f"that Motion holds {values.shape[0]} crank angles; the task asks for one.")
+        stages = getattr(answer, "stages", None) or {}
+        if "position" in stages:
+            return _Solve(values, np.asarray(stages["position"].history, float), "consecutive",
+                          "the Motion solve_consecutive returns")
+        if "simultaneous" in stages:
+            return _Solve(values, np.asarray(stages["simultaneous"].history, float), "simultaneous",
+                          "the Motion solve_simultaneous returns")
+        return _Solve(values, None, None, "a Motion of the closed form (my_saw.motion), which holds no "
+                                          "Newton iterations")
+    if isinstance(answer, NewtonResult):
+        iterates, what = answer.history, "a NewtonResult"
+    elif isinstance(answer, list | tuple | np.ndarray) and _rows(answer) and len(answer) > 1:
+        iterates, what = answer, "your iterates"
+    else:
+        return None
+    iterates = np.array(iterates, dtype=float) if not isinstance(iterates, np.ndarray) or \
+        iterates.dtype.kind not in "iuf" else iterates.astype(float)
+    if iterates.ndim != 2 or iterates.shape[1] not in (3, 9) or not np.all(np.isfinite(iterates)):
+        return wrong(f"{what} should be the Newton iterates, one row of 3 numbers (r1, θ1, θ3) or of the "
+                     f"nine unknowns per iteration, the seed first; got shape {iterates.shape}.")
+    method = "consecutive" if iterates.shape[1] == 3 else "simultaneous"
+    values = iterates[-1] if method == "simultaneous" else np.concatenate([iterates[-1], np.full(6, np.nan)])
+    return _Solve(values, iterates, method, what)
+
+
+def _rows(answer) -> bool:
+    """Whether ``answer`` is a table: rows of numbers of one length (a ragged list is not)."""
+    try:
+        return np.ndim(answer) == 2
+    except ValueError:  # a ragged nested list: numpy refuses its shape
+        return False
+
+
+def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, omega2: float = 0.0,
+                 alpha2: float = 0.0) -> Feedback | None:
+    """Why ``solve`` does not show the asked Newton method (``method``) at work; None when it does: iterates
+    from the report's seed, each step a Newton step J(x_k)·Δx = −F(x_k) of the course's equations (in its
+    "loop" or "substituted" form), recomputed here at the student's own iterates."""
+    solver, size = _METHODS[method]
+    asked = (f"the task asks for {method} Newton–Raphson: store the solve itself — what {solver} returns, a "
+             "Motion that keeps its Newton iterations — or your own iterates, the report's seed first")
+    if solve is None:
+        return wrong(f"the numbers are right, but {asked}; numbers alone do not show how they were found.")
+    if solve.iterates is None:
+        return wrong(f"the numbers are right, but that is {solve.what}; {asked}.")
+    if solve.method != method:
+        return wrong(f"the numbers are right, but they come from {solve.method} Newton ({solve.what}); "
+                     f"{asked}.")
+    seeds = [SEED_PRINTED[:size], SEED_CODE[:size]]
+    if not any(np.allclose(solve.iterates[0], seed, rtol=0, atol=1e-12) for seed in seeds):
+        return wrong(f"{solve.what} start from {np.round(solve.iterates[0], 6).tolist()}, not from the "
+                     f"report's seed {seeds[0].tolist()}: {asked}.")
+
+    def equations(variant):
+        if size == 3:
+            return (lambda x: position_residual(x, theta2, saw=saw, variant=variant),
+                    lambda x: position_jacobian(x, saw=saw, variant=variant))
+        return (lambda x: system_residual(x, theta2, omega2, alpha2, saw=saw, variant=variant),
+                lambda x: system_jacobian(x, saw=saw, variant=variant))
+
+    def first_off(variant) -> int | None:  # the first step (from 1) that is not Newton's, else None
+        residual, jacobian = equations(variant)
+        pairs = zip(solve.iterates[:-1], solve.iterates[1:], strict=True)
+        for k, (x, following) in enumerate(pairs, start=1):
+            step = np.linalg.solve(jacobian(x), -residual(x))
+            if not np.max(np.abs(following - x - step)) <= 1e-9 + 1e-6 * np.max(np.abs(step)):
+                return k
+        return None
+
+    offs = [first_off(variant) for variant in VARIANTS]
+    if all(off is not None for off in offs):
+        k = max(offs)
+        return wrong(f"step {k} of {solve.what} is not a Newton step of the saw's equations: from iterate "
+                     f"{k - 1} Newton goes to x + Δx with J(x)·Δx = −F(x) ({asked}).")
+    return None
+
+
+def _closes(saw: Saw, theta2: float, omega2: float = 0.0, alpha2: float = 0.0, **_) -> None:
     """The saw closes at ``theta2`` (the rod reaches the slider line, not perpendicular to it)."""
     task_possible(lambda: analytic(theta2, omega2, alpha2, saw=saw),
                   f"the saw cannot close at theta2={theta2:.6g} (the rod r3 cannot reach the slider line "
                   "there, or stands perpendicular to it)")
 
 
-@reads(vector(3, "(r1, θ1, θ3)"), task={"saw": Saw, "theta2": "rad"}, possible=_closes)
-def check_saw_position(answer, saw: Saw, theta2: float) -> Feedback:
+def _numbers(answer, picks: slice | int, parse, theta2: float):
+    """(the numbers a task judges, the solve they come from): from a solve (:func:`_solve`) its values at
+    ``picks``, else the answer read by ``parse``; the feedback instead when neither reads (or a Motion is
+    solved at another crank angle than the task's ``theta2``)."""
+    solve = _solve(answer)
+    if isinstance(solve, Feedback):
+        return solve, None
+    if solve is None:
+        return parse(answer), None
+    solved_at = answer.inputs.get("theta2") if isinstance(answer, Motion) else None
+    if solved_at is not None and not angles_close(solved_at, theta2):
+        slip = in_degrees(solved_at, theta2)
+        degrees = " (the angle went into the solver in degrees: np.radians)" if slip else ""
+        return wrong(f"that Motion is solved at θ2 = {float(solved_at):.6g} rad; the task's crank angle is "
+                     f"θ2 = {theta2:.6g} rad{degrees}."), solve
+    values = solve.values[picks]
+    if not np.all(np.isfinite(values)):
+        return wrong(f"{solve.what} hold only r1, θ1, θ3; the task asks for a_r, one of the nine unknowns: "
+                     "iterate the nine at once (the 9×9 system)."), solve
+    return (float(values) if np.ndim(values) == 0 else values), solve
+
+
+def _graded(verdict: Feedback, solve, method, saw, theta2, omega2=0.0, alpha2=0.0) -> Feedback:
+    """The verdict on the numbers, and with ``method`` the method's own: right numbers without the asked
+    Newton work are not ✔."""
+    if not verdict.ok or method is None:
+        return verdict
+    work = _newton_work(solve, method, saw, theta2, omega2, alpha2)
+    if work is not None:
+        return work
+    runs = len(solve.iterates) - 1
+    return Feedback(True, f"{verdict.message} By {method} Newton from the report's seed: {runs} iterations.")
+
+
+@reads(task={"saw": Saw, "theta2": "rad", "method": (None, "consecutive")}, possible=_closes)
+def check_saw_position(answer, saw: Saw, theta2: float, method: str | None = None) -> Feedback:
     """Exercise 04, task 2: (r1 in m, θ1, θ3 in rad), to 4 decimals, at crank angle ``theta2``; the same
-    vector r1 written as (−r1, θ1 + π) passes too.
+    vector r1 written as (−r1, θ1 + π) passes too.  A solve passes as the answer (a saw Motion, a
+    NewtonResult, or Newton iterates seed first: its last position); with ``method="consecutive"`` only a
+    solve that shows the consecutive Newton's position stage from the report's seed does.
 
     >>> check_saw_position(analytic(0.9, saw=Saw())[:3], Saw(), 0.9).ok
     True
+    >>> check_saw_position(Saw().motion(0.9), Saw(), 0.9, method="consecutive").ok  # the closed form
+    False
     """
+    numbers, solve = _numbers(answer, slice(0, 3), vector(3, "(r1, θ1, θ3)"), theta2)
+    if isinstance(numbers, Feedback):
+        return numbers
+    return _graded(_position_verdict(numbers, saw, theta2), solve, method, saw, theta2)
+
+
+def _position_verdict(answer: np.ndarray, saw: Saw, theta2: float) -> Feedback:
     r1, theta1, theta3 = analytic(theta2, saw=saw)[:3]
     mirror = np.pi - theta3
     degrees = ((1, theta1), (2, theta3), (1, theta1 + np.pi))
@@ -71,15 +235,26 @@ def check_saw_position(answer, saw: Saw, theta2: float) -> Feedback:
         angles=(False, True, True))
 
 
-@reads(number("a_r"), task={"saw": Saw, "theta2": "rad", "omega2": "rad/s", "alpha2": "rad/s²"},
-       possible=_closes)
-def check_saw_slider_acceleration(answer, saw: Saw, theta2: float, omega2: float, alpha2: float) -> Feedback:
+@reads(task={"saw": Saw, "theta2": "rad", "omega2": "rad/s", "alpha2": "rad/s²",
+             "method": (None, "simultaneous")}, possible=_closes)
+def check_saw_slider_acceleration(answer, saw: Saw, theta2: float, omega2: float, alpha2: float,
+                                  method: str | None = None) -> Feedback:
     """Exercise 04, task 3: a_r (m/s², to 4 significant figures), the second derivative of the signed length
-    r1 (not the slider's own acceleration ẍ), at the given motor state.
+    r1 (not the slider's own acceleration ẍ), at the given motor state.  A solve passes as the answer (a saw
+    Motion, a NewtonResult, or Newton iterates of the nine unknowns seed first); with
+    ``method="simultaneous"`` only a solve that shows the 9×9 Newton from the report's seed does.
 
     >>> check_saw_slider_acceleration(analytic(0.9, 6.0, 4.0, saw=Saw())[6], Saw(), 0.9, 6.0, 4.0).ok
     True
     """
+    numbers, solve = _numbers(answer, 6, number("a_r"), theta2)
+    if isinstance(numbers, Feedback):
+        return numbers
+    return _graded(_acceleration_verdict(numbers, saw, theta2, omega2, alpha2), solve, method, saw, theta2,
+                   omega2, alpha2)
+
+
+def _acceleration_verdict(answer: float, saw: Saw, theta2: float, omega2: float, alpha2: float) -> Feedback:
     x = analytic(theta2, omega2, alpha2, saw=saw)
     r1, theta1, _, v_r, omega1, _, a_r, alpha1, _ = x
     slider = (a_r * np.cos(theta1) - 2 * v_r * omega1 * np.sin(theta1)
@@ -88,6 +263,8 @@ def check_saw_slider_acceleration(answer, saw: Saw, theta2: float, omega2: float
         (x[6], "Correct: a_r holds the α2 terms and every ω² term (r1 ω1², r2 ω2², r3 ω3²)."),
         ([x[6] / 1000.0, x[6] * 1000.0], "a factor 1000: lengths in metres give a_r in m/s²."),
         (-x[6], "a sign error: a_r is along r1, and r1 < 0 here (the course's convention)."),
+        (analytic(theta2, 0.0, 0.0, saw=saw)[6], "that is a_r with the crank at rest (ω2 = α2 = 0): solve at "
+                                                 "the task's ω2 and α2 too."),
         (analytic(theta2, 0.0, alpha2, saw=saw)[6],
          "that keeps only the α2 terms: the ω² (centripetal) terms — r1 ω1², r2 ω2², r3 ω3² — are missing, "
          "and at speed they dominate."),

@@ -54,7 +54,12 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
     False
     """
     reference, other = (np.array(tuple(robot.forward(theta1, theta4, mode=m))) for m in (mode, -mode))
+    x3, y3 = reference
     in_degrees = robot.forward(*np.degrees([theta1, theta4]), mode=mode, on_failure="nan")
+    k = robot.forward_coefficients(theta1, theta4)
+    with np.errstate(all="ignore"):  # the notes' slip: +b where X3 = g·Y3 + f takes Y3 (lesson 08, §7)
+        slipped = float(k["g"] * (k["b"] + mode * np.sqrt(k["b"] ** 2 - 4 * k["a"] * k["c"])) / (2 * k["a"])
+                        + k["f"])
     names = {1: "arms up (σ = +1)", -1: "arms down (σ = −1)"}
     return diagnose(answer, MICROMETRES, [
         (reference, "Correct."),
@@ -62,6 +67,15 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
         (1000 * reference, "that looks like millimetres; give metres."),
         (reference[::-1], "the coordinates are swapped: give (x3, y3)."),
         (np.array(tuple(in_degrees)), "the crank angles went into cos/sin in degrees; use radians."),
+        ((slipped, y3), "y3 is right, but x3 is not: X3 = g·Y3 + f takes that same Y3, "
+                        "(−b + σ√(b² − 4ac))/2a; with +b there (the slip of one line of the course notes, "
+                        "lesson 08 §7) X3 moves by g·b/a."),
+        ((-x3, y3), "y3 is right, but x3 has the wrong sign: recheck the signs in f and g of X3 = g·Y3 + f."),
+        ((x3, -y3), "x3 is right, but y3 has the wrong sign: recheck the signs of b and of the root in "
+                    "Y3 = (−b + σ√(b² − 4ac))/2a."),
+        ((None, y3), "y3 is right, but x3 is off: compute X3 = g·Y3 + f from that same Y3, with f and g as "
+                     "the task writes them."),
+        ((x3, None), "x3 is right, but y3 is off: recheck a, b and c of the quadratic in Y3."),
     ], "from X3 = g·Y3 + f and a·Y3² + b·Y3 + c = 0, take Y3 = (−b + σ√(b² − 4ac))/2a.")
 
 

@@ -91,6 +91,9 @@ def check_crank_angle_for_rocker(answer, linkage: FourBar, theta4: float) -> Fee
          "that is the right angle in degrees; newton and course_lib work in radians."),
         (outside, "that angle closes the loop, but it is outside (0, π): start Newton from a seed in that "
                   "range (the other root is the rocker's second pass through that angle in the same turn)."),
+        (lambda v: any(in_degrees(v, root, DECIMALS) for root in outside),
+         "that is in degrees — and it is the other root, outside (0, π): give radians, and start Newton from "
+         "a seed in (0, π)."),
     ], "at that θ2 the distance |B − A| differs from l3. A lies on the crank circle (radius l2 about O2) and "
        "on the circle of radius l3 about B: solve |B − A(θ2)| − l3 = 0 for θ2 with B at the given θ4, e.g. "
        "by Newton from a seed in (0, π).", angles=True)
@@ -196,9 +199,10 @@ def check_fivebar_theta4(answer, robot: FiveBar, x3: float, y3: float, sigma2: i
     False
     """
     this, that = (robot.inverse(x3, y3, modes=(1, s)) for s in (sigma2, -sigma2))
+    theta1 = [robot.inverse(x3, y3, modes=(s, sigma2)).theta1 for s in (1, -1)]  # leg 1, either σ1
     return angle_verdict(answer, this.theta4, [
         (that.theta4, f"that is σ2 = {-sigma2:+d}: take the other sign of the square root."),
-        (this.theta1, "that is θ1 of leg 1; the task asks for θ4 (coefficients a2, b2, c2)."),
+        (theta1, "that is θ1 of leg 1; the task asks for θ4 (coefficients a2, b2, c2)."),
     ], f"recompute a2, b2, c2 with l3, l4, l5 and X3 = {x3:g}, Y3 = {y3:g}, then θ4 = 2·atan(root).")
 
 

@@ -197,7 +197,7 @@ def test_the_set_up_cell_installs_course_lib_from_the_repository_and_says_so(mon
 def test_the_set_up_cell_without_an_address_names_the_command(monkeypatch):
     with pytest.raises(ModuleNotFoundError) as caught:
         _run_setup_cell(repository.setup_cell(None), monkeypatch, installed=False)
-    assert f'"{sys.executable}" -m pip install -r environment.txt' in str(caught.value)
+    assert f'"{sys.executable}" -m pip install -c environment.lock -r environment.txt' in str(caught.value)
     assert "course_lib is not installed in this kernel" in str(caught.value)
 
 

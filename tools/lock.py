@@ -73,30 +73,23 @@ def pins(path: pathlib.Path) -> list[str]:
 
 
 def closure(names: list[str], present: dict[str, tuple[str, str]]) -> set[str]:
-    """``names`` and every distribution they require here (extras not asked for, and requirements whose
-    markers exclude this Python, left out), as canonical names of installed distributions."""
-    seen, todo = set(), list(names)
+    """``names`` and every distribution they require here, as canonical names of installed distributions:
+    requirements whose markers exclude this Python left out, and those of an extra followed only where a
+    requirement asks for that extra (``bleach[css]`` brings tinycss2, ``jsonschema[format-nongpl]`` eight)."""
+    from packaging.requirements import Requirement  # pip's and setuptools' dependency, wherever pip is
+
+    seen, todo = set(), [(name, frozenset()) for name in names]
     while todo:
-        name = todo.pop()
-        if name in seen or name not in present:
+        name, extras = todo.pop()
+        if (name, extras) in seen or name not in present:
             continue
-        seen.add(name)
-        for requirement in metadata.requires(present[name][0]) or []:
-            text, _, marker = requirement.partition(";")
-            if marker and not _marker_holds(marker.strip()):
-                continue
-            if (match := _NAME.match(text.strip())):
-                todo.append(canonical(match.group(1)))
-    return seen
-
-
-def _marker_holds(marker: str) -> bool:
-    """Whether an environment marker holds here; a marker about an extra holds for no extra (not asked)."""
-    if "extra" in marker:
-        return False
-    from packaging.markers import Marker  # pip's and setuptools' dependency, present wherever pip is
-
-    return Marker(marker).evaluate()
+        seen.add((name, extras))
+        for text in metadata.requires(present[name][0]) or []:
+            requirement = Requirement(text)
+            marker = requirement.marker
+            if marker is None or any(marker.evaluate({"extra": extra}) for extra in extras or {""}):
+                todo.append((canonical(requirement.name), frozenset(requirement.extras)))
+    return {name for name, _ in seen}
 
 
 def texts() -> dict[pathlib.Path, str]:

@@ -59,8 +59,9 @@ LESSONS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
 #: course_lib is installed; elsewhere (Colab) it says so and installs it from the repository, or, with no
 #: address set, stops with the command that installs it.
 SETUP_CELL = """\
-# Colab, or any kernel without the course's library: this cell says so and installs it. Where course_lib
-# is installed (the course's own environment), it does nothing.
+# Colab, or any kernel without the course's library: this cell says so, and installs it from the collection's
+# repository when the collection has an address (else it names the command to run). Where course_lib is
+# installed (the course's own environment), it does nothing.
 import importlib.util
 import subprocess
 import sys
@@ -71,8 +72,8 @@ if importlib.util.find_spec("course_lib") is None:
     if not COURSE_LIB_SOURCE:
         raise ModuleNotFoundError(
             "course_lib is not installed in this kernel. In a terminal, in the collection's top folder "
-            f"(the one holding environment.txt), run\\n    \\"{sys.executable}\\" -m pip install -r "
-            "environment.txt\\nthen restart the kernel and run this lesson again.")
+            f"(the one holding environment.txt), run\\n    \\"{sys.executable}\\" -m pip install -c "
+            "environment.lock -r environment.txt\\nthen restart the kernel and run this lesson again.")
     print(f"course_lib is not installed in this kernel: installing it from {COURSE_LIB_SOURCE} …")
     subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", COURSE_LIB_SOURCE], check=True)
     importlib.invalidate_caches()

@@ -134,12 +134,9 @@ class Continuation:
         q[0] = start
         rows, columns = self._scales
 
-        def sign_at(x, at):
-            det = np.linalg.det(self._J(x, at) / rows[:, None] / columns[None, :])
-            return 0.0 if not abs(det) > SINGULAR else np.sign(det)
-
         def orientation(k):
-            return sign_at(q[k], u[k])
+            det = np.linalg.det(self._J(q[k], u[k]) / rows[:, None] / columns[None, :])
+            return 0.0 if not abs(det) > SINGULAR else np.sign(det)
 
         if u.shape[1] > 1 and N > 2:  # several inputs: each instant continued from a near neighbour
             self._spread(q, iterations, u, tol, max_iter, notes, orientation)
@@ -152,51 +149,11 @@ class Continuation:
                     continue
                 q[k] = found
                 now = orientation(k)
-                if sign and now and now != sign:  # the step again in finer steps: crossed, or jumped?
-                    found, where = self._retrack(q[last], u[last], u[k], sign, sign_at, tol, max_iter)
-                    if found is not None:
-                        q[k] = found
-                        now = orientation(k)
-                    if where is not None:
-                        notes.append(f"the assemblies meet (a change point) at {self.inputs[0].name}≈"
-                                     f"{where:.6f}, between {self._where(u, last)} and {self._where(u, k)}: "
-                                     "the motion continues on the smooth one")
+                if sign and now and now != sign:
+                    notes.append(f"the assemblies meet (a change point) between {self._where(u, last)} and "
+                                 f"{self._where(u, k)}: the motion continues on the smooth one")
                 last, sign = k, now or sign
         return q, iterations
-
-    def _retrack(self, q, u_from, u_to, sign, sign_at, tol, max_iter, depth: int = 3
-                 ) -> tuple[np.ndarray | None, float | None]:
-        """A step whose end has the other orientation of J (sign of det J̃) than its start, followed again
-        in 32 steps (and the one where the orientation flips in 32 again, ``depth`` times): a branch that
-        near-misses the other assembly is kept by the finer steps, and the orientation then holds (no
-        change point: the position at ``u_to`` on the branch, None); a change point is crossed wherever the
-        steps are, and is located to 32^−depth of the step (the position, and the input where it is)."""
-        start, end, x = np.array(u_from, float), np.array(u_to, float), np.array(q, float)
-        where = None
-        for level in range(depth):
-            fractions = np.linspace(0.0, 1.0, 33)
-            flipped = None
-            for a, b in zip(fractions[:-1], fractions[1:], strict=True):
-                found, _ = self._advance(x, start + a * (end - start), start + b * (end - start), tol,
-                                         max_iter)
-                if found is None:
-                    return None, None
-                now = sign_at(found, start + b * (end - start))
-                if now and now != sign and flipped is None:
-                    flipped = (a, b, x)
-                    if level + 1 < depth:
-                        break
-                x = found
-            if flipped is None:
-                return x, None
-            a, b, before = flipped
-            where = float((start + (a + b) / 2 * (end - start))[0])
-            if level + 1 < depth:
-                start, end, x = start + a * (end - start), start + b * (end - start), before
-                continue
-            return self._advance(np.array(q, float), np.array(u_from, float), np.array(u_to, float), tol,
-                                 max_iter)[0], where
-        return x, where
 
     def _input_units(self) -> np.ndarray:
         """A unit for each input: 1 for an angle, the parameters' typical length for any other."""

@@ -1,7 +1,8 @@
 """A declaration checks itself on both routes (closed form and Newton): symbols declared with other
 assumptions than the loops' are the same symbols (one symbol per name), a declared point that stretches its
-link is named, an empty sweep is an empty motion, sympy numbers are numbers.  References: the wiper four-bar's
-pins by circle intersections computed here."""
+link is named, an empty sweep is an empty motion, sympy numbers are numbers; and near_singular is on before
+the rates exceed 100 times their size (a five-bar leg stretched).  References: the wiper four-bar's pins by
+circle intersections computed here; the leg's rates by central differences of its inverse by hand."""
 
 import numpy as np
 import pytest
@@ -98,3 +99,47 @@ def test_sympy_numbers_are_numbers_on_both_routes(route):
     exact = {th3: sp.Float(theta3)} | rest
     motion = linkage.solve({th2: sp.pi / 3}, rates={th2: sp.Integer(2)}, guess=exact)
     assert motion.converged and abs(motion.position["theta3"] - theta3) < 1e-12
+
+
+# ------------------------------------------------------- near_singular warns before the rates blow up
+LEG1, LEG2 = 0.10, 0.15  # a five-bar leg: crank O1P2 (θ1), distal link P2P3 (θ2), P3 = (X, Y) given
+
+
+def leg():
+    th1, th2, X, Y = sp.symbols("theta1 theta2 X Y")
+    loop = sp.Matrix([LEG1 * sp.cos(th1) + LEG2 * sp.cos(th2) - X,
+                      LEG1 * sp.sin(th1) + LEG2 * sp.sin(th2) - Y])
+    return Mechanism([loop], [th1, th2], [X, Y])
+
+
+def leg_angles(X, Y):
+    """θ1, θ2 by the law of cosines (elbow left of O1 → P3), by hand."""
+    reach, heading = np.hypot(X, Y), np.arctan2(Y, X)
+    at_crank = np.arccos(np.clip((LEG1**2 + reach**2 - LEG2**2) / (2 * LEG1 * reach), -1, 1))
+    P2 = LEG1 * np.array([np.cos(heading + at_crank), np.sin(heading + at_crank)])
+    return heading + at_crank, np.arctan2(Y - P2[1], X - P2[0])
+
+
+def leg_rate(X, Y, h):
+    """The largest |θ̇| for P3 moving at unit speed along x, by central differences of the hand inverse."""
+    return max(abs(a - b) / (2 * h) for a, b in zip(leg_angles(X + h, Y), leg_angles(X - h, Y), strict=True))
+
+
+def test_near_singular_is_on_before_the_rates_exceed_100_times_their_size():
+    linkage = leg()
+    regular = np.hypot(LEG1, LEG2) / np.sqrt(2)  # the elbow near a right angle
+    size = leg_rate(regular, regular, 1e-7)
+    stretched = LEG1 + LEG2
+    for gap in np.geomspace(1e-9, 3e-2, 25) * stretched:
+        X = (stretched - gap) / np.sqrt(2)
+        ratio = leg_rate(X, X, 1e-3 * gap) / size
+        guess = dict(zip(("theta1", "theta2"), leg_angles(X, X), strict=True))
+        motion = linkage.solve({"X": X, "Y": X}, guess=guess)
+        assert motion.converged
+        if ratio > 100:
+            assert motion.near_singular, (gap, ratio)
+        if ratio < 10:
+            assert not motion.near_singular, (gap, ratio)
+    at_rest = dict(zip(("theta1", "theta2"), leg_angles(regular, regular), strict=True))
+    one = linkage.solve({"X": regular, "Y": regular}, guess=at_rest)
+    assert not one.near_singular

@@ -268,3 +268,21 @@ def test_newton_route_through_a_change_point_keeps_the_parallelogram_and_says_so
                                                        y_B: 0.1 * np.sin(theta[0])})
         assert np.abs(np.angle(np.exp(1j * motion.position["theta3"]))).max() < 1e-9
         assert "change point" in motion.message
+
+
+# ---------------------------------------------------------------- warnings that name what failed
+def test_a_partial_assembly_names_the_block_left_to_choose():
+    motion = peaucellier().solve({th1: [0.3, 0.4]}, assembly={"phiA": 1, "alphaB": -1})
+    assert "assembly= chose no σ for the block of beta1/beta2" in motion.message
+    assert "phiA" not in motion.message and "alphaB" not in motion.message
+
+
+def test_the_failing_loop_is_named_in_the_peaucellier_cell():
+    from course_lib.errors import SingularJacobianError, UnreachableError
+
+    # θ1 = 3 puts C 2R cos(1.5) = 0.14 from O, closer than L − s: the arm's dyad (loops[0]) cannot close
+    with pytest.raises(UnreachableError, match=r"cannot be closed at theta1=3\.0, in loops\[0\]:"):
+        peaucellier().solve({th1: 3.0}, guess=cell_guess(0.0))
+    # at the crossing the rhombus is flat: P's dyad (loops[2]) is singular, the arms' are not
+    with pytest.raises(SingularJacobianError, match=r"J is singular at theta1=1\.44546.*, in loops\[2\]:"):
+        peaucellier().solve({th1: CROSSING}, rates={th1: 1.0}, guess=cell_guess(CROSSING - 0.01))

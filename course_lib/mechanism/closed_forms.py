@@ -333,6 +333,8 @@ class ClosedForms:
                 q[:, first] = -c / b
             else:
                 plus, minus, level = self._roots(a, b, c, form.kind)
+                with np.errstate(invalid="ignore"):  # where an earlier block found nothing: no level
+                    level = np.where(np.isfinite(a + b + c), level, np.nan)
                 if stop == index:
                     return level
                 undetermined |= np.isnan(plus) & (level >= -LEVEL)  # 0·v² + 0·v + 0: every v solves it

@@ -296,7 +296,8 @@ class Solving:
             else:
                 missing = [j for j in range(len(self.unknowns)) if not np.isfinite(q[k, j])]
                 blocks = self._structure["blocks"]
-                if len(missing) < len(self.unknowns) or len(blocks) == 1:
+                # core33: closed forms solve the blocks in turn, so the first block with no root is at fault
+                if len(missing) < len(self.unknowns) or len(blocks) == 1 or self._closed_fns is not None:
                     rows = next((r for r, columns in blocks if set(columns) & set(missing)), [])
                 else:
                     solved = np.flatnonzero(np.isfinite(q).all(axis=1))

@@ -472,16 +472,22 @@ class ClosedForms:
         step moves some unknown by more than ``MAX_CHANGE`` (each such step cut in up to 16); None where no
         step does."""
         values = u[:, 0]
-        order = np.argsort(values, kind="stable")
-        before, after = order[:-1], order[1:]
         with np.errstate(all="ignore"):
-            gap = self._distance(q[before], q[after])
-        coarse = np.flatnonzero(gap > MAX_CHANGE)
+            if (np.diff(values) >= 0).all():  # in increasing order already (most sweeps): no sort
+                gap = self._distance(q[1:], q[:-1])
+                coarse = np.flatnonzero(gap > MAX_CHANGE)
+                before, after = coarse, coarse + 1
+            else:
+                order = np.argsort(values, kind="stable")
+                gap = self._distance(q[order[1:]], q[order[:-1]])
+                coarse = np.flatnonzero(gap > MAX_CHANGE)
+                before, after = order[coarse], order[coarse + 1]
         if not len(coarse):
             return None
-        parts = np.minimum(np.ceil(2 * gap[coarse] / MAX_CHANGE), 16).astype(int)
-        added = [values[before[k]] + (values[after[k]] - values[before[k]]) * np.arange(1, p) / p
-                 for k, p in zip(coarse, parts, strict=True)]
+        gap = gap[coarse]
+        parts = np.minimum(np.ceil(2 * gap / MAX_CHANGE), 16).astype(int)
+        added = [values[a] + (values[b] - values[a]) * np.arange(1, p) / p
+                 for a, b, p in zip(before, after, parts, strict=True)]
         return np.concatenate([values, *added])[:, None]
 
     @staticmethod

@@ -8,14 +8,20 @@ explorers read them from here, so no machine keeps a threshold of its own.
 True
 """
 
-__all__ = ["APPROACH", "COINCIDENT", "LEVEL", "MAX_CONDITION", "NEAR_SINGULAR", "RESIDUAL", "SINGULAR"]
+__all__ = ["APPROACH", "CHANGE_LEVEL", "COINCIDENT", "LEVEL", "MAX_CONDITION", "NEAR_SINGULAR", "RESIDUAL",
+           "SINGULAR"]
 
 #: J is singular where σ_min(J̃) < SINGULAR (J̃: J with rows and columns scaled by their typical sizes).
 SINGULAR = 1e-6
-#: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there.
-NEAR_SINGULAR = 1e-3
+#: Motion.near_singular marks σ_min(J̃) < NEAR_SINGULAR: the rates are large and sensitive there — on before
+#: they exceed about 100 times their size at a regular pose (they grow like 1 / σ_min(J̃)).
+NEAR_SINGULAR = 1e-2
 #: A discriminant below −LEVEL·(its scale) has no real root; above, it is rounding and counts as 0.
 LEVEL = 1e-12
+#: A closed-form block's two assemblies meet (a change point, where σ swaps) between two instants of a sweep
+#: only where the lowest level of its quadratic between them, located, is at most CHANGE_LEVEL; above it they
+#: come near and part again (a near miss) and σ is kept.
+CHANGE_LEVEL = 1e-9
 #: A closed-form or continued position is accepted where |F_i| / (typical size of row i) stays below this.
 RESIDUAL = 1e-8
 #: Two lengths (or a point and a pivot) closer than COINCIDENT × the longest length are equal: rounding.

@@ -25,7 +25,8 @@ The core is a package of rooms, one per job; :class:`Mechanism` is all of them t
 
 The singularity rule: J is singular where the smallest singular value of J̃ — J with each row and column
 divided by its typical size at the declaration's generic point — is below ``SINGULAR`` = 1e-6 (near one
-below ``NEAR_SINGULAR`` = 1e-3); there the rates are undefined and asking for them raises.
+below ``NEAR_SINGULAR`` = 1e-2, before the rates exceed about 100 times their size); there the rates are
+undefined and asking for them raises.
 
 >>> import numpy as np, sympy as sp
 >>> th2, th3, th4 = sp.symbols("theta2 theta3 theta4")

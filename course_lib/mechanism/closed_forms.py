@@ -31,7 +31,7 @@ from ..errors import (
 )
 from ..planar import scalar_or_array
 from ..symbolic import LoopForm, is_angle, reduce_loop
-from ..thresholds import LEVEL, RESIDUAL
+from ..thresholds import CHANGE_LEVEL, LEVEL, RESIDUAL
 from .compiled import _BLOCK, _finite_rows
 from .continuation import MAX_CHANGE, _unwrap_to
 from .declaration import _derived
@@ -295,25 +295,39 @@ class ClosedForms:
                                        f"assembly={assembly!r}")
         return chosen
 
-    def _closed(self, u, paths, target, tol, max_iter, notes, chosen=None, known=None
+    def _closed(self, u, paths, target, tol, max_iter, notes, chosen=None, known=None, *, refine: int = 2,
+                stop: int | None = None, outer: np.ndarray | None = None
                 ) -> tuple[np.ndarray, np.ndarray, dict, dict | None, np.ndarray]:
         """Positions (N, n) from the closed forms, each block's σ picked at the first instant from
         ``target`` (the Newton solution, or the guess) and kept along the paths except where the two
         assemblies meet (a change point, reported in ``notes``); then cross-checked by the residual.
         ``known``: the inputs' cos and sin (see _compile), shared; also returned: those of the positions
         too, where every position is found and none was corrected (else None), and the instants whose
-        position is not determined (a quadratic with every coefficient 0)."""
+        position is not determined (a quadratic with every coefficient 0).
+
+        A sweep of one input whose σ follows the motion is solved again on a denser sweep (``refine``
+        rounds) where a step moves some unknown by more than ``MAX_CHANGE``, so no change point hides
+        between coarse steps; ``outer``: the sweep as given, whose instants the notes name.  ``stop``: the
+        level of block ``stop`` alone, with every σ given by ``chosen`` (see :meth:`_follow`)."""
         known = {} if known is None else known
         N, n = len(u), len(self.unknowns)
         q, sigmas, undetermined = np.full((N, n), np.nan), {}, np.zeros(N, bool)
         structure = self._structure
-        for form, (coefficients, second, linear, orientation) in zip(structure["forms"], self._closed_fns,
-                                                                     strict=True):
+        outer = u if outer is None else outer
+        said, notes = notes, []  # the notes of this sweep, said unless a denser one replaces it
+        following = False  # some block's σ follows the motion (a change point may swap it)
+        for index, (form, (coefficients, second, linear, orientation)) in enumerate(zip(
+                structure["forms"], self._closed_fns, strict=True)):
             first = self.unknowns.index(form.unknowns[0])
             kernel = self._kernels.get(form.unknowns[0].name)
+            level_at = self._level_at(index, sigmas, tol, max_iter)
             if kernel is not None:
-                sigmas[form.unknowns[0].name], level, _ = self._kernel_block(kernel, form, q, u, paths,
-                                                                             target, chosen, notes)
+                sigmas[form.unknowns[0].name], level, _ = self._kernel_block(
+                    kernel, form, q, u, paths, target, chosen, notes, level_at if stop is None else None,
+                    outer)
+                if stop == index:
+                    return level
+                following |= (chosen or {}).get(form.unknowns[0].name) is None
                 undetermined |= np.isnan(q[:, first]) & (level >= -LEVEL)
                 continue
             a, b, c = coefficients(self._values, q, u, known=known)
@@ -321,6 +335,10 @@ class ClosedForms:
                 q[:, first] = -c / b
             else:
                 plus, minus, level = self._roots(a, b, c, form.kind)
+                with np.errstate(invalid="ignore"):  # where an earlier block found nothing: no level
+                    level = np.where(np.isfinite(a + b + c), level, np.nan)
+                if stop == index:
+                    return level
                 undetermined |= np.isnan(plus) & (level >= -LEVEL)  # 0·v² + 0·v + 0: every v solves it
                 # σ of the root +√Δ: −sign(det J_b) there (the other root's is the opposite)
                 at_plus = q.copy()
@@ -334,11 +352,21 @@ class ClosedForms:
                 root = (self._pick(plus, minus, paths, target, first, side) if wanted is None
                         else wanted) * side  # +1: the root +√Δ
                 if wanted is None:  # σ named by assembly= holds at every instant; else it follows the motion
-                    self._follow(root, plus, minus, level, paths, u, first, notes)
+                    following = True
+                    self._follow(root, level, paths, u, first, notes, level_at, outer)
                 q[:, first] = np.where(root > 0, plus, minus)
                 sigmas[name] = (root * side).astype(int)
             if form.second is not None:
                 q[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, q, u, known)
+        if following and refine and u.shape[1] == 1 and N > 1:
+            denser = self._denser(u, q)
+            if denser is not None:  # coarse steps: the motion followed on a denser sweep, read at u
+                dense = self._closed(denser, self._paths(denser), target, tol, max_iter, said, chosen, {},
+                                     refine=refine - 1, outer=outer)
+                q, iterations, sigmas, _, undetermined = dense
+                return (q[:N], iterations[:N], {k: v[:N] for k, v in sigmas.items()}, None,
+                        undetermined[:N])
+        said.extend(notes)
         self._continuous(q, paths, target, u.shape[1] > 1)
         iterations = np.zeros(N, int)
         if len(self._kernels) == len(structure["forms"]):  # every block a registered kernel: no cross-check
@@ -356,10 +384,12 @@ class ClosedForms:
             q[k] = polished if fixed and self._distance(polished, q[k]) <= MAX_CHANGE else np.nan
         return q, iterations, sigmas, at_q if everywhere and not len(doubt) else None, undetermined
 
-    def _kernel_block(self, kernel, form, q, u, paths, target, chosen, notes) -> np.ndarray:
+    def _kernel_block(self, kernel, form, q, u, paths, target, chosen, notes, level_at=None, outer=None
+                      ) -> np.ndarray:
         """The block of ``form`` solved by its registered ``kernel`` into ``q``: σ from ``chosen``, else the
         assembly nearer ``target``, else +1, swapped at a change point as for a derived closed form (the
-        other assembly computed only where the two come near); returns σ and the level per instant."""
+        other assembly computed only where the two come near); returns σ, the level per instant and the cos
+        and sin the kernel gave for the values kept (empty where another σ was solved after)."""
         columns = [self.unknowns.index(s) for s in form.unknowns]
         first, name = columns[0], form.unknowns[0].name
         known = {s.name: u[:, j] for j, s in enumerate(self.inputs)} | {
@@ -407,14 +437,8 @@ class ClosedForms:
             if wanted == -1:
                 block, other = other, block
         root = np.ones(len(u))
-        if named is None and u.shape[1] == 1 and len(u) > 2:  # the other assembly near where they meet
-            near = ~(level >= 0.1)
-            near[1:] |= near[:-1].copy()
-            near[:-1] |= near[1:].copy()
-            other_first = np.full(len(u), np.nan)
-            if near.any():
-                other_first[near] = solved(-wanted, near)[0][:, 0]
-            self._follow(root, block[:, 0], other_first, level, paths, u, first, notes)
+        if named is None and u.shape[1] == 1 and len(u) > 1 and level_at is not None:
+            self._follow(root, level, paths, u, first, notes, level_at, outer, block[:, 0])
         if (root < 0).any():
             other, _ = solved(-wanted)
             block = np.where(root[:, None] > 0, block, other)
@@ -443,40 +467,116 @@ class ClosedForms:
                 return int((1 if gaps[0] * size <= gaps[1] * size else -1) * side[k])
         return 1
 
-    def _follow(self, root, plus, minus, level, paths, u, first, notes) -> None:
-        """Swap the root (``root``: +1 the root +√Δ, −1 the other, per instant) where the two assemblies
-        meet between instants (a change point): there the other root continues the motion smoothly (a
-        secant from the two instants before predicts it), and σ changes."""
+    def _level_at(self, index: int, sigmas: Mapping, tol, max_iter) -> Callable:
+        """(points (K, m), left (K,)) → the level of block ``index`` at the inputs ``points``, the blocks
+        before it on the assemblies they have at the instants ``left``."""
+        earlier = dict(sigmas)
+        name = self._structure["forms"][index].unknowns[0].name
+
+        def level_at(points, left):
+            chosen = {key: np.asarray(value)[left] for key, value in earlier.items()} | {name: 1}
+            with np.errstate(all="ignore"):
+                return self._closed(points, [np.arange(len(points))], None, tol, max_iter, [], chosen, {},
+                                    refine=0, stop=index)
+
+        return level_at
+
+    def _denser(self, u: np.ndarray, q: np.ndarray) -> np.ndarray | None:
+        """The sweep of one input ``u`` with instants added between neighbours (in the input's order) where a
+        step moves some unknown by more than ``MAX_CHANGE`` (each such step cut in up to 16); None where no
+        step does."""
+        values = u[:, 0]
+        with np.errstate(all="ignore"):
+            if (np.diff(values) >= 0).all():  # in increasing order already (most sweeps): no sort
+                gap = self._distance(q[1:], q[:-1])
+                coarse = np.flatnonzero(gap > MAX_CHANGE)
+                before, after = coarse, coarse + 1
+            else:
+                order = np.argsort(values, kind="stable")
+                gap = self._distance(q[order[1:]], q[order[:-1]])
+                coarse = np.flatnonzero(gap > MAX_CHANGE)
+                before, after = order[coarse], order[coarse + 1]
+        if not len(coarse):
+            return None
+        gap = gap[coarse]
+        parts = np.minimum(np.ceil(2 * gap / MAX_CHANGE), 16).astype(int)
+        added = [values[a] + (values[b] - values[a]) * np.arange(1, p) / p
+                 for a, b, p in zip(before, after, parts, strict=True)]
+        return np.concatenate([values, *added])[:, None]
+
+    @staticmethod
+    def _lowest(level_at, start: np.ndarray, end: np.ndarray, left: np.ndarray, rounds: int = 12
+                ) -> tuple[np.ndarray, np.ndarray]:
+        """Where the level is lowest between the inputs ``start`` and ``end`` (K, m), and that level: the
+        interval sampled at 17 points and narrowed to the lowest one's neighbours, ``rounds`` times (each
+        round 8 times narrower)."""
+        K, m = start.shape
+        samples = np.linspace(0.0, 1.0, 17)
+        low, high = start.astype(float), end.astype(float)
+        rows = np.arange(K)
+        for _ in range(rounds):
+            points = low[:, None, :] + samples[None, :, None] * (high - low)[:, None, :]
+            level = level_at(points.reshape(-1, m), np.repeat(left, len(samples))).reshape(K, -1)
+            best = np.argmin(np.where(np.isnan(level), np.inf, level), axis=1)
+            found, value = points[rows, best], level[rows, best]
+            low = points[rows, np.maximum(best - 1, 0)]
+            high = points[rows, np.minimum(best + 1, len(samples) - 1)]
+        return found, value
+
+    def _follow(self, root, level, paths, u, first, notes, level_at, outer, values=None) -> None:
+        """Swap the root (``root``: +1 the root +√Δ, −1 the other, per instant) where the block's two
+        assemblies meet between neighbouring instants (a change point): there the other root continues the
+        motion smoothly, and σ changes.  Where the level comes near 0 (a local lowest below 0.1) the lowest
+        level between the neighbours is located (:meth:`_lowest`, the earlier blocks as at the first of
+        them); the assemblies meet only where it reaches ``CHANGE_LEVEL`` — above it they come near and
+        part again (a near miss), and σ is kept.  The note names the change point where it is, and the
+        instants of ``outer`` (the sweep as given) around it."""
         if u.shape[1] > 1 or not (level < 0.1).any():  # several inputs: no order of neighbours to follow,
             return  # each instant keeps its σ; nowhere near each other: the assemblies do not meet
-        name, is_angle_ = self.unknowns[first].name, self.unknowns[first] in self._structure["angles"]
+        name = self.unknowns[first].name
+        solved = (level >= -LEVEL) if values is None else (level >= -LEVEL) & np.isfinite(values)
         for path in paths:
-            for _ in range(64):
-                if len(path) < 3:
-                    break
-                chosen = np.where(root[path] > 0, plus[path], minus[path])
-                other = np.where(root[path] > 0, minus[path], plus[path])
-                steps = np.linalg.norm(np.diff(u[path], axis=0), axis=1)
-                ratio = np.where(steps[:-1] > 0, steps[1:] / np.where(steps[:-1] > 0, steps[:-1], 1.0), 0.0)
-                back = chosen[1:-1] - chosen[:-2]
-                if is_angle_:
-                    back = _unwrap_to(back, 0.0)
-                predicted = chosen[1:-1] + back * ratio
+            if len(path) < 2:
+                continue
+            lv = np.where(solved[path], level[path], np.nan)
+            lowest = np.zeros(len(path), bool)  # a local lowest of the level along the path
+            lowest[1:-1] = (lv[1:-1] <= lv[:-2]) & (lv[1:-1] <= lv[2:])
+            lowest[0], lowest[-1] = lv[0] <= lv[1], lv[-1] <= lv[-2]
+            near = (np.minimum(lv[:-1], lv[1:]) < 0.1) & (lowest[:-1] | lowest[1:])
+            steps = np.flatnonzero(near)
+            if not len(steps):
+                continue
+            start, end = u[path[steps]], u[path[steps + 1]]
+            where, value = self._lowest(level_at, start, end, path[steps])
+            width = np.abs(end - start).max(axis=1)
+            at_start = np.abs(where - start).max(axis=1) <= 1e-8 * width
+            at_end = np.abs(where - end).max(axis=1) <= 1e-8 * width
+            met = value <= CHANGE_LEVEL
+            # on an instant, the assemblies meet only if the motion goes on through it: the steps on both
+            # sides of it find it, and it counts once (at the first); else the motion starts or stops there
+            # (the path's ends, a limit the sweep ends at or turns back from)
+            both = np.zeros(len(steps), bool)
+            both[:-1] = met[:-1] & met[1:] & at_end[:-1] & at_start[1:] & (steps[1:] == steps[:-1] + 1)
+            met &= ~(at_start | at_end) | both
+            for k in np.flatnonzero(met):
+                root[path[steps[k] + 1:]] *= -1
+                notes.append(f"the two assemblies of {name} meet (a change point) at "
+                             f"{self._around(where[k], outer)}: the motion continues on the smooth one "
+                             "(σ swapped there)")
 
-                def gap(values, predicted=predicted):
-                    d = values - predicted
-                    return np.abs(_unwrap_to(d, 0.0) if is_angle_ else d)
-
-                same, swapped = gap(chosen[2:]), gap(other[2:])
-                low = np.minimum(level[path][1:-1], level[path][2:])
-                suspect = (swapped < 0.25 * same) & (same * self._scales[1][first] > 1e-6) & (low < 0.1)
-                if not suspect.any():
-                    break
-                k = int(np.argmax(suspect)) + 2
-                root[path[k:]] *= -1
-                notes.append(f"the two assemblies of {name} meet (a change point) between "
-                             f"{self._where(u, path[k - 1])} and {self._where(u, path[k])}: the motion "
-                             "continues on the smooth one (σ swapped there)")
+    def _around(self, point: np.ndarray, outer: np.ndarray) -> str:
+        """An input ``point`` (one input) in words, with the instants of the sweep ``outer`` around it."""
+        symbol, value = self.inputs[0], float(point[0])
+        given = outer[:, 0]
+        close = np.abs(given - value) <= 1e-9 * max(1.0, abs(value))
+        if close.any():
+            return f"{symbol.name}={given[np.argmax(close)]!r}, an instant of the sweep"
+        below, above = given[given < value], given[given > value]
+        text = f"{symbol.name}≈{value:.6f}"
+        if len(below) and len(above):
+            text += (f", between the instants {symbol.name}={float(below.max())!r} and "
+                     f"{symbol.name}={float(above.min())!r}")
+        return text
 
     def _continuous(self, q, paths, target, several: bool = False) -> None:
         """Angles unwrapped along each path, the first instant's within π of ``target`` (in [−π, π]

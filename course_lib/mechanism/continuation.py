@@ -6,8 +6,11 @@ One room of :class:`~course_lib.mechanism.Mechanism`, which is all of them toget
 
 from __future__ import annotations
 
+import heapq
+
 import numpy as np
 
+from ..symbolic import is_angle
 from .singular import SINGULAR
 
 #: A continuation step changes no unknown by more than this (radians, or typical lengths).
@@ -82,9 +85,11 @@ class Continuation:
             return q, True, max_iter
         return q, False, max_iter
 
-    def _advance(self, q, u_from, u_to, tol, max_iter) -> tuple[np.ndarray | None, int]:
+    def _advance(self, q, u_from, u_to, tol, max_iter, smallest: float = 1e-13
+                 ) -> tuple[np.ndarray | None, int]:
         """The solution at ``u_to`` continued from ``q`` at ``u_from``: tangent predictor, Newton corrector,
-        the step halved until the corrector lands near the prediction (no other assembly)."""
+        the step halved until the corrector lands near the prediction (no other assembly); None once the
+        step would be below ``smallest`` (a fraction of the whole)."""
         step_u = u_to - u_from
         if not step_u.any():
             return q.copy(), 0
@@ -93,7 +98,7 @@ class Continuation:
         done, h, count = 0.0, 1.0, 0
         while done < 1.0:
             h = min(h, 1.0 - done)
-            if h < 1e-13:
+            if h < smallest:
                 return None, count
             here = u_from + done * step_u
             J, F_u = self._rate_terms(q, here)
@@ -113,7 +118,9 @@ class Continuation:
             if fixed:
                 found[angles] = _unwrap_to(found[angles], prediction[angles])
                 if float(np.max(np.abs(found - prediction) * columns)) <= max(0.5 * change, 1e-6):
-                    q, done, h = found, done + h, min(2 * h, 1.0)
+                    # a step ending within rounding of the end ends it (else a last step of one ulp is
+                    # refused as too small, and the instant lost)
+                    q, done, h = found, (1.0 if done + h >= 1.0 - 1e-12 else done + h), min(2 * h, 1.0)
                     continue
             h *= 0.5
         return q, count
@@ -131,6 +138,9 @@ class Continuation:
             det = np.linalg.det(self._J(q[k], u[k]) / rows[:, None] / columns[None, :])
             return 0.0 if not abs(det) > SINGULAR else np.sign(det)
 
+        if u.shape[1] > 1 and N > 2:  # several inputs: each instant continued from a near neighbour
+            self._spread(q, iterations, u, tol, max_iter, notes, orientation)
+            return q, iterations
         for path in paths:
             last, sign = path[0], orientation(path[0])
             for k in path[1:]:
@@ -144,3 +154,79 @@ class Continuation:
                                  f"{self._where(u, k)}: the motion continues on the smooth one")
                 last, sign = k, now or sign
         return q, iterations
+
+    def _input_units(self) -> np.ndarray:
+        """A unit for each input: 1 for an angle, the parameters' typical length for any other."""
+        sizes = [abs(v) for v in self._values if v != 0.0]
+        length = float(np.median(sizes)) if sizes else 1.0
+        return np.array([1.0 if all(is_angle(row, s) for row in self.equations if row.has(s)) else length
+                         for s in self.inputs])
+
+    def _spread(self, q, iterations, u, tol, max_iter, notes, orientation) -> None:
+        """A sweep of several inputs (a grid, or points in any order), which has no order of neighbours:
+        from instant 0, each instant continued from a solved neighbour (the shortest step first: Prim's
+        order over each instant's 8 nearest, inputs measured in radians and typical lengths, an angle a turn
+        apart the same; each instant tried from two neighbours at most), never across the sweep; where no
+        step reaches an instant (a hole of the workspace between), Newton from the nearest solved instants'
+        positions.  Either is kept only on the neighbour's assembly: the orientation of J (the sign of
+        det J̃) kept, as each instant solved alone on that assembly would be."""
+        from scipy.spatial import cKDTree
+
+        count, units = min(len(u), 9), self._input_units()
+        turning = units == 1.0  # angle inputs: a turn apart is the same instant (the loops see cos, sin)
+        places = np.column_stack([*(u[:, ~turning] / units[~turning]).T,
+                                  *np.cos(u[:, turning]).T, *np.sin(u[:, turning]).T])
+        distances, neighbours = cKDTree(places).query(places, k=count)
+
+        def toward(parent, k):  # u[k], its angles within half a turn of u[parent]'s
+            target = u[k].copy()
+            target[turning] = _unwrap_to(target[turning], u[parent][turning])
+            return target
+        signs = np.zeros(len(u))
+        signs[0] = orientation(0)
+        done = np.zeros(len(u), bool)
+        done[0] = True
+        heap, tried, attempts = [], set(), np.zeros(len(u), int)
+
+        def reached(parent, k, found) -> bool:
+            q[k] = found
+            sign = orientation(k)
+            if sign and signs[parent] and sign != signs[parent]:  # the other assembly: not this motion
+                q[k] = np.nan
+                return False
+            signs[k], done[k] = sign or signs[parent], True
+            for d, j in zip(distances[k][1:], neighbours[k][1:], strict=True):
+                if not done[j]:
+                    heapq.heappush(heap, (float(d), int(k), int(j)))
+            return True
+
+        reached(0, 0, q[0])
+        while True:
+            while heap:
+                _, parent, k = heapq.heappop(heap)
+                if done[k] or attempts[k] >= 2:  # twice out of reach by a step: a hole, likely
+                    continue
+                attempts[k] += 1
+                # a step that must be cut below 1e-4 of itself meets a hole: left to the Newton below
+                found, used = self._advance(q[parent], u[parent], toward(parent, k), tol, min(max_iter, 15),
+                                            smallest=1e-4)
+                iterations[k] += used
+                if found is not None:
+                    reached(parent, k, found)
+            jumped = False  # no step reaches what is left: Newton from the nearest solved instants, once each
+            left, solved = np.flatnonzero(~done), np.flatnonzero(done)
+            if not len(left):
+                return
+            nearest = solved[cKDTree(places[solved]).query(places[left], k=min(len(solved), 4))[1]
+                             .reshape(len(left), -1)]
+            for k, near in zip(left, nearest, strict=True):
+                for parent in near:
+                    if done[parent] and (int(parent), int(k)) not in tried:
+                        tried.add((int(parent), int(k)))
+                        found, fixed, used = self._correct(q[parent], u[k], tol, max_iter)
+                        iterations[k] += used
+                        if fixed and reached(int(parent), int(k), found):
+                            jumped = True
+                            break
+            if not jumped:
+                return

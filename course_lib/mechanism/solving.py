@@ -164,12 +164,20 @@ class Solving:
                         + ": σ = +1 taken there")
             elif shape == ():
                 where = self._where(u, 0)
-                if on_failure == "raise" and result.singular:
+                # -- core33: one instant where plain Newton fails (at a limit, where the root is double and
+                # J singular) gets the corrector a sweep's first instant gets: the same verdict on both routes
+                found, fixed, count = result.x, bool(result.converged), result.iterations
+                if not fixed:
+                    found, fixed, count = self._correct(seed, u[0], tol, max_iter)
+                if not fixed and np.isfinite(result.x).all():
+                    found, fixed, count = self._correct(result.x, u[0], tol, max_iter)
+                # -- end core33
+                if on_failure == "raise" and result.singular and not fixed:
                     raise SingularJacobianError(f"at {where}: {result.message}", result.x.tolist())
-                if on_failure == "raise" and not result.converged:
+                if on_failure == "raise" and not fixed:
                     raise ConvergenceError(f"at {where}, from the guess: {result.message}", result=result)
-                q = result.x[None, :].copy() if result.converged else np.full((1, len(seed)), np.nan)
-                iterations, stuck[0] = np.array([result.iterations]), result.singular
+                q = found[None, :].copy() if fixed else np.full((1, len(seed)), np.nan)
+                iterations, stuck[0] = np.array([count]), result.singular and not fixed
             else:
                 start = result.x if result.converged else None
                 if start is None:
@@ -396,7 +404,8 @@ class Solving:
             else:
                 missing = [j for j in range(len(self.unknowns)) if not np.isfinite(q[k, j])]
                 blocks = self._structure["blocks"]
-                if len(missing) < len(self.unknowns) or len(blocks) == 1:
+                # core33: closed forms solve the blocks in turn, so the first block with no root is at fault
+                if len(missing) < len(self.unknowns) or len(blocks) == 1 or self._closed_fns is not None:
                     rows = next((r for r, columns in blocks if set(columns) & set(missing)), [])
                 else:
                     solved = np.flatnonzero(np.isfinite(q).all(axis=1))

@@ -396,3 +396,19 @@ def test_the_five_bar_block_by_block_is_the_whole_sweep_to_the_bit(monkeypatch, 
                                       on_failure="nan")  # (σ is 0 where no position is found)
         for name in ("x3", "y3"):
             assert same_bits(blocks.position[name], whole_mechanism.position[name]), name
+
+
+@pytest.mark.parametrize("order", ["declared", "reversed"])
+def test_a_guess_is_read_by_its_keys_in_any_order(order):
+    # the unit circle cut by the line x − 0.6·y = s: at s = 0.1 the roots are y = (−0.12 ± √5.4)/2.72, by
+    # hand; Newton from x = −0.9, y = 0.8 takes the one with y > 0 (a seed read in another order, x = 0.8 and
+    # y = −0.9, took the other)
+    import sympy as sp
+
+    x, y, s = sp.symbols("x y s")
+    circle = Mechanism([x**2 + y**2 - 1, x - 0.6 * y - s], [x, y], [s])
+    guess = {x: -0.9, y: 0.8} if order == "declared" else {y: 0.8, x: -0.9}
+    solved = circle.solve({s: 0.1}, guess=guess)
+    upper = (-0.12 + np.sqrt(0.12**2 + 4 * 1.36 * 0.99)) / 2.72
+    assert abs(solved.position["y"] - upper) < 1e-12
+    assert abs(solved.position["x"] - (0.1 + 0.6 * upper)) < 1e-12

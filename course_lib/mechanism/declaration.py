@@ -123,7 +123,8 @@ def _plain(name: str, value):
 
 
 def _keyed(argument: str, mapping, symbols, required: bool = True) -> dict[str, object]:
-    """A dict keyed by symbols or their names → {name: value}; unknown keys and missing names raise."""
+    """A dict keyed by symbols or their names → {name: value} in the declared order of ``symbols`` (whatever
+    order the keys came in); unknown keys and missing names raise."""
     names = [symbol.name for symbol in symbols]
     if not isinstance(mapping, Mapping):
         raise InvalidGeometryError(f"{argument} must be a dict keyed by {', '.join(names)}; got {mapping!r}")
@@ -139,7 +140,7 @@ def _keyed(argument: str, mapping, symbols, required: bool = True) -> dict[str, 
     if required and missing:
         raise InvalidGeometryError(f"{argument} must give a value for {', '.join(missing)}; "
                                    f"got keys {list(mapping)}")
-    return out
+    return {name: out[name] for name in names if name in out}
 
 
 def _points(points) -> dict[str, sp.Matrix]:

@@ -33,3 +33,22 @@ def test_an_animation_too_large_to_draw_within_seconds_is_refused(options, says)
     sweep = linkage.solve(np.linspace(0.0, 6.0, 5000 if "max_frames" in options else 10))
     with pytest.raises(InvalidArgumentError, match=says):
         animate(linkage, sweep, **options)
+
+
+@pytest.mark.parametrize("end", [1e-9, 0.0])
+def test_newton_following_an_unknown_that_grows_without_bound_gives_up_by_name(end):
+    # x = 1/s followed from s = 1 towards 0: x is found while a bounded number of steps reaches it, and the
+    # last instant (x = 1e9, or none at all) is reported not reached instead of followed for ever
+    from course_lib.errors import UnreachableError
+    from course_lib.mechanism import Mechanism
+
+    x, s = sp.symbols("x s")
+    inverse = Mechanism([1 / x - s], [x], [s])
+    sweep = np.linspace(1.0, end, 50)
+    motion = inverse.solve({s: sweep}, guess={x: 1.0}, on_failure="nan")
+    found = np.asarray(motion.converged)
+    assert found[:-1].all() and not found[-1]
+    assert np.allclose(motion.position["x"][:-1], 1 / sweep[:-1], rtol=1e-9)
+    assert "no assembly" in motion.message
+    with pytest.raises(UnreachableError, match=r"s=(1e-09|0\.0)\b"):
+        inverse.solve({s: sweep}, guess={x: 1.0})

@@ -20,6 +20,10 @@ MAX_CHANGE = 0.1
 #: A corrector step moves no unknown by more than this (radians, or typical lengths).
 MAX_STEP = 0.5
 
+#: Predictor–corrector steps one instant may take before it is given up as not reached: an unknown that
+#: grows without bound (x = 1/s followed towards s = 0) would otherwise be followed MAX_CHANGE at a time.
+MAX_STEPS = 1000
+
 
 def _unwrap_to(values: np.ndarray, target: np.ndarray) -> np.ndarray:
     """``values`` shifted by whole turns to within π of ``target`` (NaN stays NaN)."""
@@ -89,16 +93,16 @@ class Continuation:
                  ) -> tuple[np.ndarray | None, int]:
         """The solution at ``u_to`` continued from ``q`` at ``u_from``: tangent predictor, Newton corrector,
         the step halved until the corrector lands near the prediction (no other assembly); None once the
-        step would be below ``smallest`` (a fraction of the whole)."""
+        step would be below ``smallest`` (a fraction of the whole) or after MAX_STEPS steps."""
         step_u = u_to - u_from
         if not step_u.any():
             return q.copy(), 0
         columns = self._scales[1]
         angles = [j for j, s in enumerate(self.unknowns) if s in self._structure["angles"]]
-        done, h, count = 0.0, 1.0, 0
+        done, h, count, steps = 0.0, 1.0, 0, 0
         while done < 1.0:
-            h = min(h, 1.0 - done)
-            if h < smallest:
+            h, steps = min(h, 1.0 - done), steps + 1
+            if h < smallest or steps > MAX_STEPS:
                 return None, count
             here = u_from + done * step_u
             J, F_u = self._rate_terms(q, here)

@@ -951,7 +951,8 @@ def mechanism_explorer(
                 gap = (gap + np.pi) % (2 * np.pi) - np.pi
             gaps += (gap / spans[name]) ** 2
         nearest = converged[int(np.argmin(gaps))]
-        where = ", ".join(f"{keys[name]} = {state[keys[name]]:g}" for name in names)
+        where = ", ".join(f"{name} = {state[keys[name]]:g}{'°' if name.startswith('theta') else ''}"
+                          for name in names)
         try:
             now = mechanism.solve(values, rates=rates, guess=guess(nearest))
         except (ConvergenceError, UnreachableError, SingularJacobianError) as err:

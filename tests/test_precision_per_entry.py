@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from course_lib import checks
+from course_lib.checks.engine import FIGURES
 
 MORE = "give more digits"
 
@@ -69,3 +70,22 @@ def test_newtons_root_to_fewer_decimals_is_told_to_give_more_digits(root, says):
     wallis = max(r.real for r in np.roots([1, 0, -2, -5]) if abs(r.imag) < 1e-12)  # x³ − 2x − 5 = 0
     assert round(wallis, 6) == 2.094551
     assert says in checks.check_newton_iterations((root, 4)).message
+
+
+@pytest.mark.parametrize(("check", "answer", "cause"), [
+    # a digit written wrong is not a rounding: 2.09456 has its fifth decimal wrong (the root is 2.0945514…)
+    (lambda a: checks.check_newton_iterations(a), (2.09456, 4), "keep iterating"),
+    (lambda a: checks.check_newton_iterations(a), (2.094552, 4), "how the last digit is rounded"),
+    # lesson 00's link vector (0, 0.06) m: a third figure wrong, and a zero written as 0.0001
+    (lambda a: checks.check_link_vector(a, 0.06, 90.0), (0.0, 0.0599), "cos θ and sin θ"),
+    (lambda a: checks.check_link_vector(a, 0.06, 90.0), (0.0001, 0.06), "cos θ and sin θ"),
+])
+def test_a_digit_written_wrong_is_not_asked_for_more_digits(check, answer, cause):
+    feedback = check(answer)
+    assert not feedback.ok and "more digits" not in feedback.message and cause in feedback.message
+
+
+def test_an_entry_written_short_must_be_right_to_every_digit_written():
+    # 1.53 has three figures written, and the third is off (1.5354 → 1.54): not "right to 2, give more"
+    assert FIGURES.more_digits((1.53, 78.2), (1.5354, 78.18)) is None
+    assert "right to 3 significant figures" in FIGURES.more_digits((1.535, 78.2), (1.5354, 78.18)).message

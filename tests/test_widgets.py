@@ -653,7 +653,7 @@ def test_explore_says_where_several_inputs_leave_no_assembly():
     apart = mechanism_explorer(far, far.forward(*spread, mode=+1, on_failure="nan"))
     readout = apart.update(theta1_deg=-10.0, theta4_deg=-170.0)  # |P2P4| ≈ 0.28 > l2 + l3 = 0.10
     assert readout.status == "unreachable"
-    assert "theta1_deg = -10, theta4_deg = -170" in " ".join(readout.lines)
+    assert "theta1 = -10°, theta4 = -170°" in " ".join(readout.lines)
 
 
 @pytest.mark.parametrize("machine", [object(), "FourBar", 3.0], ids=["object", "text", "number"])

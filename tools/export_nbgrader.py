@@ -27,7 +27,7 @@ cells shares its points between them.  The heading shows the student those point
 graded by its kinds alone.
 Edit ``nbgrader/source/`` afterwards to weigh tasks differently, or change ``POINTS`` (and the headings).
 The course's ``nbgrader/nbgrader_config.py`` sets the course id, the stub, the execution time limit and
-the feedback page (``nbgrader/templates/feedback_offline/``: MathJax from a local copy, long lines wrapped).
+the feedback page (``nbgrader/templates/feedback_offline/``: MathJax in the page, long lines wrapped).
 """
 
 from __future__ import annotations

@@ -214,9 +214,11 @@ class Precision:
         return max((digits(number) for number in numbers.ravel().tolist() if number != 0), default=0)
 
     def more_digits(self, value, reference, angles=False) -> "Feedback | None":
-        """"Give more digits" feedback when some entries of ``value`` were written with fewer digits than
-        asked and are ``reference`` to those, while the entries written in full are right as asked; else
-        None (a number written in full but off is not a rounding).  Each entry counts its own digits.
+        """"Give more digits" feedback when some entries of ``value`` were written with one or two fewer
+        digits than asked and are ``reference`` to every digit written, while the entries written in full are
+        right as asked; else None (a number written in full but off, or off in a digit written, is not a
+        rounding).
+        Each entry counts its own digits.
 
         >>> FIGURES.more_digits((1.535, 78.2), (1.5354, 78.18))
         ✘ Not yet: right to 3 significant figures; the task asks for 4 significant figures: give more digits.
@@ -228,7 +230,8 @@ class Precision:
         references = (list(reference) if isinstance(reference, tuple | list)
                       or isinstance(reference, np.ndarray) and reference.ndim == 1 else None)
         if values is None or values.ndim != 1 or references is None or len(references) != values.size:
-            if self.typed(value) < self.digits and (digits := self.fewer(value, reference, angles)):
+            typed = self.typed(value)  # (a lower bound: trailing zeros are not seen in a number)
+            if typed < self.digits and (digits := self.fewer(value, reference, angles)) and typed <= digits:
                 return wrong(f"right to {digits} {kind}; the task asks for {self}: give more digits.")
             return None
         typed = [self.typed(number) if number != 0 else self.digits for number in values.tolist()]
@@ -242,10 +245,14 @@ class Precision:
         full = set(range(values.size)) - short
         if full and not self.agrees(value, only(full), angles):
             return None
-        digits = next((d for d in range(self.digits - 1, max(self.digits - 3, 1), -1)
-                       if self.agrees(value, only(short), angles, d)), 0)
-        if digits:
-            return wrong(f"right to {digits} {kind}; the task asks for {self}: give more digits.")
+        # each short entry right to one or two digits fewer, and to every digit it was written with; a
+        # zero written as a small number is not a zero written short
+        scale = float(np.max(np.abs(np.asarray(references, float)))) if references else 0.0
+        if any(abs(float(references[i])) <= 1e-12 * scale for i in short):
+            return None
+        right_to = [self.fewer(value, only({i}), angles) for i in sorted(short)]
+        if all(right_to) and all(typed[i] <= d for i, d in zip(sorted(short), right_to, strict=True)):
+            return wrong(f"right to {min(right_to)} {kind}; the task asks for {self}: give more digits.")
         return None
 
 

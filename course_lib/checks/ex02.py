@@ -64,6 +64,9 @@ def check_newton_iterations(answer) -> Feedback:
     if short is not None:  # the root rounded to fewer decimals than asked: not a method error
         return short
     return first([
+        (far and abs(root - reference.x) <= 1.5e-6,
+         "within a unit of the sixth decimal, but not the root rounded to 6 decimals: check how the last "
+         "digit is rounded."),
         (far and abs(np.polyval([1, 0, -2, -5], root)) < 1e-3, "close, but not within the tolerance: keep "
                                                                "iterating until |Δx| < 1e-6."),
         (far, "that root does not satisfy x³ − 2x − 5 = 0; check f and f' in your loop."),

@@ -217,3 +217,17 @@ def test_the_other_crank_angle_in_degrees_is_named_as_both():
     outside = next(root for root in roots if not 0 < root < np.pi)
     feedback = checks.check_crank_angle_for_rocker(np.degrees(outside), bar, theta4)
     rejects(feedback, "degrees", "outside (0, π)", hidden=[outside])
+
+
+@pytest.mark.parametrize(("omega2", "alpha2", "cause"), [
+    (6.0, 0.0, "α2 = 0"),          # the motor's angular acceleration left out
+    (4.0, 6.0, "swapped"),        # ω2 and α2 given in each other's place
+])
+def test_the_saw_acceleration_names_the_motor_input_that_is_wrong(omega2, alpha2, cause):
+    # the task's state θ2 = 0.9 rad, ω2 = 6 rad/s, α2 = 4 rad/s²; the answer a_r solved at another state, by
+    # the course's closed form, rounded to the task's 4 significant figures
+    from course_lib.saw import Saw, analytic
+
+    a_r = float(f"{analytic(0.9, omega2, alpha2, saw=Saw())[6]:.4g}")
+    feedback = checks.check_saw_slider_acceleration(a_r, Saw(), 0.9, 6.0, 4.0)
+    assert not feedback.ok and cause in feedback.message

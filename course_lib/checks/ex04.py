@@ -268,6 +268,11 @@ def _acceleration_verdict(answer: float, saw: Saw, theta2: float, omega2: float,
         (analytic(theta2, 0.0, alpha2, saw=saw)[6],
          "that keeps only the α2 terms: the ω² (centripetal) terms — r1 ω1², r2 ω2², r3 ω3² — are missing, "
          "and at speed they dominate."),
+        (lambda v: alpha2 != 0 and FIGURES.agrees(v, analytic(theta2, omega2, 0.0, saw=saw)[6]),
+         "that is a_r with α2 = 0: the motor's angular acceleration α2 is part of the task's state; pass it "
+         "to the solve too."),
+        (lambda v: omega2 != alpha2 and FIGURES.agrees(v, analytic(theta2, alpha2, omega2, saw=saw)[6]),
+         "that is a_r with ω2 and α2 swapped: give the solve ω2 (rad/s) then α2 (rad/s²)."),
         (x[3], "that is the velocity v_r; the task asks for the acceleration a_r."),
         (lambda v: saw != COURSE_SAW
          and FIGURES.agrees(v, analytic(theta2, omega2, alpha2, saw=COURSE_SAW)[6]),

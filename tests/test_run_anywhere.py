@@ -157,7 +157,7 @@ def _first_code_cell(path: Path):
     return next(cell for cell in nbformat.read(path, as_version=4).cells if cell.cell_type == "code")
 
 
-@pytest.mark.parametrize("path", LESSONS, ids=_name)
+@pytest.mark.parametrize("path", LESSONS + SETS, ids=_name)
 def test_every_lesson_opens_with_the_set_up_cell_and_it_shows_nothing(path):
     cell = _first_code_cell(path)
     assert cell.source == repository.setup_cell(repository.repository_url(environ={}))
@@ -203,7 +203,8 @@ def test_the_set_up_cell_without_an_address_names_the_command(monkeypatch):
 
 def test_the_repository_address_is_written_into_every_lesson_and_back():
     url = "https://gitlab.com/example-org/mechanism-kinematics"
-    for path in LESSONS:
+    assert repository.WITH_SETUP == LESSONS + SETS
+    for path in LESSONS + SETS:
         text = path.read_text(encoding="utf-8")
         written = repository.expected_lesson(text, url, path.name)
         cell = next(cell for cell in nbformat.reads(written, as_version=4).cells if cell.cell_type == "code")

@@ -54,6 +54,9 @@ README_START = "<!-- repository-links: made by tools/repository.py -->"
 README_END = "<!-- /repository-links -->"
 CITATION_KEY = re.compile(r"^repository-code:.*\n", re.M)
 LESSONS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+#: Every notebook that opens with the set-up cell: the lessons, the exercise sets and their student copies.
+WITH_SETUP = LESSONS + sorted((ROOT / "notebooks" / "solutions").glob("ex*.ipynb")) + sorted(
+    (ROOT / "notebooks" / "exercises").glob("ex*.ipynb"))
 
 #: The first code cell of every lesson (its address line made by :func:`setup_cell`): nothing happens where
 #: course_lib is installed; elsewhere (Colab) it says so and installs it from the repository, or, with no
@@ -283,7 +286,7 @@ def expected_files(url: str | None) -> dict[pathlib.Path, str]:
     wants."""
     files = {README: expected_readme(README.read_text(encoding="utf-8"), url),
              CITATION: expected_citation(CITATION.read_text(encoding="utf-8"), url)}
-    for lesson in LESSONS:
+    for lesson in WITH_SETUP:
         files[lesson] = expected_lesson(lesson.read_text(encoding="utf-8"), url, lesson.name)
     return files
 

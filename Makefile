@@ -27,12 +27,16 @@ PYTHONS ?= 3.11 3.12 3.13
 
 .PHONY: FORCE lab lab-instructor check test test-portable test-pythons execute exercises bench clean site nbgrader dist
 
+# every install takes the locked versions; after changing a pin, `make test LOCK=` installs without the lock and
+# `.venv/bin/python tools/lock.py` writes the new one (CONTRIBUTING.md)
+LOCK ?= -c environment.lock
+
 $(STUDENT_STAMP): environment.txt environment.lock pyproject.toml $(PYTHON_STAMP)
-	$(PIP) -c environment.lock -r environment.txt
+	$(PIP) $(LOCK) -r environment.txt
 	touch $@
 
 $(DEV_STAMP): environment-dev.txt environment.txt environment.lock pyproject.toml $(PYTHON_STAMP)
-	$(PIP) -c environment.lock -r environment-dev.txt
+	$(PIP) $(LOCK) -r environment-dev.txt
 	touch $@ $(STUDENT_STAMP)
 
 # An interpreter as .venv/.python records it, "X.Y /its/real/path" (a venv's python answers with the Python

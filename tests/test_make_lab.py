@@ -89,6 +89,10 @@ def test_make_lab_installs_the_student_set_and_make_test_the_whole_set(tmp_path)
     assert "-r environment-dev.txt" in test and ".installed-dev" in test
     for plan in (lab, check, test):  # every install takes the locked versions
         assert "-c environment.lock -r environment" in plan
+    unlocked = subprocess.run(["make", "-n", "--no-print-directory", "test", "LOCK=",
+                               f"VENV={tmp_path / 'venv'}"], cwd=ROOT, capture_output=True, text=True,
+                              check=True).stdout
+    assert "-r environment-dev.txt" in unlocked and "environment.lock" not in unlocked  # after a pin changes
     dev = (ROOT / "environment-dev.txt").read_text(encoding="utf-8").splitlines()
     assert "-r environment.txt" in dev  # the whole set is the student set plus the tools
     student = (ROOT / "environment.txt").read_text(encoding="utf-8")

@@ -11,7 +11,8 @@ float from one term to the next.  This tool writes, from the environment it runs
 * ``binder/requirements.txt``: the student set's own pins and every package they pull in (their closure
   under this Python's markers), pinned the same way, so Binder's image is the locked student set too.
 
-Usage (after changing a pin in environment.txt or environment-dev.txt and running ``make test``)::
+Usage (after changing a pin in environment.txt or environment-dev.txt and running ``make test LOCK=``, which
+installs without the old lock: pip would refuse a new pin the lock contradicts)::
 
     .venv/bin/python tools/lock.py           # write both files
     .venv/bin/python tools/lock.py --check   # exit 1, naming each difference, if either is out of date

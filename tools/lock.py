@@ -100,7 +100,8 @@ def texts() -> dict[pathlib.Path, str]:
     """The two files as this environment makes them."""
     present = installed()
     everything = sorted(key for key in present if key not in {canonical(OWN), "pip", "setuptools"})
-    lock = LOCK_HEADER + WRITTEN_UNDER.format(*sys.version_info[:2]) + "".join(f"{present[key][0]}=={present[key][1]}\n" for key in everything)
+    pinned = "".join(f"{present[key][0]}=={present[key][1]}\n" for key in everything)
+    lock = LOCK_HEADER + WRITTEN_UNDER.format(*sys.version_info[:2]) + pinned
     student = closure(pins(ROOT / "environment.txt"), present) - {canonical(OWN)}
     binder = BINDER_HEADER + "".join(f"{present[key][0]}=={present[key][1]}\n" for key in sorted(student))
     return {LOCK: lock, BINDER: binder}

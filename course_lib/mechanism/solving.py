@@ -164,14 +164,13 @@ class Solving:
                         + ": σ = +1 taken there")
             elif shape == ():
                 where = self._where(u, 0)
-                # -- core33: one instant where plain Newton fails (at a limit, where the root is double and
-                # J singular) gets the corrector a sweep's first instant gets: the same verdict on both routes
+                # one instant where plain Newton fails (at a limit, where the root is double and J singular)
+                # gets the corrector a sweep's first instant gets: the same verdict on both routes
                 found, fixed, count = result.x, bool(result.converged), result.iterations
                 if not fixed:
                     found, fixed, count = self._correct(seed, u[0], tol, max_iter)
                 if not fixed and np.isfinite(result.x).all():
                     found, fixed, count = self._correct(result.x, u[0], tol, max_iter)
-                # -- end core33
                 if on_failure == "raise" and result.singular and not fixed:
                     raise SingularJacobianError(f"at {where}: {result.message}", result.x.tolist())
                 if on_failure == "raise" and not fixed:
@@ -296,7 +295,7 @@ class Solving:
                 if lost:
                     q_part[:, lost] = _unwrap_to(q_part[:, lost], 0.0)
                 if followed:
-                    previous, turns = self._turned(q_part, followed, previous, turns, start == 0)
+                    previous, turns = self._turned(q_part, followed, previous, turns)
             if rates is not None:
                 found = _finite_rows(q_part)
                 safe = q_part
@@ -312,7 +311,7 @@ class Solving:
         return q, undetermined, sigma, rates
 
     @staticmethod
-    def _turned(q_part, columns, previous, turns, first: bool):
+    def _turned(q_part, columns, previous, turns):
         """Whole turns taken off ``columns`` of one block so each step is within π, counted on from the
         block before (``previous``: its last found values as solved, ``turns``: its count); returns the
         two for the next block.  Rows not found are skipped, as :meth:`_continuous` does."""
@@ -323,15 +322,11 @@ class Solving:
             values = values[rows]
         if not len(values):
             return previous, turns
-        steps = np.diff(values, axis=0, prepend=previous[None, :])
-        if first:
-            steps[0] = 0.0
+        steps = np.diff(values, axis=0, prepend=previous[None, :])  # (the first block's first step is 0)
         wraps = np.round(steps / (2 * np.pi))
         if wraps.any() or turns.any():
             counted = turns + np.cumsum(wraps, axis=0)
             kept = values - 2 * np.pi * counted
-            if first:
-                kept[0] = values[0]
             for k, j in enumerate(columns):
                 if rows is None:
                     q_part[:, j] = kept[:, k]
@@ -404,7 +399,7 @@ class Solving:
             else:
                 missing = [j for j in range(len(self.unknowns)) if not np.isfinite(q[k, j])]
                 blocks = self._structure["blocks"]
-                # core33: closed forms solve the blocks in turn, so the first block with no root is at fault
+                # closed forms solve the blocks in turn, so the first block with no root is at fault
                 if len(missing) < len(self.unknowns) or len(blocks) == 1 or self._closed_fns is not None:
                     rows = next((r for r, columns in blocks if set(columns) & set(missing)), [])
                 else:

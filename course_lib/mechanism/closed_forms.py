@@ -384,12 +384,13 @@ class ClosedForms:
             q[k] = polished if fixed and self._distance(polished, q[k]) <= MAX_CHANGE else np.nan
         return q, iterations, sigmas, at_q if everywhere and not len(doubt) else None, undetermined
 
-    def _kernel_block(self, kernel, form, q, u, paths, target, chosen, notes, level_at=None, outer=None
-                      ) -> np.ndarray:
+    def _kernel_block(self, kernel, form, q, u, paths, target, chosen, notes, level_at=None, outer=None,
+                      trig_wanted: bool = False) -> np.ndarray:
         """The block of ``form`` solved by its registered ``kernel`` into ``q``: σ from ``chosen``, else the
         assembly nearer ``target``, else +1, swapped at a change point as for a derived closed form (the
         other assembly computed only where the two come near); returns σ, the level per instant and the cos
-        and sin the kernel gave for the values kept (empty where another σ was solved after)."""
+        and sin the kernel gave for the values kept (with ``trig_wanted``; else, or where another σ was solved
+        after, empty)."""
         columns = [self.unknowns.index(s) for s in form.unknowns]
         first, name = columns[0], form.unknowns[0].name
         known = {s.name: u[:, j] for j, s in enumerate(self.inputs)} | {
@@ -425,7 +426,8 @@ class ClosedForms:
                                                f"each of {count} instants; got {error!r}") from None
             return block, level
 
-        wanted_trig = {(s.name, func) for s in (*form.unknowns, *self.inputs) for func in ("cos", "sin")}
+        wanted_trig = {(s.name, func) for s in (*form.unknowns, *self.inputs) for func in ("cos", "sin")
+                       } if trig_wanted else set()
         trig = {}  # the cos and sin the kernel gives, of the last values solved
         named = (chosen or {}).get(name)
         wanted = 1 if named is None else named

@@ -281,7 +281,8 @@ class Solving:
                 name = form.unknowns[0].name
                 in_order = [np.arange(len(u_part))]
                 sigma[name][part], level, trig = self._kernel_block(self._kernels[name], form, q_part, u_part,
-                                                                    in_order, None, at, notes)
+                                                                    in_order, None, at, notes,
+                                                                    trig_wanted=True)
                 known |= trig
                 undetermined[part] |= np.isnan(q_part[:, first]) & (level >= -LEVEL)
             if angles and several:  # each instant's angles in [−π, π]

@@ -25,14 +25,14 @@ REPEATS = 3
 
 
 def vectorized(X: np.ndarray, Y: np.ndarray) -> list:
-    return [ROBOT.inverse(X, Y, modes=modes, on_unreachable="nan") for modes in WORKING_MODES]
+    return [ROBOT.inverse(X, Y, modes=modes, on_failure="nan") for modes in WORKING_MODES]
 
 
 def library_loop(xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
     out = np.empty((len(WORKING_MODES), len(xs), 2))
     for m, modes in enumerate(WORKING_MODES):
         for i in range(len(xs)):
-            result = ROBOT.inverse(float(xs[i]), float(ys[i]), modes=modes, on_unreachable="nan")
+            result = ROBOT.inverse(float(xs[i]), float(ys[i]), modes=modes, on_failure="nan")
             out[m, i] = result.theta1, result.theta4
     return out
 

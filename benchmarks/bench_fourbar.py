@@ -141,7 +141,7 @@ def against_floor(theta2) -> dict:
     X, Y = np.meshgrid(axis, axis)
     floor_s, solve_s, inverse_s, workspace_s = best_of_each(
         5, lambda: trig_floor(theta2), lambda: LINKAGE.solve(theta2, OMEGA2, ALPHA2),
-        lambda: ROBOT.inverse(X, Y, on_unreachable="nan"), lambda: ROBOT.workspace(axis, axis))
+        lambda: ROBOT.inverse(X, Y, on_failure="nan"), lambda: ROBOT.workspace(axis, axis))
     memory = {}
     for size in MEMORY_SIZES:
         angles = theta2 if size == theta2.size else np.linspace(0, 2 * np.pi, size, endpoint=False)
@@ -150,7 +150,7 @@ def against_floor(theta2) -> dict:
     return {
         "floor_s": floor_s, "solve_s": solve_s, "inverse_s": inverse_s, "workspace_s": workspace_s,
         "grid_points": X.size, "solve_memory": memory,
-        "inverse_memory": bytes_per_point(lambda: ROBOT.inverse(X, Y, on_unreachable="nan"), X.size),
+        "inverse_memory": bytes_per_point(lambda: ROBOT.inverse(X, Y, on_failure="nan"), X.size),
         "workspace_memory": bytes_per_point(lambda: ROBOT.workspace(axis, axis), X.size),
     }
 
@@ -199,7 +199,7 @@ def main(n_points: int = 1_000_000, sample: int = 2000) -> dict:
         ("trig floor", n_points, floor["floor_s"], ""),
         ("FourBar.solve (θ, ω, α of coupler, rocker)", n_points, floor["solve_s"],
          " / ".join(f"{memory[size]:.0f}" for size in MEMORY_SIZES)),
-        ("FiveBar.inverse (grid, on_unreachable=nan)", grid, floor["inverse_s"],
+        ("FiveBar.inverse (grid, on_failure=nan)", grid, floor["inverse_s"],
          f"{floor['inverse_memory']:.0f}"),
         ("FiveBar.workspace (grid)", grid, floor["workspace_s"], f"{floor['workspace_memory']:.0f}"),
     ]

@@ -1,6 +1,5 @@
 """errors, planar, symbolic, mobility, plotting: checked against independent routes."""
 
-import pathlib
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -11,7 +10,6 @@ from hypothesis import strategies as st
 
 from course_lib import errors, planar, symbolic
 from course_lib.errors import InvalidGeometryError, UnreachableError
-from course_lib.fivebar import FiveBar
 from course_lib.mobility import gruebler
 from course_lib.newton import newton
 from course_lib.plotting import animation_html, draw_linkage, plot_convergence
@@ -64,28 +62,6 @@ def test_error_hierarchy():
     # a misuse that is not geometry is its own class, still caught by code written for the older one
     assert issubclass(errors.InvalidArgumentError, errors.InvalidGeometryError)
     assert issubclass(errors.InvalidArgumentError, ValueError)
-
-
-def test_failure_policy_one_keyword_and_its_older_spellings_warn_until_their_removal():
-    assert errors.failure_policy() == "raise" and errors.failure_policy("nan") == "nan"
-    with pytest.raises(InvalidGeometryError, match=r"on_failure must be one of 'raise', 'nan'; got 'skip'"):
-        errors.failure_policy("skip")
-    robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
-    pen = robot.forward(1.2, 1.9)
-    calls = {"on_unreachable": lambda **kw: robot.inverse(0.0, 0.5, **kw).theta1,  # out of reach: NaN
-             "on_singular": lambda **kw: robot.velocity_jacobian(1.2, 1.9, pen.x3, pen.y3, **kw)}
-    for older, call in calls.items():
-        expected = rf"{older}= is the older spelling of on_failure= and goes in course_lib 2\.0\.0"
-        with pytest.warns(DeprecationWarning, match=expected):
-            np.testing.assert_array_equal(call(**{older: "nan"}), call(on_failure="nan"))
-        with pytest.warns(DeprecationWarning), pytest.raises(
-                errors.InvalidArgumentError, match=rf"on_failure='nan', {older}='raise'"):
-            call(on_failure="nan", **{older: "raise"})
-        with pytest.warns(DeprecationWarning), pytest.raises(InvalidGeometryError,
-                                                             match=rf"{older} must be one of 'raise', 'nan'"):
-            call(**{older: "skip"})
-    changelog = (pathlib.Path(__file__).parents[1] / "CHANGELOG.md").read_text()
-    assert "on_unreachable" in changelog and errors.OLDER_FAILURE_REMOVED_IN in changelog
 
 
 def test_the_newton_module_stays_reachable_and_callable():

@@ -10,7 +10,14 @@ equations are linear, with the position Jacobian as matrix; appendix D solves al
 The saw is one declaration (:attr:`Saw.mechanism`: the loop and the slider line, unknowns r1, θ1, θ3,
 input θ2, the points O2 (crank pivot), A (crank pin) and C (slider pin, lesson 00's notation), the
 links crank and rod); every residual, Jacobian, Newton route, singularity test (the core's rule) and
-drawing below comes from it, while :func:`analytic` keeps the course's own closed form.
+drawing below comes from it.  :meth:`Saw.motion` is the core's solve of it, its one block (Newton's,
+with no closed form the core can derive) solved by the course's closed form registered as its kernel
+(:func:`_kernel`); :func:`analytic` keeps the course's eqs. 20–28 as written.
+
+σ on the saw (the core's −sign(det J_b); here det J_b = −r1·r3·cos θ3): the kernel keeps r1 < 0, the
+course's r1 (C reached from O2 against the direction θ1), so σ = +1 is the rod pointing left, C left of
+A (cos θ3 < 0, the course's saw: ``assembly="left"``), σ = −1 the rod pointing right (``"right"``), as
+the offset slider-crank names them.
 """
 
 from __future__ import annotations
@@ -34,12 +41,12 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import Motion
+from .motion import Motion, recast
 from .newton import NewtonResult
 from .planar import Unpacks
 from .profile import first_turn_time, motor_profile
 
-__all__ = ["Saw", "COURSE_SAW", "UNKNOWNS", "SEED_PRINTED", "SEED_CODE", "position_residual",
+__all__ = ["Saw", "COURSE_SAW", "ASSEMBLIES", "UNKNOWNS", "SEED_PRINTED", "SEED_CODE", "position_residual",
            "position_jacobian", "velocity_residual", "velocity_jacobian", "acceleration_residual",
            "acceleration_jacobian", "system_residual", "system_jacobian", "SawMotion", "SawSolution",
            "solve_consecutive",
@@ -54,6 +61,8 @@ SEED_PRINTED = np.array([-0.1, -0.5, 3.0, 0.5, 0.0, -0.5, 0.5, 0.0, -0.5])
 SEED_CODE = np.array([-0.1, -0.5, 3.0, -0.5, 0.0, 0.5, -0.5, 0.0, 0.5])
 
 VARIANTS = ("loop", "substituted")
+#: The saw's assemblies by name → σ of its block (the side of A that C lies on).
+ASSEMBLIES = {"left": {"theta3": +1}, "right": {"theta3": -1}}
 LINEAR_STAGES = ("newton", "direct")
 METHODS = ("consecutive", "simultaneous", "batched", "analytic")
 
@@ -91,28 +100,30 @@ class Saw:
         """
         return _core(self)
 
-    def motion(self, theta2, omega2=0.0, alpha2=0.0, *, on_failure: str | None = None):
-        """A :class:`SawMotion`, a :class:`~course_lib.mechanism.Motion` of :attr:`mechanism` (position r1,
-        θ1, θ3 and their rates; input θ2), to draw, animate or explore: the position by the course's
-        closed form (eqs. 20–21 of :func:`analytic`), the rates by the core from the declared loop (J·q̇ =
-        −F_u·ω2 and its derivative; the same as the course's eqs. 22–28).  Raises as :func:`analytic`.
+    def motion(self, theta2, omega2=0.0, alpha2=0.0, *, assembly="left", on_failure: str | None = None):
+        """A :class:`SawMotion`: the core's solve of :attr:`mechanism` (position r1, θ1, θ3 and their
+        rates; input θ2), the same :class:`~course_lib.mechanism.Motion` as ``self.mechanism.solve`` with
+        the course's names added, to draw, animate or explore.  The position by the course's closed form
+        (eqs. 20–21, registered as the block's kernel), the rates by the core from the declared loop (J·q̇
+        = −F_u·ω2 and its derivative; the same as the course's eqs. 22–28).  ``assembly``: ``"left"`` (the
+        course's: the rod pointing left, C left of A), ``"right"``, or σ by any unknown (see the module).
+        ``UnreachableError`` where the rod cannot reach the slider line, ``SingularJacobianError`` where it
+        is perpendicular to it while moving; ``on_failure="nan"``: NaN there.
 
         >>> motion = Saw().motion([0.0, 1.0], omega2=6.0)
         >>> np.round(motion.position["theta3"], 6).tolist(), np.round(motion.velocity["theta3"], 6).tolist()
         ([2.873694, 3.248327], [2.744974, 1.438397])
+        >>> motion.assembly["theta3"].tolist()
+        [1, 1]
         """
+        sigma = self.mechanism.assembly_sigma(assembly, ASSEMBLIES)
         policy = failure_policy(on_failure)
         theta2, omega2, alpha2 = require_broadcast(theta2=require_finite("theta2", theta2, unit="rad"),
                                                    omega2=require_finite("omega2", omega2, unit="rad/s"),
                                                    alpha2=require_finite("alpha2", alpha2, unit="rad/s²"))
-        q = analytic(theta2, saw=self, on_failure=policy)[..., :3]
-        u = theta2[..., None]
-        with np.errstate(invalid="ignore"):
-            q_rate, q_acc, _ = self.mechanism.rates(np.where(np.isnan(q), 0.0, q), u, omega2[..., None],
-                                                    alpha2[..., None])
-        lost = np.isnan(q[..., :1])
-        values = np.concatenate([q, np.where(lost, np.nan, q_rate), np.where(lost, np.nan, q_acc)], axis=-1)
-        return _saw_motion(self, values, theta2)
+        motion = self.mechanism.solve({"theta2": theta2}, {"theta2": omega2}, {"theta2": alpha2},
+                                      assembly=sigma, on_failure=policy)
+        return recast(motion, SawMotion)
 
     def joints(self, theta2) -> np.ndarray:
         """O2, A and C (m), shape (..., 3, 2): :func:`joint_positions` of this saw.
@@ -158,11 +169,37 @@ def _checked_saw(saw) -> Saw:
     return saw
 
 
+def _kernel(parameters, known, sigma):
+    """The saw's block (r1, θ1, θ3) in closed form, the kernel registered on its declaration: sin θ3 from
+    the slider line (the course's eq. 20: Fy − Fc = 0), cos θ3 = −σ·√(1 − sin²θ3) (σ = +1: the rod
+    pointing left), C = A + r3·(cos θ3, sin θ3) and r1 = −|O2C| with θ1 its direction (eq. 21: r1 < 0 as
+    the course's); the level 1 − sin²θ3 (0 where the rod is perpendicular to the slider line, where the
+    two assemblies meet; < 0 where it cannot reach the line).
+
+    >>> values, level = _kernel({"r1y": 0.045, "r2": 0.075, "r3": 0.17}, {"theta2": np.zeros(1)}, 1)
+    >>> [round(float(values[name][0]), 6) for name in ("r1", "theta1", "theta3")]
+    [-0.099672, -0.468422, 2.873694]
+    """
+    r1y, r2, r3 = parameters["r1y"], parameters["r2"], parameters["r3"]
+    c2, s2 = np.cos(known["theta2"]), np.sin(known["theta2"])
+    s3 = (r1y - r2 * s2) / r3
+    level = 1.0 - s3 * s3
+    with np.errstate(invalid="ignore"):
+        c3 = -sigma * np.sqrt(level)
+    x = r2 * c2 + r3 * c3
+    length = np.hypot(x, r1y)
+    c1, s1 = -x / length, -r1y / length  # r1 = −length along (cos θ1, sin θ1)
+    return {"r1": -length, "theta1": np.arctan2(s1, c1), "theta3": np.arctan2(s3, c3),
+            ("theta1", "cos"): c1, ("theta1", "sin"): s1, ("theta3", "cos"): c3, ("theta3", "sin"): s3,
+            ("theta2", "cos"): c2, ("theta2", "sin"): s2}, level
+
+
 def _core(saw: Saw, variant: str = "loop"):
     saw = _checked_saw(saw)
     declaration = _declaration(require_choice("variant", variant, VARIANTS))
     lengths = (saw.r1y, saw.r2, saw.r3)
-    return declaration.with_parameters(dict(zip(declaration.parameters, lengths, strict=True)))
+    core = declaration.with_parameters(dict(zip(declaration.parameters, lengths, strict=True)))
+    return core.with_kernel("r1", _kernel) if variant == "loop" else core
 
 
 def _position(saw: Saw, variant: str):

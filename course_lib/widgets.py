@@ -669,6 +669,9 @@ def saw_explorer(
             return stage.failed({}, f"no assembly at t = {t:.3f} s", "unreachable",
                                 (f"t = {t:.3f} s: the saw cannot be solved here.", f"course_lib says: {err}"))
         values = motion.x
+        # θ3 in the course's range (π/2, 3π/2), as eq. 20 and the curve below write it (the core's single
+        # instant gives it in [−π, π])
+        values[2] += 2 * np.pi * np.round((np.pi - values[2]) / (2 * np.pi))
         artists["title"].set_text(f"t = {t:.3f} s")
         artists["profile_cursor"].set_xdata([t, t])
         for k, (key, _label) in enumerate(_SAW_PANELS):

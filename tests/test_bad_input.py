@@ -93,7 +93,7 @@ ANGLE_CALLS = {
 }
 CHOICE_CALLS = {
     "FourBar.solve.branch": (lambda value: DESK.solve(0.3, branch=value), "branch"),
-    "FourBar.solve.on_failure": (lambda value: DESK.solve(0.3, on_failure=value), "on_failure"),
+    "saw.solve_consecutive.variant": (lambda value: saw.solve_consecutive(0.3, variant=value), "variant"),
     "OffsetSliderCrank.solve.branch": (lambda value: SAW_TEXTBOOK.solve(0.3, branch=value), "branch"),
     "FiveBar.forward.mode": (lambda value: ROBOT.forward(1.0, 2.0, mode=value), "mode"),
     "saw.sweep.method": (lambda value: saw.sweep(5, method=value), "method"),

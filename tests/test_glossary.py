@@ -165,15 +165,29 @@ def test_slider_crank_branch_is_sigma(offset, branch, sigma):
     assert np.abs(core.position["x"] - motion.x).max() < 1e-12
 
 
-def test_saw_has_no_closed_form_block_and_is_the_left_assembly():
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_saw_has_no_closed_form_block_and_its_sides_are_the_slider_cranks(side):
     saw = Saw()
     theta2 = np.linspace(0.0, 2 * np.pi, 25)
-    motion = saw.motion(theta2)
-    assert saw.mechanism.closed_forms == [None] and motion.assembly is None
-    left = OffsetSliderCrank(saw.r2, saw.r3, saw.r1y).solve(theta2, branch="left")
-    assert same_angle(motion.theta3, left.theta3).max() < 1e-12
-    assert np.abs(motion.r1 * np.cos(motion.theta1) - left.x).max() < 1e-12
-    assert np.all(np.asarray(left.assembly["theta3"]) == 1)
+    motion = saw.motion(theta2, assembly=side)
+    sigma = {"left": 1, "right": -1}[side]
+    assert saw.mechanism.closed_forms == [None]  # Newton's block: the course's closed form is its kernel
+    assert {name: set(np.ravel(value)) for name, value in motion.assembly.items()} == {
+        "r1": {sigma}, "theta1": {sigma}, "theta3": {sigma}}
+    same = OffsetSliderCrank(saw.r2, saw.r3, saw.r1y).solve(theta2, branch=side)
+    assert same_angle(motion.theta3, same.theta3).max() < 1e-12
+    assert np.abs(motion.r1 * np.cos(motion.theta1) - same.x).max() < 1e-12
+    assert np.all(np.asarray(same.assembly["theta3"]) == sigma)
+    # σ = −sign(det J_b), det J_b = −r1·r3·cos θ3 here (sympy), and the kernel keeps r1 < 0
+    r1, th1, th3, r1y, r2, r3, th2 = sp.symbols("r1 theta1 theta3 r1y r2 r3 theta2")
+    loops = sp.Matrix([-r1 * sp.cos(th1) + r2 * sp.cos(th2) + r3 * sp.cos(th3),
+                       r1 * sp.sin(th1) - r2 * sp.sin(th2) - r3 * sp.sin(th3), r1 * sp.sin(th1) - r1y])
+    det = sp.lambdify((r1, th1, th3, r3), sp.simplify(loops.jacobian([r1, th1, th3]).det()))
+    assert np.all(motion.r1 < 0)
+    # one instant alone keeps the core's angle rule, [−π, π]; a sweep from θ2 = 0 stays near π (the glossary)
+    alone, swept = saw.motion(1.0).theta3, saw.motion([0.0, 1.0]).theta3[1]
+    assert round(alone, 3) == -3.035 and round(swept, 3) == 3.248 and abs(swept - alone - 2 * np.pi) < 1e-12
+    assert np.all(-np.sign(det(motion.r1, motion.theta1, motion.theta3, saw.r3)) == sigma)
 
 
 @pytest.mark.parametrize("lengths", FIVEBARS)

@@ -18,6 +18,10 @@ from course_lib.fivebar import _declaration as fivebar_declaration
 from course_lib.fourbar import ASSEMBLIES, FourBar, _declaration
 from course_lib.mechanism import Mechanism
 from course_lib.motion import Motion
+from course_lib.saw import ASSEMBLIES as SAW_ASSEMBLIES
+from course_lib.saw import COURSE_SAW, Saw
+from course_lib.saw import _declaration as saw_declaration
+from course_lib.saw import analytic as saw_analytic
 from course_lib.slider_crank import ASSEMBLIES as SLIDER_ASSEMBLIES
 from course_lib.slider_crank import OffsetSliderCrank
 from course_lib.slider_crank import _declaration as slider_declaration
@@ -412,3 +416,65 @@ def test_a_guess_is_read_by_its_keys_in_any_order(order):
     upper = (-0.12 + np.sqrt(0.12**2 + 4 * 1.36 * 0.99)) / 2.72
     assert abs(solved.position["y"] - upper) < 1e-12
     assert abs(solved.position["x"] - (0.1 + 0.6 * upper)) < 1e-12
+
+
+# ------------------------------------------------------------------------------------------ the saw
+SAWS = [Saw(), Saw(r1y=-0.03, r2=0.05, r3=0.2), Saw(r1y=0.045, r2=0.075, r3=0.1)] + [
+    Saw(*lengths) for lengths in zip(RNG.uniform(-0.1, 0.1, 5), *RNG.uniform(0.01, 0.3, (2, 5)), strict=True)]
+
+
+def newton_saw(machine: Saw):
+    """The saw's declaration with its lengths and no kernel: the core solves its block by Newton."""
+    return saw_declaration("loop").with_parameters({"r1y": machine.r1y, "r2": machine.r2, "r3": machine.r3})
+
+
+@pytest.mark.parametrize("assembly", ["left", "right"])
+@pytest.mark.parametrize("machine", SAWS)
+def test_the_saw_motion_is_its_declaration_solve_to_the_bit(machine, assembly):
+    for theta2, omega2, alpha2 in ((SWEEP, 6.0, -3.0), (0.7, 2.0, 0.5), (SWEEP[:40], SWEEP[:40], 1.0)):
+        mine = machine.motion(theta2, omega2, alpha2, assembly=assembly, on_failure="nan")
+        core = machine.mechanism.solve({"theta2": theta2}, {"theta2": omega2}, {"theta2": alpha2},
+                                       assembly=SAW_ASSEMBLIES[assembly], on_failure="nan")
+        assert type(core) is Motion and isinstance(mine, Motion)
+        assert_same_motion(mine, core)
+
+
+@pytest.mark.parametrize(("assembly", "side"), [("left", -1), ("right", +1)])
+def test_the_saw_kernel_agrees_with_newton_on_the_declaration_and_its_side_with_a_circle(assembly, side):
+    checked = 0
+    for machine in SAWS:
+        kernel = machine.motion(SWEEP, 6.0, -3.0, assembly=assembly, on_failure="nan")
+        found = np.asarray(kernel.converged) & ~np.asarray(kernel.near_singular)
+        # C where the circle of radius r3 about A meets y = r1y, on the named side of A, computed here
+        ax, ay = machine.r2 * np.cos(SWEEP), machine.r2 * np.sin(SWEEP)
+        with np.errstate(invalid="ignore"):
+            cx = ax + side * np.sqrt(machine.r3**2 - (machine.r1y - ay) ** 2)
+        assert np.array_equal(np.asarray(kernel.converged), np.isfinite(cx))
+        assert np.abs(kernel.r1 * np.cos(kernel.theta1) - cx)[found].max(initial=0.0) < 1e-12
+        assert np.abs(kernel.r1 * np.sin(kernel.theta1) - machine.r1y)[found].max(initial=0.0) < 1e-12
+        # Newton on the declaration with no kernel, from the kernel's first position, along the same sweep
+        k = int(np.flatnonzero(found)[0])
+        start = {name: float(kernel.position[name][k]) for name in ("r1", "theta1", "theta3")}
+        part = SWEEP[k:k + 60]
+        part = part[np.asarray(kernel.converged)[k:k + 60]]
+        if np.any(np.diff(part) < 0):
+            part = part[:int(np.argmax(np.diff(part) < 0)) + 1]
+        core = newton_saw(machine).solve({"theta2": part}, {"theta2": 6.0}, {"theta2": -3.0}, guess=start,
+                                         on_failure="nan")
+        again = machine.motion(part, 6.0, -3.0, assembly=assembly, on_failure="nan")
+        clear = np.asarray(core.converged) & ~np.asarray(again.near_singular)
+        for name in core.position:
+            assert np.abs(core.position[name] - again.position[name])[clear].max(initial=0.0) < 1e-12
+            for what in ("velocity", "acceleration"):
+                mine, theirs = getattr(again, what)[name][clear], getattr(core, what)[name][clear]
+                assert (np.abs(mine - theirs) / (1.0 + np.abs(theirs))).max(initial=0.0) < 1e-9, (name, what)
+        checked += int(np.count_nonzero(found))
+    assert checked > 500
+
+
+def test_the_course_saw_motion_is_the_course_closed_form():
+    theta2 = np.linspace(0.0, 2 * np.pi, 1000)
+    motion, course = COURSE_SAW.motion(theta2, 6.0, 1.0), saw_analytic(theta2, 6.0, 1.0)
+    scale = np.abs(course).max(axis=0)
+    assert (np.abs(motion.x - course).max(axis=0) <= 1e-13 * scale).all()
+    assert set(np.ravel(motion.assembly["theta3"])) == {1}

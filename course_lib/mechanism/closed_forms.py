@@ -19,6 +19,7 @@ from __future__ import annotations
 import copy
 import itertools
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from types import MappingProxyType
 from typing import TYPE_CHECKING
 
@@ -39,7 +40,18 @@ from .declaration import _derived
 if TYPE_CHECKING:
     from . import Mechanism
 
-__all__ = ["LEVEL", "RESIDUAL", "ClosedForms"]
+__all__ = ["LEVEL", "RESIDUAL", "ClosedForms", "KernelBlock"]
+
+
+@dataclass(frozen=True)
+class KernelBlock:
+    """A block with no closed form (Newton would solve it) that a registered kernel solves: its unknowns as
+    declared.  It stands where a :class:`~course_lib.symbolic.LoopForm` stands for a block that reduces."""
+
+    unknowns: tuple
+    kind: str = "kernel"
+    second: None = None
+    quadratic: None = None
 
 
 def _sigma(value, per_instant: bool):
@@ -66,17 +78,19 @@ class ClosedForms:
     _kernels: Mapping = MappingProxyType({})
 
     def with_kernel(self, unknown, kernel: Callable) -> Mechanism:
-        """The same declaration with ``kernel`` registered as the solver of the closed-form block of
-        ``unknown`` (its name or symbol): a hand-vectorised closed form the core calls instead of the one it
-        derives, for speed, with everything else (σ, change points, angles kept continuous, rates,
-        singularity, failures) the core's own.  ``kernel(parameters, known, sigma)`` gets the parameters
-        and the values already known (inputs, and unknowns of earlier blocks) by name, each (N,), and
-        σ = ±1 (the meaning of :mod:`~course_lib.mechanism.closed_forms`); it returns the block's unknowns
-        by name, each (N,), NaN where the block cannot close (and, if it has them at hand, their cos and sin
-        and the inputs', keyed ``(name, "cos")``, ``(name, "sin")``: the rates then take them, where σ was
-        named), and the level Δ / scale per instant: the half-angle quadratic's b² − 4ac over b² + (a − c)² (0
-        where the two assemblies meet, < 0 where the block cannot close). A kernel must agree with the derived
-        closed form; test it.
+        """The same declaration with ``kernel`` registered as the solver of the block of ``unknown`` (its
+        name or symbol): a hand-vectorised closed form the core calls instead of the one it derives (or,
+        for a block with no closed form, instead of Newton), for speed, with everything else (σ, change
+        points, angles kept continuous, rates, singularity, failures) the core's own.
+        ``kernel(parameters, known, sigma)`` gets the parameters and the values already known (inputs, and
+        unknowns of earlier blocks) by name, each (N,), and σ = ±1 (the meaning of
+        :mod:`~course_lib.mechanism.closed_forms`, −sign(det J_b), on a block Newton would solve too); it
+        returns the block's unknowns by name, each (N,), NaN where the block cannot close (and, if it has
+        them at hand, their cos and sin and the inputs', keyed ``(name, "cos")``, ``(name, "sin")``: the
+        rates then take them, where σ was named), and the level per instant, 0 where the two assemblies
+        meet and < 0 where the block cannot close (for a half-angle quadratic, b² − 4ac over b² + (a − c)²).
+        A kernel must agree with the derived closed form (or with Newton's solution, for a block with no
+        closed form); test it.
 
         >>> x, s = sp.symbols("x s")
         >>> arc = Mechanism([sp.cos(x) - s], [x], [s])  # σ = −sign(∂F/∂x) = sign(sin x)
@@ -87,10 +101,10 @@ class ClosedForms:
         ...  for m in (arc, fast) for sign in (1, -1)]
         [1.047198, -1.047198, 1.047198, -1.047198]
         """
-        blocks = self._block_of()
+        blocks = self._block_of(every=True)
         name = getattr(unknown, "name", unknown)
         if not isinstance(name, str) or name not in blocks:
-            raise InvalidArgumentError(f"unknown must name an unknown of a closed-form block with two "
+            raise InvalidArgumentError(f"unknown must name an unknown of a block with two "
                                        f"assemblies ({sorted(blocks) or 'none here'}); "
                                        f"got unknown={unknown!r}")
         if not callable(kernel):
@@ -153,31 +167,58 @@ class ClosedForms:
         """
         return list(self._structure["forms"])
 
-    @_derived
+    @property
+    def _forms(self) -> list:
+        """Each block's closed form, a :class:`KernelBlock` where a kernel solves a block with none, else
+        None (Newton solves it)."""
+        forms = list(self._structure["forms"])
+        for k, (form, (_, columns)) in enumerate(zip(forms, self._structure["blocks"], strict=True)):
+            if form is None and self.unknowns[columns[0]].name in self._kernels:
+                forms[k] = KernelBlock(tuple(self.unknowns[j] for j in columns))
+        return forms
+
+    @property
     def _closed_fns(self) -> list | None:
         """Per block, the compiled (a, b, c), second-unknown and det J_b functions (J_b: the block's rows
-        and unknowns of J, as declared; σ = −sign(det J_b)); None unless every block reduces."""
-        forms = self._structure["forms"]
+        and unknowns of J, as declared; σ = −sign(det J_b)); None unless every block reduces or has a
+        kernel (a block with a kernel and no closed form: (None, None, False, det J_b))."""
+        forms = self._forms
         if any(form is None for form in forms):
             return None
+        return self._compiled_blocks
+
+    @_derived
+    def _compiled_blocks(self) -> list:
+        """:attr:`_closed_fns` of every block, None in the place of a form where a block does not reduce."""
         compiled, J = [], self.equations.jacobian(self.unknowns)
-        for form, (rows, columns) in zip(forms, self._structure["blocks"], strict=True):
+        for form, (rows, columns) in zip(self._structure["forms"], self._structure["blocks"], strict=True):
+            orientation = self._compile([J.extract(rows, columns).det()], self.unknowns, self.inputs)
+            if form is None:
+                compiled.append((None, None, False, orientation))
+                continue
             second = None
             if form.second is not None:
                 second = self._compile(list(form.second[1:]), self.unknowns, self.inputs)
             linear = form.kind == "length" and form.quadratic[0] == 0
-            orientation = self._compile([J.extract(rows, columns).det()], self.unknowns, self.inputs)
             compiled.append((self._compile(list(form.quadratic), self.unknowns, self.inputs), second, linear,
                              orientation))
         return compiled
 
-    def _block_of(self) -> dict[str, str]:
-        """Each unknown of a closed-form block (by name) → the name that keys its block internally (the
-        block's first unknown as the half-angle route orders it)."""
-        if self._closed_fns is None:
+    def _block_of(self, every: bool = False) -> dict[str, str]:
+        """Each unknown of a block with two assemblies (by name) → the name that keys its block internally
+        (the block's first unknown as the half-angle route orders it, or as declared for a block with no
+        closed form): of the blocks ``solve`` chooses σ for (none unless every block reduces or has a
+        kernel), or, with ``every``, of every block a kernel may be registered on."""
+        if every:
+            forms = [form if form is not None else KernelBlock(tuple(self.unknowns[j] for j in columns))
+                     for form, (_, columns) in zip(self._structure["forms"], self._structure["blocks"],
+                                                   strict=True)]
+            fns = self._compiled_blocks
+        elif self._closed_fns is None:
             return {}
-        return {s.name: form.unknowns[0].name
-                for form, (_, _, linear, _) in zip(self._structure["forms"], self._closed_fns, strict=True)
+        else:
+            forms, fns = self._forms, self._closed_fns
+        return {s.name: form.unknowns[0].name for form, (_, _, linear, _) in zip(forms, fns, strict=True)
                 if not linear for s in form.unknowns}
 
     def _assembly_at(self, position: Mapping, inputs: Mapping, shape) -> dict[str, np.ndarray] | None:
@@ -189,7 +230,7 @@ class ClosedForms:
         q, u, found = self._flat(position, inputs, shape)
         out = {}
         with np.errstate(all="ignore"):
-            for form, fns in zip(self._structure["forms"], self._closed_fns, strict=True):
+            for form, fns in zip(self._forms, self._closed_fns, strict=True):
                 if fns[2]:  # a linear block: one solution, no σ
                     continue
                 det = fns[3](self._values, q, u)[0]
@@ -317,7 +358,7 @@ class ClosedForms:
         said, notes = notes, []  # the notes of this sweep, said unless a denser one replaces it
         following = False  # some block's σ follows the motion (a change point may swap it)
         for index, (form, (coefficients, second, linear, orientation)) in enumerate(zip(
-                structure["forms"], self._closed_fns, strict=True)):
+                self._forms, self._closed_fns, strict=True)):
             first = self.unknowns.index(form.unknowns[0])
             kernel = self._kernels.get(form.unknowns[0].name)
             level_at = self._level_at(index, sigmas, tol, max_iter)
@@ -473,7 +514,7 @@ class ClosedForms:
         """(points (K, m), left (K,)) → the level of block ``index`` at the inputs ``points``, the blocks
         before it on the assemblies they have at the instants ``left``."""
         earlier = dict(sigmas)
-        name = self._structure["forms"][index].unknowns[0].name
+        name = self._forms[index].unknowns[0].name
 
         def level_at(points, left):
             chosen = {key: np.asarray(value)[left] for key, value in earlier.items()} | {name: 1}

@@ -252,7 +252,7 @@ class Solving:
         """Whether :meth:`_swept` solves this sweep: every block a registered kernel, σ named for each by
         ``assembly=`` (no change point to follow), no guess, and the instants in order (one input
         increasing from the first, or several inputs, which have no order of neighbours)."""
-        blocks = self._structure["forms"]
+        blocks = self._forms
         return (seed is None and len(self._kernels) == len(blocks) and len(chosen) == len(blocks)
                 and (u.shape[1] > 1 or len(paths) == 1 and len(paths[0]) == len(u)
                      and bool((np.diff(paths[0]) == 1).all())))
@@ -272,11 +272,11 @@ class Solving:
         for start in range(0, N, _SWEPT):
             part = slice(start, start + _SWEPT)
             q_part, u_part = q[part], u[part]
-            if len(self._structure["forms"]) > 1:  # a later block's unknowns NaN while an earlier's solve
+            if len(self._forms) > 1:  # a later block's unknowns NaN while an earlier's solve
                 q_part[:] = np.nan
             at = {name: value if np.ndim(value) == 0 else value[part] for name, value in chosen.items()}
             known = {}  # the cos and sin the kernels give
-            for form in self._structure["forms"]:
+            for form in self._forms:
                 first = self.unknowns.index(form.unknowns[0])
                 name = form.unknowns[0].name
                 in_order = [np.arange(len(u_part))]

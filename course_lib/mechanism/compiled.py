@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
+from sympy.printing.numpy import NumPyPrinter
+from sympy.printing.precedence import PRECEDENCE
 
 from ..errors import (
     InvalidGeometryError,
@@ -53,12 +55,26 @@ def _rows(*arrays) -> tuple[tuple, list[np.ndarray]]:
     return shape, [_broadcast(a, shape + a.shape[-1:]).reshape(-1, a.shape[-1]) for a in arrays]
 
 
+class _ReciprocalPrinter(NumPyPrinter):
+    """numpy code with a negative whole power written as a reciprocal of a product, 1/(x*x) for x**-2:
+    numpy's general power is some fifty times slower than a multiplication."""
+
+    def _print_Pow(self, expr, rational=False):
+        exponent = expr.exp
+        if exponent.is_Integer and -4 <= exponent < 0:
+            base = self.parenthesize(expr.base, PRECEDENCE["Mul"])
+            return "1/(" + "*".join([base] * -int(exponent)) + ")"
+        return super()._print_Pow(expr, rational=rational)
+
+
 class Compiled:
     """The declaration's functions, derived once and compiled: F, J, F_u, the rates' right-hand sides."""
 
-    def _compile(self, expressions, *groups, keep: int | None = None) -> Callable[..., np.ndarray]:
+    def _compile(self, expressions, *groups, keep: int | None = None,
+                 reciprocals: bool = False) -> Callable[..., np.ndarray]:
         """f(values, *arrays, known=None, same_point=False, seen=None): array k (..., len(groups[k])) →
-        (len(expressions), ...); with ``keep``, the first ``keep`` only, with the bits of the whole.
+        (len(expressions), ...); with ``keep``, the first ``keep`` only, with the bits of the whole;
+        ``reciprocals``: x**(−k) computed as 1/(x·…·x), not by numpy's slow general power.
 
         cos and sin of unknowns and inputs are arguments, computed once per call or taken from ``known``
         ({(name, "cos"): array}, where inputs' are kept, and unknowns' with ``same_point``); ``seen``
@@ -88,7 +104,8 @@ class Compiled:
                 return used[::-1], reduced
 
         arguments = [*symbols, *(placeholders[getattr(sp, func)(s)] for func, s in trig), *self.parameters]
-        function = sp.lambdify(arguments, replaced[:len(expressions)], "numpy", cse=cse)
+        function = sp.lambdify(arguments, replaced[:len(expressions)], "numpy", cse=cse,
+                               printer=_ReciprocalPrinter if reciprocals else None)
         inputs = {s.name for s in self.inputs}
         where = [(k, j) for k, group in enumerate(groups) for j in range(len(group))]
         angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
@@ -157,6 +174,39 @@ class Compiled:
         q, u = self.unknowns, self.inputs
         rest = -self.acceleration_equations.xreplace({s: 0 for s in self._rates_of(q, 2)})
         return self._compile(rest, q, self._rates_of(q, 1), u, self._rates_of(u, 1), self._rates_of(u, 2))
+
+    @_derived
+    def _fused_rate_fn(self):
+        """(q, u, u̇, ü) → J, q̇ and q̈ side by side, q̇ and q̈ by Cramer's rule block by block (the blocks
+        solved in turn, each block's right-hand side with the earlier blocks' rates in it), sharing their
+        subexpressions: one pass over the values where every block has one or two unknowns (None
+        elsewhere, where the rates take :meth:`Rates._rates`'s linear solves)."""
+        blocks = self._structure["blocks"]
+        if any(len(columns) > 2 for _, columns in blocks):
+            return None
+        q, u = self.unknowns, self.inputs
+        q_rate, u_rate, u_acc = self._rates_of(q, 1), self._rates_of(u, 1), self._rates_of(u, 2)
+        J, F_u = self.equations.jacobian(q), self.equations.jacobian(u)
+        rest = -self.acceleration_equations.xreplace({s: 0 for s in self._rates_of(q, 2)})
+        velocity = -(F_u * sp.Matrix(u_rate))
+
+        def cramer(rhs):  # the unknowns' values from J·x = rhs, block by block, earlier blocks substituted
+            x = [None] * len(q)
+            for rows, columns in blocks:
+                b = [rhs[r] - sum((J[r, c] * x[c] for c in range(len(q)) if x[c] is not None), sp.S.Zero)
+                     for r in rows]
+                block = J.extract(rows, columns)
+                if len(columns) == 1:
+                    x[columns[0]] = b[0] / block[0, 0]
+                    continue
+                det = block[0, 0] * block[1, 1] - block[0, 1] * block[1, 0]
+                x[columns[0]] = (block[1, 1] * b[0] - block[0, 1] * b[1]) / det
+                x[columns[1]] = (block[0, 0] * b[1] - block[1, 0] * b[0]) / det
+            return x
+
+        rates = cramer(velocity)
+        accelerations = cramer(rest.xreplace(dict(zip(q_rate, rates, strict=True))))
+        return self._compile([*J, *rates, *accelerations], q, u, u_rate, u_acc, reciprocals=True)
 
     @_derived
     def _system_fn(self):

@@ -15,7 +15,7 @@ from ..errors import (
 from ..newton import (
     LinearStack,
 )
-from .compiled import _rows
+from .compiled import _matrix, _rows
 from .declaration import _broadcast
 from .singular import SINGULAR
 
@@ -32,6 +32,18 @@ class Rates:
         if ((sizes >= 1e-50) & (sizes <= 1e50)).all():
             return J, None
         return J / rows[:, None] / columns[None, :], (rows, columns)
+
+    def _fused(self, q, u, u_rate, u_acc, known=None):
+        """J (N, n, n), q̇ and q̈ (N, n) in one pass (:attr:`_fused_rate_fn`: Cramer's rule per block, as
+        :meth:`_rates` solves blocks of one or two unknowns), or None where that pass does not apply (a
+        block of three or more unknowns, or lengths so extreme that :meth:`_unit_rows` scales J); NaN and
+        inf where J is singular, which the caller masks."""
+        fused = self._fused_rate_fn
+        if fused is None or self._unit_rows(np.eye(len(self.unknowns)))[1] is not None:
+            return None
+        n = len(self.unknowns)
+        terms = fused(self._values, q, u, u_rate, u_acc, known=known, same_point=True)
+        return _matrix(terms, 0, n, n), terms[n * n:n * n + n].T, terms[n * n + n:].T
 
     def _block_stacks(self, J: np.ndarray) -> list:
         """Per block of a stack J (N, n, n): its rows, columns, the columns solved before it, its diagonal

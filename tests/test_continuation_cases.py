@@ -5,7 +5,7 @@ intersections computed in the test (and against each instant solved alone).
   change points where they are;
 - a seven-bar of two inputs (crank θ1, slider s) on a grid or in random order keeps the assembly of its
   first instant, as each instant solved alone on it does — on the closed-form and on the Newton route;
-- a near miss (the output dyad comes within 0.0022 of its limit and parts) is not a change point;
+- a near miss (the output dyad comes within 0.0022, 0.0001 or 0.00001 of its limit and parts) is not a change point;
 - one instant exactly at a limit gets the verdict the same instant gets at the end of a sweep.
 """
 
@@ -206,8 +206,7 @@ def near_miss_pivot(gap, theta_star=NEAR_MISS_AT, slide=1.10):
 
 
 NEAR_MISSES = [(gap, route, inputs) for gap in (0.5022, 0.5001, 0.50001) for route in ("closed", "newton")
-               for inputs in ("theta1", "theta1 and s")
-               if gap == 0.5022 or route == "closed" or inputs != "theta1"]  # Newton along one input: 0.5022
+               for inputs in ("theta1", "theta1 and s")]
 
 
 @pytest.mark.parametrize("step", [5, 10])

@@ -20,6 +20,11 @@ MAX_CHANGE = 0.1
 #: A corrector step moves no unknown by more than this (radians, or typical lengths).
 MAX_STEP = 0.5
 
+#: A step over which the orientation of J changes is taken again in halves, down to this many halvings:
+#: where the halves keep the orientation, the step had reached the other assembly where the two come near
+#: (a near miss of a limit, not a change point); where they change it too, a change point was crossed.
+FLIP_DEPTH = 8
+
 #: Predictor–corrector steps one instant may take before it is given up as not reached: an unknown that
 #: grows without bound (x = 1/s followed towards s = 0) would otherwise be followed MAX_CHANGE at a time.
 MAX_STEPS = 1000
@@ -59,6 +64,14 @@ class Continuation:
             gaps.append(np.abs(gap) * scale[j])
         return np.max(gaps, axis=0)
 
+    def _orientation(self, q, u) -> float:
+        """The sign of det J̃ at one instant (J scaled by the typical sizes), 0 where J is singular there: the
+        two assemblies of a block have opposite signs, so a change of sign along a motion is a change point
+        crossed, or a step that reached the other assembly."""
+        rows, columns = self._scales
+        det = np.linalg.det(self._J(q, u) / rows[:, None] / columns[None, :])
+        return 0.0 if not abs(det) > SINGULAR else float(np.sign(det))
+
     def _correct(self, q, u, tol, max_iter) -> tuple[np.ndarray, bool, int]:
         """Newton from ``q`` at one instant, steps by the least-squares solve of the scaled J (the smallest
         singular values dropped: no huge step near a singularity) and no larger than MAX_STEP."""
@@ -89,17 +102,21 @@ class Continuation:
             return q, True, max_iter
         return q, False, max_iter
 
-    def _advance(self, q, u_from, u_to, tol, max_iter, smallest: float = 1e-13
+    def _advance(self, q, u_from, u_to, tol, max_iter, smallest: float = 1e-13, depth: int = 0
                  ) -> tuple[np.ndarray | None, int]:
         """The solution at ``u_to`` continued from ``q`` at ``u_from``: tangent predictor, Newton corrector,
-        the step halved until the corrector lands near the prediction (no other assembly); None once the
-        step would be below ``smallest`` (a fraction of the whole) or after MAX_STEPS steps."""
+        the step halved until the corrector lands near the prediction (no other assembly); a step over which
+        J's orientation changes is followed again in halves (``depth``: how many times already, up to
+        FLIP_DEPTH), whose end is kept, on the same orientation (a near miss) or not (a change point
+        crossed); None once the step would be below ``smallest`` (a fraction of the whole) or after
+        MAX_STEPS steps."""
         step_u = u_to - u_from
         if not step_u.any():
             return q.copy(), 0
         columns = self._scales[1]
         angles = [j for j, s in enumerate(self.unknowns) if s in self._structure["angles"]]
-        done, h, count, steps = 0.0, 1.0, 0, 0
+        done, h, count, steps = 0.0, 0.5 if depth else 1.0, 0, 0
+        sign = self._orientation(q, u_from)
         while done < 1.0:
             h, steps = min(h, 1.0 - done), steps + 1
             if h < smallest or steps > MAX_STEPS:
@@ -117,14 +134,25 @@ class Continuation:
                     continue
             else:
                 change = MAX_CHANGE
-            found, fixed, used = self._correct(prediction, u_from + (done + h) * step_u, tol, max_iter)
+            there = u_from + (done + h) * step_u
+            found, fixed, used = self._correct(prediction, there, tol, max_iter)
             count += used
             if fixed:
                 found[angles] = _unwrap_to(found[angles], prediction[angles])
-                if float(np.max(np.abs(found - prediction) * columns)) <= max(0.5 * change, 1e-6):
+                now = self._orientation(found, there)
+                close = float(np.max(np.abs(found - prediction) * columns)) <= max(0.5 * change, 1e-6)
+                if close and sign and now and now != sign and depth < FLIP_DEPTH:
+                    # the other assembly where the two come near, or a change point crossed: in halves
+                    halves, used = self._advance(q, here, there, tol, max_iter, smallest, depth + 1)
+                    count += used
+                    if halves is not None:
+                        halves[angles] = _unwrap_to(halves[angles], found[angles])
+                        found, now = halves, self._orientation(halves, there)
+                if close:
                     # a step ending within rounding of the end ends it (else a last step of one ulp is
                     # refused as too small, and the instant lost)
                     q, done, h = found, (1.0 if done + h >= 1.0 - 1e-12 else done + h), min(2 * h, 1.0)
+                    sign = now or sign
                     continue
             h *= 0.5
         return q, count
@@ -136,11 +164,9 @@ class Continuation:
         if start is None:
             return q, iterations
         q[0] = start
-        rows, columns = self._scales
 
         def orientation(k):
-            det = np.linalg.det(self._J(q[k], u[k]) / rows[:, None] / columns[None, :])
-            return 0.0 if not abs(det) > SINGULAR else np.sign(det)
+            return self._orientation(q[k], u[k])
 
         if u.shape[1] > 1 and N > 2:  # several inputs: each instant continued from a near neighbour
             self._spread(q, iterations, u, tol, max_iter, notes, orientation)

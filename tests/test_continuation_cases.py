@@ -5,7 +5,8 @@ intersections computed in the test (and against each instant solved alone).
   change points where they are;
 - a seven-bar of two inputs (crank θ1, slider s) on a grid or in random order keeps the assembly of its
   first instant, as each instant solved alone on it does — on the closed-form and on the Newton route;
-- a near miss (the output dyad comes within 0.0022, 0.0001 or 0.00001 of its limit and parts) is not a change point;
+- a near miss (the output dyad comes within 0.0022, 0.0001 or 0.00001 of its limit and parts) is not a
+  change point;
 - one instant exactly at a limit gets the verdict the same instant gets at the end of a sweep.
 """
 

@@ -166,6 +166,17 @@ def test_the_whole_course_is_one_pdf_linked_from_the_landing_page(site):
         assert title.split("·")[-1].strip()[:20] in single, path.name
 
 
+def test_the_landing_pages_browser_title_names_the_collection_once(site):
+    title = yaml.safe_load(build_site.SITE_CONFIG.read_text(encoding="utf-8"))["title"]
+    shown = re.search(r"<title>(.*?)</title>", (site / "index.html").read_text(encoding="utf-8")).group(1)
+    assert html.unescape(shown) == title  # not "title — title"
+    lesson = (site / f"{ANIMATION_PAGE}.html").read_text(encoding="utf-8")
+    assert html.unescape(re.search(r"<title>(.*?)</title>", lesson).group(1)).endswith(f" — {title}")
+    for page in ("index.html", f"{ANIMATION_PAGE}.html"):  # the navigation bar keeps the collection's title
+        shown = (site / page).read_text(encoding="utf-8")
+        assert f'<p class="title logo__title">{html.escape(title)}</p>' in shown
+
+
 PLACEHOLDERS = re.compile(r"OWNER/|example\.(?:org|com)|the repository's address|mybinder|colab\.research|"
                           r"git-pull|github\.com|gitlab\.com", re.I)
 

@@ -97,13 +97,16 @@ $(PYTHON_STAMP): FORCE
 
 FORCE:
 
-# JupyterLab's settings for this project (no news pop-up): tools/lab-settings/overrides.json. `make lab` is the
+# JupyterLab's settings for this project (no news pop-up): tools/lab-settings/overrides.json; the server's (kernels
+# with encrypted sockets, so none prints ipykernel's "running over TCP without encryption"):
+# tools/lab-settings/jupyter_server_config.py. `make lab` is the
 # students' route: the file browser lists the lessons and the exercise copies, not notebooks/solutions/ (Jupyter
 # server's default hidden names plus "solutions"); `make lab-instructor` lists everything.
 LAB_HIDDEN := "__pycache__", "*.pyc", "*.pyo", ".DS_Store", "*~", "*.so", "*.dylib"
 LAB_START = mkdir -p $(VENV)/share/jupyter/lab/settings && \
 	cp tools/lab-settings/overrides.json $(VENV)/share/jupyter/lab/settings/overrides.json && \
-	$(BIN)/jupyter lab $(LAB_ROOT) --ServerApp.root_dir=notebooks --LabApp.default_url=/lab/tree/00_start_here.ipynb
+	$(BIN)/jupyter lab $(LAB_ROOT) --config=tools/lab-settings/jupyter_server_config.py \
+	--ServerApp.root_dir=notebooks --LabApp.default_url=/lab/tree/00_start_here.ipynb
 
 lab: $(STUDENT_STAMP)
 	$(LAB_START) --ContentsManager.hide_globs='[$(LAB_HIDDEN), "solutions"]' $(LAB_ARGS)

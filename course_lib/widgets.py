@@ -41,6 +41,8 @@ __all__ = ["Explorer", "ExplorerSpec", "ExplorerStage", "Readout", "build_explor
            "saw_explorer", "fivebar_explorer", "mechanism_explorer", "explore"]
 
 _STYLE = {"description_width": "120px"}  # shared by every slider and toggle, so the columns line up
+_COLUMN_PX = 360  # the controls' column, left of the picture
+_WIDE = "course-explorer-wide"  # a slider laid out over the explorer's whole width (the angles)
 _ERROR_COLOR = "#b00020"
 
 
@@ -103,14 +105,21 @@ class Explorer:
         self._base = self._background = self._base_limits = self._background_visible = None
         self._palette = self._drawn_geometry = None
         self._holding = False
-        width = {"width": f"{self.figure.bbox.width:.0f}px"}
-        self.image = widgets.Image(format="png", layout=width).add_class("course-explorer-image")
-        self.readout = widgets.HTML(layout=width).add_class("course-explorer-readout")
+        width = self.figure.bbox.width
+        self.image = widgets.Image(format="png", layout={"width": f"{width:.0f}px"}).add_class(
+            "course-explorer-image")
+        self.readout = widgets.HTML(layout={"width": f"{width:.0f}px"}).add_class("course-explorer-readout")
         for control in self.controls.values():
             control.observe(self._on_change, names="value")
-        column = widgets.VBox([*self.controls.values(), *self.extra], layout={"width": "360px"})
+        # the angle sliders span the explorer (or the output, where narrower), above the picture, whose
+        # readout changes height with the state, so nothing above them moves: a turn in over 360 pixels
+        wide = [control for control in self.controls.values() if _WIDE in control._dom_classes]
+        for control in wide:
+            control.layout.width, control.layout.max_width = "100%", f"{_COLUMN_PX + width:.0f}px"
+        column = widgets.VBox([control for control in self.controls.values() if control not in wide]
+                              + list(self.extra), layout={"width": f"{_COLUMN_PX}px"})
         view = widgets.VBox([self.image, self.readout])
-        self.widget = widgets.HBox([column, view]).add_class("course-explorer")
+        self.widget = widgets.VBox([*wide, widgets.HBox([column, view])]).add_class("course-explorer")
         self.refresh()
 
     state = property(lambda self: {key: control.value for key, control in self.controls.items()},
@@ -365,10 +374,16 @@ def _metres(name: str, value, description: str, low: float, high: float):
     return _slider(description, _number_argument(name, value, "m", low, high), low, high, 0.005)
 
 
-def _degrees(name: str, value, description: str, step: float = 1.0):
-    """A slider in degrees over [−180°, 180°] set to the builder angle ``name`` (radians, wrapped)."""
-    degrees = _wrap_degrees(math.degrees(_number_argument(name, value, "an angle in radians")))
-    return _slider(description, degrees, -180.0, 180.0, step, ".0f")
+def _angle_slider(description: str, degrees: float):
+    """A slider in degrees over [−180°, 180°], in steps of 0.1° (readout, arrow keys), over the explorer's
+    whole width."""
+    return _slider(description, degrees, -180.0, 180.0, 0.1, ".1f").add_class(_WIDE)
+
+
+def _degrees(name: str, value, description: str):
+    """An angle slider set to the builder angle ``name`` (radians, wrapped)."""
+    return _angle_slider(description, _wrap_degrees(math.degrees(_number_argument(name, value,
+                                                                                  "an angle in radians"))))
 
 
 def _toggle(description: str, options, name: str, value):
@@ -379,7 +394,8 @@ def _toggle(description: str, options, name: str, value):
     if chosen is _REFUSED:
         listed = ", ".join(repr(option) for option in values)
         raise InvalidGeometryError(f"{name} must be one of {listed}; got {value!r}")
-    width = max(90, 7 * max(len(label) for label in labels) + 24)  # wide enough for the longest label
+    # wide enough for the longest label: up to 8 px a character (13 px font) and the button's padding
+    width = max(90, 8 * max(len(label) for label in labels) + 32)
     return widgets.ToggleButtons(options=options, value=chosen, description=description,
                                  style={**_STYLE, "button_width": f"{width}px"})
 
@@ -463,7 +479,7 @@ def fourbar_explorer(
     p = _metres("p", 0.5 * controls["coupler"].value if p is None else p, "point P: p (m)", 0.0, 0.40)
     branch = _toggle("branch", BRANCHES, "branch", branch)
     controls.update(theta2_deg=_degrees("theta2", theta2, "θ2 (°)"), branch=branch, p=p,
-                    delta_deg=_degrees("delta", delta, "point P: δ (°)", 5.0))
+                    delta_deg=_degrees("delta", delta, "point P: δ (°)"))
 
     def panels(figure):  # the linkage with its coupler curve; μ(θ2) with its 40° line
         grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,
@@ -923,9 +939,9 @@ def mechanism_explorer(
         at = sweep[converged[0]]
         first = _wrap_degrees(math.degrees(at)) if angle else float(at)
         low, high = (-180.0, 180.0) if angle else (float(sweep.min()), float(sweep.max()))
-        step = 1.0 if angle else (high - low) / 200 or 1.0
         label = f"{name.replace('theta', 'θ')} ({'°' if angle else 'm'})"
-        controls[key] = _slider(label, first, low, high, step, ".0f" if angle else ".4f")
+        controls[key] = (_angle_slider(label, first) if angle else
+                         _slider(label, first, low, high, (high - low) / 200 or 1.0, ".4f"))
         sweeps[name], keys[name] = sweep[converged], key
         spans[name] = 2 * np.pi if angle else (high - low) or 1.0
 

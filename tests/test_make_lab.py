@@ -6,10 +6,12 @@ import json
 import os
 import pathlib
 import re
+import shlex
 import shutil
 import signal
 import socket
 import subprocess
+import sys
 import time
 import urllib.request
 
@@ -70,6 +72,72 @@ def test_make_lab_serves_the_lessons(target):
     finally:
         os.killpg(server.pid, signal.SIGTERM)
         server.wait(timeout=30)
+
+
+def _run_in_kernel(port: int, token: str, kernel: str, code: str) -> str:
+    """What ``code`` prints, run in the server's kernel through its websocket (as JupyterLab does)."""
+    import asyncio
+    import uuid
+
+    from tornado.httpclient import HTTPRequest
+    from tornado.websocket import websocket_connect
+
+    async def run() -> str:
+        socket_ = await websocket_connect(HTTPRequest(f"ws://127.0.0.1:{port}/api/kernels/{kernel}/channels",
+                                                      headers={"Authorization": f"token {token}"}))
+        header = {"msg_id": uuid.uuid4().hex, "msg_type": "execute_request", "username": "",
+                  "session": uuid.uuid4().hex, "version": "5.3", "date": ""}
+        socket_.write_message(json.dumps({"header": header, "parent_header": {}, "metadata": {},
+                                          "buffers": [], "channel": "shell",
+                                          "content": {"code": code, "silent": False}}))
+        while True:
+            message = json.loads(await asyncio.wait_for(socket_.read_message(), 60))
+            if message["msg_type"] == "stream" and message["parent_header"].get("msg_id") == header["msg_id"]:
+                socket_.close()
+                return message["content"]["text"]
+
+    return asyncio.run(run())
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
+def test_make_labs_kernels_run_with_encrypted_sockets_and_print_no_tcp_warning(tmp_path):
+    """The server `make lab` starts (its command line as `make -n` plans it, run with this Python's
+    JupyterLab): a kernel runs code, and the server's log holds no "running over TCP without encryption"."""
+    planned = subprocess.run(["make", "-n", "--no-print-directory", "lab", f"VENV={tmp_path / 'venv'}"],
+                             cwd=ROOT, capture_output=True, text=True, check=True).stdout
+    command = shlex.split(planned.splitlines()[-1].split("&& ")[-1])
+    assert command[:2] == [str(tmp_path / "venv" / "bin" / "jupyter"), "lab"]
+    assert "--config=tools/lab-settings/jupyter_server_config.py" in command
+    port, token = free_port(), "course-test-token"
+    env = {**os.environ, **{name: str(tmp_path / name.lower()) for name in
+                            ("JUPYTER_CONFIG_DIR", "JUPYTER_DATA_DIR", "JUPYTER_RUNTIME_DIR", "IPYTHONDIR")}}
+    log = tmp_path / "server.log"
+    with open(log, "wb") as output:
+        server = subprocess.Popen(
+            [sys.executable, "-m", "jupyterlab", *command[2:], "--no-browser", "--ServerApp.ip=127.0.0.1",
+             f"--ServerApp.port={port}", f"--IdentityProvider.token={token}"],
+            cwd=ROOT, env=env, stdout=output, stderr=subprocess.STDOUT, start_new_session=True)
+    authorized = {"Authorization": f"token {token}"}
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and server.poll() is None:
+            try:
+                urllib.request.urlopen(urllib.request.Request(f"http://127.0.0.1:{port}/api/status",
+                                                              headers=authorized), timeout=2).close()
+                break
+            except OSError:
+                time.sleep(0.5)
+        request = urllib.request.Request(f"http://127.0.0.1:{port}/api/kernels", data=b"{}", method="POST",
+                                         headers=authorized)
+        with urllib.request.urlopen(request, timeout=60) as response:
+            kernel = json.load(response)["id"]
+        assert _run_in_kernel(port, token, kernel, "print(6 * 7)") == "42\n"
+    finally:
+        os.killpg(server.pid, signal.SIGTERM)
+        server.wait(timeout=30)
+    text = log.read_text(encoding="utf-8", errors="replace")
+    assert "Kernel started" in text  # the log is the server's and its kernel's
+    assert "without encryption" not in text, text[-2000:]
 
 
 @pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")

@@ -39,6 +39,9 @@ def test_citation_is_complete_and_matches_the_project():
     assert re.fullmatch(r"\d{4}-\d\d-\d\d", str(CITATION["date-released"]))
     assert CITATION["license"] == ["BSD-3-Clause", "CC-BY-4.0"]
     assert all(author.get("name") or author.get("family-names") for author in CITATION["authors"])
+    for author in CITATION["authors"]:  # a person, or an entity with a name of its own: no placeholder
+        name = author.get("name", "")
+        assert not re.match(r"(?i)(the )?(authors?|todo|tbd|name|placeholder)\b", name), author
 
 
 def test_the_changelog_opens_with_this_version():

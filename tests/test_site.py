@@ -18,6 +18,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import tomllib
 import urllib.parse
 
 import nbformat
@@ -164,6 +165,37 @@ def test_the_whole_course_is_one_pdf_linked_from_the_landing_page(site):
         title = next(build_site._heading(cell.source) for cell in cells
                      if cell.cell_type == "markdown" and build_site._heading(cell.source))
         assert title.split("·")[-1].strip()[:20] in single, path.name
+
+
+def test_the_version_shows_on_the_landing_page_under_every_page_and_on_the_pdfs_first_page(site):
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]["version"]
+    import course_lib
+
+    assert course_lib.__version__ == version  # one version (tests/test_release.py), read, never typed here
+    index = (site / "index.html").read_text(encoding="utf-8")
+    article = index[index.index("<article"): index.index("</article>")]
+    assert f"Version {version}" in article
+    for path in [site / "index.html", *(site / f"{_page(path)}.html" for path in build_site.page_paths())]:
+        page = path.read_text(encoding="utf-8")
+        foot = page[page.index('<footer class="bd-footer-content'):]  # the footer under the text
+        assert f'<p class="course-version">Version {version}.</p>' in foot, f"{path.name}: no version"
+    if build_site.can_print():  # the PDF is printed from the single page: its first page, the printed title
+        single = (build_site.SINGLE / "index.html").read_text(encoding="utf-8")
+        cover = single[single.index('<div id="jb-print-docs-body"'):
+                       single.index('<div id="print-main-content"')]
+        assert re.search(r"<h1>Mechanism Kinematics, step by step<br><span class=\"course-version\">"
+                         rf"Version {re.escape(version)}</span></h1>", cover), cover
+
+
+def test_the_landing_pages_browser_title_names_the_collection_once(site):
+    title = yaml.safe_load(build_site.SITE_CONFIG.read_text(encoding="utf-8"))["title"]
+    shown = re.search(r"<title>(.*?)</title>", (site / "index.html").read_text(encoding="utf-8")).group(1)
+    assert html.unescape(shown) == title  # not "title — title"
+    lesson = (site / f"{ANIMATION_PAGE}.html").read_text(encoding="utf-8")
+    assert html.unescape(re.search(r"<title>(.*?)</title>", lesson).group(1)).endswith(f" — {title}")
+    for page in ("index.html", f"{ANIMATION_PAGE}.html"):  # the navigation bar keeps the collection's title
+        shown = (site / page).read_text(encoding="utf-8")
+        assert f'<p class="title logo__title">{html.escape(title)}</p>' in shown
 
 
 PLACEHOLDERS = re.compile(r"OWNER/|example\.(?:org|com)|the repository's address|mybinder|colab\.research|"

@@ -704,3 +704,30 @@ def test_a_specification_on_the_builder_gets_statuses_failure_text_and_stills():
 def test_the_builder_refuses_a_bad_linkage_by_name():
     with pytest.raises(CourseLibError, match="styles"):
         build_explorer(_crank_spec(linkage={"links": {"crank": ("O", "A")}, "styles": {"rod": {}}}))
+
+
+def _turned_fourbar():
+    linkage = FourBar(0.06, 0.18, 0.12, 0.20)
+    return mechanism_explorer(linkage, linkage.motion(np.radians(np.arange(-180.0, 180.0, 10.0))))
+
+
+@pytest.mark.parametrize("build, angles", [
+    (fourbar_explorer, ["theta2_deg", "delta_deg"]), (fivebar_explorer, ["theta1_deg", "theta4_deg"]),
+    (_turned_fourbar, ["theta2_deg"]), (saw_explorer, []),
+], ids=["four-bar", "five-bar", "explore", "saw"])
+def test_angle_sliders_step_a_tenth_of_a_degree_across_the_explorer(build, angles):
+    # a class found θ2 moving 3° a pixel in a 340 px slider: the angles now span the explorer, above it
+    explorer = build()
+    degrees = [key for key, control in explorer.controls.items() if control.description.endswith("(°)")]
+    assert degrees == angles
+    top, (column, _view) = explorer.widget.children[:-1], explorer.widget.children[-1].children
+    assert list(top) == [explorer.controls[key] for key in angles]
+    assert not set(top) & set(column.children)
+    span = float(column.layout.width.removesuffix("px")) + explorer.figure.bbox.width
+    for key in angles:
+        slider = explorer.controls[key]
+        assert (slider.min, slider.max, slider.step, slider.readout_format) == (-180.0, 180.0, 0.1, ".1f")
+        assert slider.layout.width == "100%" and slider.layout.max_width == f"{span:.0f}px"
+        assert span - 120 - 80 > 360  # less the label and the readout, a turn over more than 360 px
+    if angles == ["theta2_deg", "delta_deg"]:
+        assert explorer.update(theta2_deg=60.5).lines[0].startswith("θ2 = 60.5°")

@@ -4,8 +4,9 @@ Usage: python tools/build_site.py            (= make site)
 
 Steps:
 
-1. **Stage** ``_build/source/``: ``site/_config.yml``; a landing page ``index.md`` that is the
-   README's lesson map (its introduction and its *Lessons* section, exercises included); a
+1. **Stage** ``_build/source/``: ``site/_config.yml`` (every page's footer names the version,
+   ``[project] version`` of pyproject.toml); a landing page ``index.md`` that is the README's lesson
+   map (its title, the version, its introduction and its *Lessons* section, exercises included); a
    ``_toc.yml`` listing every lesson (``notebooks/NN_*.ipynb``) and every student exercise copy
    (``notebooks/exercises/exNN_*.ipynb``; never the solutions); and a display copy of each notebook.
    The display copy differs from the committed file only where a page would otherwise load from
@@ -22,7 +23,8 @@ Steps:
 4. **Check** that no page, stylesheet or script tag of the site loads anything from outside it.
 5. **Print the whole course** as one PDF, ``_build/html/course.pdf``: Jupyter Book's single-page build
    of the same staged tree (``_build/singlehtml``), typeset and printed by Debian's chromium through
-   playwright, served from 127.0.0.1 with every other request refused.  Without /usr/bin/chromium
+   playwright, served from 127.0.0.1 with every other request refused; its first page opens with the
+   title and the version, and every page's foot names both.  Without /usr/bin/chromium
    (or with ``COURSE_SITE_PDF=off``) the PDF and the landing page's link to it are left out, with a warning.
 
 Each page also offers its notebook as a percent-format Python script (``_sources/…/name.py``, cells
@@ -51,6 +53,7 @@ import subprocess
 import sys
 import threading
 import time
+import tomllib
 import urllib.parse
 from html import escape as escape_html  # (display_copy has a variable named html)
 
@@ -72,6 +75,9 @@ OVERFLOW = HTML / "course-pdf-overflow.json"  # what prints wider than the PDF's
 CHROMIUM = pathlib.Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
+# the collection's version, one place: pyproject.toml's [project] version (= course_lib.__version__,
+# tests/test_release.py); the landing page, every page's footer and the PDF's pages show it
+VERSION = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]["version"]
 # a figure whose text/plain is only matplotlib's repr says nothing about it
 GENERIC_FIGURE = re.compile(r"^<Figure size [^>]*>$")
 
@@ -116,7 +122,7 @@ def _anchor(url: str, text: str) -> str:
 
 
 def landing_page(readme: str, url: str | None = None, pdf: bool = False) -> str:
-    """The site's index page: the README's title, its first paragraph and its *Lessons* section.
+    """The site's index page: the README's title, the version, its first paragraph and its *Lessons* section.
 
     The README's links (``notebooks/….ipynb``) are kept as they are: the staged tree has the same
     layout, so they become links to the pages.  ``url`` (the repository's address) adds a line of
@@ -157,7 +163,7 @@ def landing_page(readme: str, url: str | None = None, pdf: bool = False) -> str:
         "of `environment.txt` (see *Start here*); where `course_lib` is missing, as on Colab, a lesson's "
         "first cell says so."
     )
-    parts = [title, paragraphs[0], how_to]
+    parts = [title, f"*Version {VERSION}*", paragraphs[0], how_to]
     if pdf:
         parts.append("The whole course, every lesson and exercise set, is also one PDF: "
                      f'<a href="{PDF.name}" class="course-pdf">{PDF.name}</a>.')
@@ -195,6 +201,9 @@ def site_config(url: str | None, hub: str | None = None) -> str:
     """
     config = yaml.safe_load(SITE_CONFIG.read_text(encoding="utf-8"))
     options = config["sphinx"]["config"].setdefault("html_theme_options", {})
+    config["sphinx"]["config"]["release"] = VERSION  # the print title's version (site/_ext)
+    config["html"]["extra_footer"] = (f'<p class="course-version">Version {escape_html(VERSION)}.</p>'
+                                      + config["html"].get("extra_footer", ""))
     if url:
         made = repository.links(url)
         config["repository"] = {"url": made.repository, "path_to_book": "", "branch": made.branch}
@@ -391,6 +400,11 @@ def publish_committed_notebooks() -> None:
         target.with_suffix(".py").write_text(script, encoding="utf-8")
 
 
+def _title() -> str:
+    """The collection's title, as ``site/_config.yml`` gives it."""
+    return yaml.safe_load(SITE_CONFIG.read_text(encoding="utf-8"))["title"]
+
+
 def mathjax_entry() -> str:
     """The MathJax component the pages load, as ``mathjax_path`` in ``site/_config.yml`` names it."""
     config = yaml.safe_load(SITE_CONFIG.read_text(encoding="utf-8"))
@@ -501,6 +515,7 @@ def print_pdf(single: pathlib.Path = SINGLE, target: pathlib.Path = PDF) -> int:
             pdf = page.pdf(format="A4", print_background=True, display_header_footer=True,
                            header_template="<span></span>",
                            footer_template='<div style="font-size:8px;width:100%;text-align:center">'
+                                           f'{escape_html(_title())} {escape_html(VERSION)} · '
                                            '<span class="pageNumber"></span> / '
                                            '<span class="totalPages"></span></div>',
                            margin={"top": "14mm", "bottom": "16mm", "left": "12mm", "right": "12mm"})

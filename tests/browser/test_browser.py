@@ -171,14 +171,23 @@ def test_fourbar_explorer_follows_the_keyboard_in_jupyterlab():
                 assert before[1].startswith("data:image/png") or before[1].startswith("blob:")
                 slider = page.locator(".course-explorer").first.locator(".widget-slider", has_text="θ2 (°)")
                 handle = slider.locator(".noUi-handle")
+                # dragged, a pixel of the track is under 1° (a turn over more than 360 px); a key 0.1°
+                track = slider.locator(".noUi-target").bounding_box()
+                assert track["width"] > 360, f"θ2's track is {track['width']:.0f} px: over 1° per pixel"
                 handle.focus()
                 for _ in range(5):
                     handle.press("ArrowRight")
                 page.wait_for_function(
                     "() => document.querySelector('.course-explorer .course-explorer-readout')"
-                    ".innerText.includes('θ2 = 65.0°')", timeout=20_000)
+                    ".innerText.includes('θ2 = 60.5°')", timeout=20_000)
                 after = _explorer_snapshot(page)
-                assert after[0] != before[0] and "θ2 = 65.0°" in after[0]
+                assert after[0] != before[0] and "θ2 = 60.5°" in after[0]
+                assert slider.locator(".widget-readout").inner_text().strip() == "60.5"
+                # every toggle's label fits its button (none is cut to "−1 (arms do…")
+                cut = page.evaluate(
+                    "() => [...document.querySelectorAll('.course-explorer .widget-toggle-button')]"
+                    ".filter(b => b.scrollWidth > b.clientWidth).map(b => b.innerText)")
+                assert page.locator(".course-explorer .widget-toggle-button").count() >= 10 and cut == [], cut
                 assert after[1] != before[1], "the picture did not change after the slider moved"
                 assert page.locator(ERROR_OUTPUTS).count() == 0
                 assert "Traceback" not in page.locator(".jp-NotebookPanel").first.inner_text()

@@ -405,8 +405,9 @@ class FiveBar:
         return recast(motion, ForwardResult, mode=sigma if side is None else scalar_or_array(side * right))
 
     def inverse_coefficients(self, x3, y3) -> dict[str, np.ndarray]:
-        """The course's half-angle coefficients: a1·α1² + b1·α1 + c1 = 0 with α1 = tan(θ1/2), and a2, b2,
-        c2 likewise for α2 = tan(θ4/2), for the end effector (x3, y3) (m).
+        """The course's half-angle coefficients: a1·v1² + b1·v1 + c1 = 0 with v1 = tan(θ1/2), and a2, b2,
+        c2 likewise for v4 = tan(θ4/2), for the end effector (x3, y3) (m) (v: the half-angle tangent, as
+        :class:`~course_lib.symbolic.LoopForm` names it).
 
         >>> k = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).inverse_coefficients(0.0, 0.2)
         >>> [round(float(k[name]), 6) for name in ("a1", "b1", "c1")]

@@ -286,3 +286,62 @@ def test_the_failing_loop_is_named_in_the_peaucellier_cell():
     # at the crossing the rhombus is flat: P's dyad (loops[2]) is singular, the arms' are not
     with pytest.raises(SingularJacobianError, match=r"J is singular at theta1=1\.44546.*, in loops\[2\]:"):
         peaucellier().solve({th1: CROSSING}, rates={th1: 1.0}, guess=cell_guess(CROSSING - 0.01))
+
+
+# ---------------------------------------------------------------- a long sweep on Newton's route, batched
+def parallelogram():
+    theta2, theta3, x_B, y_B = sp.symbols("theta2 theta3 x_B y_B")
+    rows = [0.1 * sp.cos(theta2) + 0.2 * sp.cos(theta3) - x_B, 0.1 * sp.sin(theta2) + 0.2 * sp.sin(theta3)
+            - y_B, (x_B - 0.2) ** 2 + y_B**2 - 0.1**2]
+    return Mechanism(rows, [theta3, x_B, y_B], [theta2])
+
+
+def one_by_one(monkeypatch, linkage, *args, **kwargs):
+    """The same solve with every instant continued from the one before (the batched route switched off)."""
+    from course_lib.mechanism import continuation
+
+    with monkeypatch.context() as patch:
+        patch.setattr(continuation, "BATCH_MIN", 10**9)
+        return linkage.solve(*args, **kwargs)
+
+
+@pytest.mark.parametrize("count", [64, 1000, 4099])
+def test_a_long_newton_sweep_solved_at_once_is_the_sweep_followed_instant_by_instant(monkeypatch, count):
+    linkage = newton_fourbar()
+    end = LIMIT - 1e-3
+    theta = np.linspace(-end, end, count)  # a Grashof rocker's input range, nearly to both limits
+    guess = {"theta3": 1.0, "x_B": 0.25, "y_B": -0.1}
+    rates = ({"theta2": 10.0}, {"theta2": 5.0})
+    batched = linkage.solve({"theta2": theta}, *rates, guess=guess)
+    alone = one_by_one(monkeypatch, linkage, {"theta2": theta}, *rates, guess=guess)
+    assert batched.converged.all() and alone.converged.all()
+    for name in ("theta3", "x_B", "y_B"):
+        assert np.abs(batched.position[name] - alone.position[name]).max() < 1e-12
+        scale = 1.0 + np.abs(alone.velocity[name])
+        assert (np.abs(batched.velocity[name] - alone.velocity[name]) / scale).max() < 1e-9
+    assert batched.message == alone.message
+    # against the circles: B on the circle about O4 and at l3 from A, on the guess's side
+    A = 0.15 * np.stack([np.cos(theta), np.sin(theta)], -1)
+    B = np.stack([batched.position["x_B"], batched.position["y_B"]], -1)
+    assert np.abs(np.hypot(*(B - A).T) - 0.10).max() < 1e-12
+    assert np.abs(np.hypot(*(B - [0.2, 0.0]).T) - 0.12).max() < 1e-12
+
+
+def test_a_long_newton_sweep_through_a_change_point_keeps_the_smooth_motion_and_names_it(monkeypatch):
+    theta = np.linspace(2.0, 4.5, 500)
+    guess = {"theta3": 0.0, "x_B": 0.2 + 0.1 * np.cos(2.0), "y_B": 0.1 * np.sin(2.0)}
+    batched = parallelogram().solve({"theta2": theta}, guess=guess)
+    assert np.abs(np.angle(np.exp(1j * batched.position["theta3"]))).max() < 1e-9  # the parallelogram
+    assert batched.message.count("change point") == 1 and "theta2=3.14" in batched.message
+    assert batched.message == one_by_one(monkeypatch, parallelogram(), {"theta2": theta}, guess=guess).message
+
+
+def test_a_long_newton_sweep_with_a_stretch_out_of_reach_gives_what_one_by_one_gives(monkeypatch):
+    linkage = newton_fourbar()
+    theta = np.linspace(-1.0, 1.6, 70)  # past the limit at θ2 = LIMIT ≈ 1.42: the rest cannot be reached
+    guess = {"theta3": 1.0, "x_B": 0.25, "y_B": -0.1}
+    batched = linkage.solve({"theta2": theta}, guess=guess, on_failure="nan")
+    alone = one_by_one(monkeypatch, linkage, {"theta2": theta}, guess=guess, on_failure="nan")
+    assert np.array_equal(batched.converged, alone.converged) and not batched.converged[-1]
+    found = np.asarray(batched.converged)
+    assert np.abs(batched.position["x_B"][found] - alone.position["x_B"][found]).max() < 1e-12

@@ -20,10 +20,21 @@ MAX_CHANGE = 0.1
 #: A corrector step moves no unknown by more than this (radians, or typical lengths).
 MAX_STEP = 0.5
 
-#: A step over which the orientation of J changes is taken again in halves, down to this many halvings:
-#: where the halves keep the orientation, the step had reached the other assembly where the two come near
-#: (a near miss of a limit, not a change point); where they change it too, a change point was crossed.
-FLIP_DEPTH = 8
+#: A step over which the orientation of J changes is kept as a change point crossed only where it looks like
+#: one: the corrector moved its end by at most FLIP_SMOOTH of the step from the tangent's prediction (the
+#: path is smooth there) and σ_min(J̃) at its two ends adds up to at most FLIP_NEAR of the step (J singular
+#: within it: along a path through a change point σ_min(J̃) grows like the distance from it).  Else it is
+#: taken again in halves, down to FLIP_DEPTH halvings: a step that reached the other assembly where the two
+#: come near (a near miss of a limit) keeps the orientation in halves.
+FLIP_SMOOTH = 0.05
+FLIP_NEAR = 0.3
+FLIP_DEPTH = 16
+
+#: A sweep of one input with at least this many instants is followed on its path first (anchors a spacing
+#: ``ANCHOR_SPACING`` of the input apart, every step recorded), then every instant solved at once by Newton
+#: from the path's tangent prediction (:meth:`Continuation._batched`).
+BATCH_MIN = 64
+ANCHOR_SPACING = 0.05
 
 #: Predictor–corrector steps one instant may take before it is given up as not reached: an unknown that
 #: grows without bound (x = 1/s followed towards s = 0) would otherwise be followed MAX_CHANGE at a time.
@@ -102,14 +113,14 @@ class Continuation:
             return q, True, max_iter
         return q, False, max_iter
 
-    def _advance(self, q, u_from, u_to, tol, max_iter, smallest: float = 1e-13, depth: int = 0
-                 ) -> tuple[np.ndarray | None, int]:
+    def _advance(self, q, u_from, u_to, tol, max_iter, smallest: float = 1e-13, depth: int = 0,
+                 record: list | None = None) -> tuple[np.ndarray | None, int]:
         """The solution at ``u_to`` continued from ``q`` at ``u_from``: tangent predictor, Newton corrector,
         the step halved until the corrector lands near the prediction (no other assembly); a step over which
         J's orientation changes is followed again in halves (``depth``: how many times already, up to
         FLIP_DEPTH), whose end is kept, on the same orientation (a near miss) or not (a change point
         crossed); None once the step would be below ``smallest`` (a fraction of the whole) or after
-        MAX_STEPS steps."""
+        MAX_STEPS steps.  ``record``: receives (u, q) at the end of every step taken."""
         step_u = u_to - u_from
         if not step_u.any():
             return q.copy(), 0
@@ -141,8 +152,13 @@ class Continuation:
                 found[angles] = _unwrap_to(found[angles], prediction[angles])
                 now = self._orientation(found, there)
                 close = float(np.max(np.abs(found - prediction) * columns)) <= max(0.5 * change, 1e-6)
-                if close and sign and now and now != sign and depth < FLIP_DEPTH:
-                    # the other assembly where the two come near, or a change point crossed: in halves
+                moved = float(np.max(np.abs(found - q) * columns))
+                off = float(np.max(np.abs(found - prediction) * columns))
+                if close and sign and now and now != sign and depth < FLIP_DEPTH and (
+                        off > FLIP_SMOOTH * moved
+                        or self._smallest(J) + self._smallest(self._J(found, there)) > FLIP_NEAR * moved):
+                    # J far from singular at both ends for so short a step: no change point can lie between
+                    # (σ_min(J̃) changes by about the step), so the other assembly where the two come near
                     halves, used = self._advance(q, here, there, tol, max_iter, smallest, depth + 1)
                     count += used
                     if halves is not None:
@@ -153,6 +169,8 @@ class Continuation:
                     # refused as too small, and the instant lost)
                     q, done, h = found, (1.0 if done + h >= 1.0 - 1e-12 else done + h), min(2 * h, 1.0)
                     sign = now or sign
+                    if record is not None:
+                        record.append((u_to if done == 1.0 else there, q))
                     continue
             h *= 0.5
         return q, count
@@ -172,11 +190,13 @@ class Continuation:
             self._spread(q, iterations, u, tol, max_iter, notes, orientation)
             return q, iterations
         for path in paths:
+            if len(path) >= BATCH_MIN and self._batched(q, iterations, u, path, tol, max_iter, notes):
+                continue
             last, sign = path[0], orientation(path[0])
             for k in path[1:]:
                 found, iterations[k] = self._advance(q[last], u[last], u[k], tol, max_iter)
-                if found is None:
-                    continue
+                if found is None:  # the motion stops before u[k] (a limit): the instants beyond it too
+                    break
                 q[k] = found
                 now = orientation(k)
                 if sign and now and now != sign:
@@ -184,6 +204,83 @@ class Continuation:
                                  f"{self._where(u, k)}: the motion continues on the smooth one")
                 last, sign = k, now or sign
         return q, iterations
+
+    def _batched(self, q, iterations, u, path, tol, max_iter, notes) -> bool:
+        """The instants of ``path`` (one input, in order, ``q[path[0]]`` solved) solved together: the path
+        followed by :meth:`_advance` from anchor to anchor (instants ANCHOR_SPACING of the input apart),
+        every step it takes recorded; each instant predicted from the last recorded step before it by the
+        tangent there, then Newton on all at once (:func:`~course_lib.newton.newton_batch`).  An instant is
+        kept where Newton converged near its prediction with J's orientation of that step, which the path
+        keeps to its next step; the others are continued one by one from the instant before.  The change
+        points met are added to ``notes`` as :meth:`_march` does.  False (nothing written) where the path
+        cannot be followed from anchor to anchor (a limit, or a stretch where the loops do not close): the
+        caller goes instant by instant."""
+        from ..newton import newton_batch
+
+        units = self._input_units()
+        along = u[path] / units
+        travelled = np.r_[0.0, np.cumsum(np.abs(np.diff(along, axis=0)).sum(axis=1))]
+        stage = np.floor(travelled / ANCHOR_SPACING) + np.arange(len(path)) // 4096
+        anchors = [*np.flatnonzero(np.diff(stage) > 0) + 1, len(path) - 1]  # a new stage, and the end
+        record = [(u[path[0]], q[path[0]])]
+        for b in anchors:
+            end, _ = self._advance(record[-1][1], record[-1][0], u[path[b]], tol, max_iter, record=record)
+            if end is None:
+                return False
+        at_u, at_q = np.array([r[0] for r in record]), np.array([r[1] for r in record])
+        J, F_u = self._rate_terms(at_q, at_u)
+        flat = ~(self._smallest(J) >= SINGULAR)  # no tangent there: predict the recorded position itself
+        J = np.where(flat[:, None, None], np.eye(J.shape[-1]), J)
+        tangents = np.where(flat[:, None, None], 0.0, np.linalg.solve(J, -F_u))  # (R, n, m)
+        signs = self._orientations(at_q, at_u)
+        # each instant from the last recorded step at or before it, by the distance travelled along the input
+        recorded = np.r_[0.0, np.cumsum(np.abs(np.diff(at_u / units, axis=0)).sum(axis=1))]
+        nearest = np.clip(np.searchsorted(recorded, travelled + 1e-12, side="right") - 1, 0, len(record) - 1)
+        prediction = at_q[nearest] + np.einsum("knm,km->kn", tangents[nearest], u[path] - at_u[nearest])
+        rest = path[1:]
+        with np.errstate(all="ignore"):
+            result = newton_batch(self.newton_function(u[rest]), prediction[1:], jac=True, tol=tol,
+                                  max_iter=max_iter)
+        found = result.x
+        angles = [j for j, s in enumerate(self.unknowns) if s in self._structure["angles"]]
+        found[:, angles] = _unwrap_to(found[:, angles], prediction[1:, angles])
+        change = self._distance(prediction[1:], at_q[nearest[1:]])
+        with np.errstate(all="ignore"):
+            close = (np.asarray(result.converged) & ~np.asarray(result.singular)
+                     & (self._distance(found, prediction[1:]) <= np.maximum(0.5 * change, 1e-6)))
+        # kept only on the orientation of its recorded step, where the path keeps it to the next one (an
+        # instant beside a change point, or where J is singular, goes one by one)
+        following = signs[np.minimum(nearest[1:] + 1, len(record) - 1)]
+        expected = np.where(following == signs[nearest[1:]], signs[nearest[1:]], 0.0)
+        now = self._orientations(np.where(close[:, None], found, 0.0), u[rest])
+        close &= (now == expected) & (expected != 0)
+        q[rest] = np.where(close[:, None], found, np.nan)
+        iterations[rest] = np.asarray(result.iterations)
+        for k in np.flatnonzero(~close):  # the others one by one, from the instant before
+            before, after = path[k], path[k + 1]
+            if np.isfinite(q[before]).all():
+                step, iterations[after] = self._advance(q[before], u[before], u[after], tol, max_iter)
+                if step is not None:
+                    q[after] = step
+        found_rows = np.isfinite(q[path]).all(axis=1)
+        orientation = np.zeros(len(path))
+        orientation[found_rows] = self._orientations(q[path][found_rows], u[path][found_rows])
+        last, sign = path[0], orientation[0]
+        for k in range(1, len(path)):
+            if not found_rows[k]:
+                continue
+            if sign and orientation[k] and orientation[k] != sign:
+                notes.append(f"the assemblies meet (a change point) between {self._where(u, last)} and "
+                             f"{self._where(u, path[k])}: the motion continues on the smooth one")
+            last, sign = path[k], orientation[k] or sign
+        return True
+
+    def _orientations(self, q, u) -> np.ndarray:
+        """:meth:`_orientation` of many instants at once, q (N, n), u (N, m)."""
+        rows, columns = self._scales
+        with np.errstate(all="ignore"):
+            det = np.linalg.det(self._J(q, u) / rows[:, None] / columns[None, :])
+        return np.where(np.abs(det) > SINGULAR, np.sign(det), 0.0)
 
     def _input_units(self) -> np.ndarray:
         """A unit for each input: 1 for an angle, the parameters' typical length for any other."""

@@ -26,24 +26,96 @@ def _has_toggle(linkage: FourBar) -> None:
                                    "answer exists for this task")
 
 
-@reads(number("θ4"), task={"linkage": FourBar, "theta2": "rad", "branch": BRANCHES}, possible=_assembles)
-def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -> Feedback:
-    """Exercise 03, task 1 and lesson 03's Try it: the rocker angle θ4 (rad, to 4 decimals) at crank angle
-    ``theta2`` on ``branch``.
+#: Crank angles (rad) where a student's θ4 procedure is called besides the task's own: spread over the turn
+FRESH_THETA2 = np.radians([10.0, 75.0, 160.0, 200.0, 250.0, 300.0, 345.0])
 
-    >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
-    >>> check_fourbar_theta4(bar.solve(2.0, branch="crossed").theta4 + 2 * np.pi, bar, 2.0, "crossed").ok
-    True
-    """
+
+def _number_or_function(what: str):
+    """A parser: the student's function as it is (a procedure to call), else one finite number."""
+    read = number(what)
+    return lambda answer: answer if callable(answer) and not isinstance(answer, type) else read(answer)
+
+
+def _theta4(linkage: FourBar, theta2: float, branch: str) -> float | None:
+    """θ4 of ``linkage`` at ``theta2`` on ``branch``; None where it does not close."""
+    try:
+        return float(linkage.solve(theta2, branch=branch).theta4)
+    except Exception:
+        return None
+
+
+def _theta4_verdict(answer: float, linkage: FourBar, theta2: float, branch: str, function: bool = False
+                    ) -> Feedback:
+    """θ4 (rad) at ``theta2`` judged against ``branch``'s, with the known slips named; ``function``: the
+    value is what the student's function returned (one slip more: θ2 converted with np.radians inside)."""
     other = "crossed" if branch == "open" else "open"
     this, that = linkage.solve(theta2, branch=branch), linkage.solve(theta2, branch=other)
+    slips = [(_theta4(linkage, np.degrees(theta2), b), b) for b in (branch, other)]
+    read_as_degrees = [(_theta4(linkage, np.radians(theta2), b), b) for b in (branch, other) if function]
     return angle_verdict(answer, this.theta4, [
         (that.theta4, f"that is θ4 of the {other} branch; the task asks for the {branch} one (the other "
                       "root of the half-angle quadratic)."),
         (this.theta3, "that is the coupler angle θ3; the task asks for the rocker angle θ4."),
         (that.theta3, f"that is θ3 of the {other} branch; the task asks for the rocker angle θ4 of the "
                       f"{branch} branch."),
+        *((value, f"θ2 went into cos θ2 and sin θ2 of a, b, c in degrees (cos {np.degrees(theta2):.6g} "
+                  f"instead of cos {theta2:.6g}): numpy's cos and sin take radians, np.radians converts.")
+          for value, _ in slips if value is not None),
+        *((value, "your function converts θ2 with np.radians, but it is called with θ2 in radians already "
+                  "(as course_lib's functions are): use theta2 as it comes.")
+          for value, _ in read_as_degrees if value is not None),
     ], "recheck the half-angle coefficients (a, b, c) and which root (±√) you took.")
+
+
+def _where(theta2: float) -> str:
+    return f"θ2 = {theta2:.6g} rad ({np.degrees(theta2) % 360:.6g}°)"
+
+
+@reads(_number_or_function("θ4"), task={"linkage": FourBar, "theta2": "rad", "branch": BRANCHES,
+                                        "method": (None, "half-angle")}, possible=_assembles)
+def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str, method: str | None = None
+                         ) -> Feedback:
+    """Exercise 03, task 1 and lesson 03's Try it: the rocker angle θ4 (rad, to 4 decimals) at crank angle
+    ``theta2`` on ``branch`` — a number, or the student's function of θ2 (rad) that computes it, called here
+    at ``theta2`` and at the crank angles :data:`FRESH_THETA2` where the linkage closes.  With
+    ``method="half-angle"`` (exercise 03) only such a function passes, and only one that calls none of
+    course_lib's solves (``linkage.solve`` gives the number without the quadratic).
+
+    >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
+    >>> check_fourbar_theta4(bar.solve(2.0, branch="crossed").theta4 + 2 * np.pi, bar, 2.0, "crossed").ok
+    True
+    >>> check_fourbar_theta4(lambda t: bar.solve(t, branch="crossed").theta4, bar, 2.0, "crossed").ok
+    False
+    """
+    if not callable(answer):
+        verdict = _theta4_verdict(answer, linkage, theta2, branch)
+        if verdict.ok and method is not None:
+            return wrong("the number is right, but the task asks for the half-angle quadratic itself: give "
+                         "your function of θ2 that computes θ4 from a, b, c (the check calls it at other "
+                         "crank angles too). A number alone does not show how it was found — linkage.solve "
+                         "gives it without the quadratic.")
+        return verdict
+    probes = [theta2] + [angle for angle in FRESH_THETA2 if not angles_close(angle, theta2)
+                         and all(_theta4(linkage, angle, b) is not None for b in BRANCHES)]
+    name = getattr(answer, "__name__", "")
+    called = f"function {name}(theta2)" if name.isidentifier() else "function"
+    values = procedure(answer, [(angle,) for angle in probes], solver_code(FourBar), called, number("θ4"))
+    if isinstance(values, Feedback):
+        return values
+    verdict = _theta4_verdict(values[0], linkage, theta2, branch, function=True)
+    if not verdict.ok:
+        return wrong(f"your {called} at the task's {_where(theta2)}: "
+                     + verdict.message.removeprefix("Not yet: "))
+    for angle, value in zip(probes[1:], values[1:], strict=True):
+        if not DECIMALS.agrees(value, _theta4(linkage, angle, branch), angles=True):
+            if all(DECIMALS.agrees(other, values[0], angles=True) for other in values[1:]):
+                return wrong(f"your {called} returns the same θ4 at every crank angle: compute a, b, c and "
+                             "the root from its argument theta2, not from the task's 120°.")
+            there = _theta4_verdict(value, linkage, angle, branch, function=True)
+            return wrong(f"your {called} is right at the task's θ2 but not at {_where(angle)}: "
+                         + there.message.removeprefix("Not yet: "))
+    return right(f"Correct (to {DECIMALS}, angles modulo 2π): your {called} gives θ4 of the {branch} branch "
+                 f"at the task's θ2 and at {len(probes) - 1} other crank angles.")
 
 
 @reads()

@@ -378,6 +378,7 @@ TABLE = {
         [bad("saw", "my_saw"), bad("theta2", INF), bad("omega2", None), bad("omega2", NAN),
          bad("alpha2", "4"), bad("method", "consecutive"), bad("method", True),
          impossible("the rod cannot reach", "theta2", saw=SHORT_ROD, theta2=-np.pi / 2)]),
+    "check_saw_r1_sign": choice("a", "d"),
     "check_saw_linear_stage": choice("a", "d"),
     # ---- ex05
     "check_fivebar_forward": Task(

@@ -141,7 +141,7 @@ def test_a_wrong_letter_is_answered_for_what_it_claims_not_pointed_at_the_right_
                              as_version=4)
     hint = next(line for cell in solution.cells for line in cell.source.splitlines()
                 if line.startswith("# HINT:") and "why_it_moves" in cell.source)
-    assert "independent" not in hint, hint  # the hint does not hand over (b)
+    assert "independent" not in hint and "recount" in hint, hint  # the hint does not hand over (b)
 
 
 # ---------------------------------------------------------------- ex01 after Task 3: a sentence, never nan

@@ -25,6 +25,7 @@ from course_lib import checks
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 THETA2 = np.radians(120.0)
+SOLVED = BENCH.solve(THETA2, branch="crossed")
 THETA1, THETA4 = np.radians(70.0), np.radians(125.0)
 
 
@@ -87,6 +88,7 @@ def test_a_right_number_from_the_given_solve_is_not_a_tick():
 @pytest.mark.parametrize(("answer", "says"), [
     (lambda t: norton(t, -1), "open branch"),
     (lambda t: norton(THETA2), "same θ4 at every crank angle"),  # the task's angle typed in
+    (lambda t: SOLVED.theta4, "same θ4 at every crank angle"),  # a solve made outside, read inside
     (lambda t: norton(t, +1 if t < 3.0 else -1), "200°"),  # right at 120°, the other root further round
     (lambda t: norton(np.degrees(t)), "degrees"),  # θ2 in degrees inside a, b, c
     (lambda t: norton(np.radians(t)), "np.radians"),  # the function converts what is radians already

@@ -401,14 +401,15 @@ _LIBRARY = pathlib.Path(__file__).resolve().parent.parent
 def solver_code(*machines: type) -> Callable[[types.CodeType], bool]:
     """Whether a code object is one of course_lib's solves (the core in ``mechanism/``, ``motion.py``,
     ``newton.py``, and the modules of ``machines``, e.g. FourBar's) — a property of a machine (its lengths
-    ``l1``, …) excepted: what a procedure the task asks for must not call to get its answer."""
+    ``l1``, …) and the special methods (building a machine, reading a Motion's value) excepted: what a
+    procedure the task asks for must not call to get its answer."""
     files = {_LIBRARY / name for name in ("motion.py", "newton.py")}
     files |= {pathlib.Path(inspect.getfile(machine)).resolve() for machine in machines}
     getters = {member.fget.__code__ for machine in machines for member in vars(machine).values()
                if isinstance(member, property) and hasattr(member.fget, "__code__")}
 
     def solves(code: types.CodeType) -> bool:
-        if code in getters:
+        if code in getters or code.co_name.startswith("__"):
             return False
         path = pathlib.Path(code.co_filename)
         return path in files or path.parent == _LIBRARY / "mechanism"

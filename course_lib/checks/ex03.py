@@ -109,8 +109,9 @@ def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str, m
     for angle, value in zip(probes[1:], values[1:], strict=True):
         if not DECIMALS.agrees(value, _theta4(linkage, angle, branch), angles=True):
             if all(DECIMALS.agrees(other, values[0], angles=True) for other in values[1:]):
-                return wrong(f"your {called} returns the same θ4 at every crank angle: compute a, b, c and "
-                             "the root from its argument theta2, not from the task's 120°.")
+                return wrong(f"your {called} returns the same θ4 at every crank angle: compute a, b, c "
+                             "and the root from its argument theta2, not from the task's "
+                             f"{np.degrees(theta2):.6g}°.")
             there = _theta4_verdict(value, linkage, angle, branch, function=True)
             return wrong(f"your {called} is right at the task's θ2 but not at {_where(angle)}: "
                          + there.message.removeprefix("Not yet: "))

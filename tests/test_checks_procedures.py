@@ -103,13 +103,23 @@ def test_a_wrong_procedure_is_told_what_is_wrong_without_a_traceback(answer, say
 
 
 def test_theta2_in_degrees_inside_a_b_c_is_named_for_a_number_too():
-    """Lesson 03's Try it and ex03: a θ4 computed with cos 120, sin 120 in a, b, c (either root) is told so,
-    not sent back to recheck the coefficients in general."""
+    """Lesson 03's Try it and ex03: a θ4 computed with cos 120, sin 120 in a, b, c (either root), or with
+    degrees in only one of cos θ2 and sin θ2, is told so, not sent back to recheck the coefficients in
+    general."""
+    def degrees_in_sin(t, sign):
+        return norton(t, sign, sin=lambda angle: np.sin(np.degrees(angle)))
+
+    def degrees_in_cos(t, sign):
+        return norton(t, sign, cos=lambda angle: np.cos(np.degrees(angle)))
+
     for sign in (+1, -1):
-        number = float(norton(120.0, sign))
-        for method in (None, "half-angle"):
-            rejects(checks.check_fourbar_theta4(number, BENCH, THETA2, "crossed", method=method), "degrees",
-                    "np.radians")
+        for number, says in ((norton(120.0, sign), "cos θ2 and sin θ2"),
+                             (degrees_in_sin(THETA2, sign), "sin θ2 of b"),
+                             (degrees_in_cos(THETA2, sign), "cos θ2 of a and c")):
+            for method in (None, "half-angle"):
+                rejects(checks.check_fourbar_theta4(float(number), BENCH, THETA2, "crossed", method=method),
+                        "degrees", says, "np.radians")
+        rejects(theta4_task(lambda t, sign=sign: degrees_in_sin(t, sign)), "your function", "sin θ2 of b")
 
 
 # ---------------------------------------------------------------- ex05: the end effector by X3 = g·Y3 + f

@@ -44,26 +44,46 @@ def _theta4(linkage: FourBar, theta2: float, branch: str) -> float | None:
         return None
 
 
+def _half_angle_roots(linkage: FourBar, cos_angle: float, sin_angle: float) -> list[float]:
+    """Both roots θ4 = 2·atan((−b ± √(b² − 4ac))/2a) of the task's quadratic with cos θ2 taken at
+    ``cos_angle`` (in a and c) and sin θ2 at ``sin_angle`` (in b): a slip that puts degrees in some of them;
+    the finite ones."""
+    l1, l2, l3, l4 = linkage.l1, linkage.l2, linkage.l3, linkage.l4
+    K1, K2, K3 = l1 / l2, l1 / l4, (l2**2 - l3**2 + l4**2 + l1**2) / (2 * l2 * l4)
+    cosine = np.cos(cos_angle)
+    a, b, c = cosine - K1 - K2 * cosine + K3, -2 * np.sin(sin_angle), K1 - (K2 + 1) * cosine + K3
+    with np.errstate(all="ignore"):
+        roots = [2 * np.arctan((-b + sign * np.sqrt(b**2 - 4 * a * c)) / (2 * a)) for sign in (1, -1)]
+    return [float(root) for root in roots if np.isfinite(root)]
+
+
 def _theta4_verdict(answer: float, linkage: FourBar, theta2: float, branch: str, function: bool = False
                     ) -> Feedback:
     """θ4 (rad) at ``theta2`` judged against ``branch``'s, with the known slips named; ``function``: the
     value is what the student's function returned (one slip more: θ2 converted with np.radians inside)."""
     other = "crossed" if branch == "open" else "open"
     this, that = linkage.solve(theta2, branch=branch), linkage.solve(theta2, branch=other)
-    slips = [(_theta4(linkage, np.degrees(theta2), b), b) for b in (branch, other)]
-    read_as_degrees = [(_theta4(linkage, np.radians(theta2), b), b) for b in (branch, other) if function]
+    degrees = np.degrees(theta2)
+    slips = [(_half_angle_roots(linkage, degrees, degrees),
+              f"θ2 went into cos θ2 and sin θ2 of a, b, c in degrees (cos {degrees:.6g} instead of cos "
+              f"{theta2:.6g}): numpy's cos and sin take radians, np.radians converts."),
+             (_half_angle_roots(linkage, theta2, degrees),
+              f"θ2 went into sin θ2 of b in degrees (sin {degrees:.6g} instead of sin {theta2:.6g}), while a "
+              "and c take cos θ2 in radians: convert it once, with np.radians, and use it everywhere."),
+             (_half_angle_roots(linkage, degrees, theta2),
+              f"θ2 went into cos θ2 of a and c in degrees (cos {degrees:.6g} instead of cos {theta2:.6g}), "
+              "while b takes sin θ2 in radians: convert it once, with np.radians, and use it everywhere.")]
+    if function:
+        slips.append((_half_angle_roots(linkage, np.radians(theta2), np.radians(theta2)),
+                      "your function converts θ2 with np.radians, but it is called with θ2 in radians "
+                      "already (as course_lib's functions are): use theta2 as it comes."))
     return angle_verdict(answer, this.theta4, [
         (that.theta4, f"that is θ4 of the {other} branch; the task asks for the {branch} one (the other "
                       "root of the half-angle quadratic)."),
         (this.theta3, "that is the coupler angle θ3; the task asks for the rocker angle θ4."),
         (that.theta3, f"that is θ3 of the {other} branch; the task asks for the rocker angle θ4 of the "
                       f"{branch} branch."),
-        *((value, f"θ2 went into cos θ2 and sin θ2 of a, b, c in degrees (cos {np.degrees(theta2):.6g} "
-                  f"instead of cos {theta2:.6g}): numpy's cos and sin take radians, np.radians converts.")
-          for value, _ in slips if value is not None),
-        *((value, "your function converts θ2 with np.radians, but it is called with θ2 in radians already "
-                  "(as course_lib's functions are): use theta2 as it comes.")
-          for value, _ in read_as_degrees if value is not None),
+        *((roots, hint) for roots, hint in slips if roots),
     ], "recheck the half-angle coefficients (a, b, c) and which root (±√) you took.")
 
 

@@ -422,7 +422,17 @@ def procedure(function: Any, calls: Sequence[tuple], solves: Callable[[types.Cod
     """The results of the student's ``function`` at each argument tuple of ``calls``, each read by
     ``parse`` — or the feedback on the first call that raises, returns what ``parse`` refuses, or calls one
     of course_lib's solves (``solves`` of its code: the task asks for the work the solve would do).  What
-    the function prints is not shown; ``called`` is how the student calls it, e.g. "theta4_at(theta2)"."""
+    the function prints is not shown; ``called`` is how the student calls it, e.g. "theta4_at(theta2)".
+
+    >>> from course_lib.fourbar import FourBar
+    >>> bar, read = FourBar(0.07, 0.20, 0.15, 0.25), number("θ4")
+    >>> procedure(lambda theta2: 2 * theta2, [(1.0,), (2.0,)], solver_code(FourBar), "function", read)
+    [2.0, 4.0]
+    >>> asks = procedure(lambda theta2: bar.solve(theta2).theta4, [(1.0,)], solver_code(FourBar), "function",
+    ...                  read)
+    >>> asks.ok, asks.message[:47]
+    (False, 'Not yet: your function calls FourBar.solve, fro')
+    """
     results = []
     for arguments in calls:
         solver: list[str] = []

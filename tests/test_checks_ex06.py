@@ -491,7 +491,7 @@ def test_wrong_strokes_and_ratios_are_named():
     rejects(check((stroke, float("nan"))), "NaN", hidden=hidden)
     rejects(check((stroke, "1.71")), "string", hidden=hidden)
     rejects(check(None), "None", hidden=hidden)
-    rejects(checks.check_ram_stroke((stroke, ratio)), "((stroke, time_ratio), cutting)", hidden=hidden)
+    rejects(checks.check_ram_stroke((stroke, ratio)), "((stroke, time_ratio), stops, cutting)", hidden=hidden)
     sweep = declared_shaper().solve({th2: np.radians(np.arange(0, 360, 5.0))}, guess=GUESS)
     rejects(checks.check_ram_stroke(sweep), "not the Motion", hidden=hidden)
     rejects(check(sweep), "not the Motion", hidden=hidden)

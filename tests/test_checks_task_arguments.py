@@ -347,7 +347,8 @@ TABLE = {
         lambda: circles(BENCH, np.radians(120.0), "open")[1],
         [bad("linkage", None), bad("linkage", MY_SAW), bad("theta2", "abc"), bad("theta2", NAN),
          bad("theta2", [1.0, 2.0]), bad("branch", "up"), bad("branch", None), bad("branch", 1),
-         bad("branch", "Open"), impossible("no assembly at θ2", "theta2", linkage=TRIPLE, theta2=np.pi)]),
+         bad("branch", "Open"), bad("method", "quadratic"), bad("method", True),
+         impossible("no assembly at θ2", "theta2", linkage=TRIPLE, theta2=np.pi)]),
     "check_omega4_expression": Task({}, omega4_formula, lambda: omega4_formula(-1)),
     "check_fourbar_rates": Task(
         {"linkage": BENCH, "theta2": np.radians(200.0), "omega2": 15.0, "alpha2": -40.0, "branch": "open"},
@@ -377,14 +378,15 @@ TABLE = {
         [bad("saw", "my_saw"), bad("theta2", INF), bad("omega2", None), bad("omega2", NAN),
          bad("alpha2", "4"), bad("method", "consecutive"), bad("method", True),
          impossible("the rod cannot reach", "theta2", saw=SHORT_ROD, theta2=-np.pi / 2)]),
+    "check_saw_r1_sign": choice("a", "d"),
     "check_saw_linear_stage": choice("a", "d"),
     # ---- ex05
     "check_fivebar_forward": Task(
         {"robot": ROBOT, "theta1": np.radians(70.0), "theta4": np.radians(125.0), "mode": -1},
         lambda: fivebar_down()[0], lambda: fivebar_down()[1],
         [bad("robot", None), bad("robot", BENCH), bad("theta1", "70"), bad("theta4", NAN), bad("mode", 0),
-         bad("mode", "down"), bad("mode", True), bad("mode", None),
-         impossible("the distal links cannot meet", "theta1", theta1=0.0, theta4=np.pi)]),
+         bad("mode", "down"), bad("mode", True), bad("mode", None), bad("method", "half-angle"),
+         bad("method", 1), impossible("the distal links cannot meet", "theta1", theta1=0.0, theta4=np.pi)]),
     "check_fivebar_inverse": Task(
         {"robot": ROBOT, "x3": 0.02, "y3": 0.21, "modes": (-1, +1)}, lambda: fivebar_inverse()[0],
         lambda: fivebar_inverse()[1],

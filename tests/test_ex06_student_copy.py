@@ -4,7 +4,8 @@ the whole copy — every code cell, in order — with no traceback and no warnin
 
 The forms are the ones the checks accept (tests/test_checks_ex06.py: the loops in every form, the position as
 the Motion, its ``position``, a dict or the four numbers to 4 decimals, the ram's rates as the Motion, a dict
-or rounded, the stroke and ratio rounded, the cutting direction as a student writes it).
+or rounded, the stroke and ratio rounded, the stops in either order, rounded or from the exact condition, the
+cutting direction as a student writes it).
 """
 
 from __future__ import annotations
@@ -65,6 +66,10 @@ VARIANTS = {
         "cutting as -x, stops a list": 'SOLUTION\ncutting = {"left": "-x", "right": "+x"}[cutting]\n'
                                        'stops = [float(stop) for stop in stops]',
         "cutting as a sentence": 'SOLUTION\ncutting = f"to the {cutting}".upper()',
+        "stops in the other order, in (−π, π], to 3 decimals":
+            'SOLUTION\nstops = [round(float((stop + np.pi) % (2 * np.pi) - np.pi), 3)\n'
+            '         for stop in stops[::-1]]',
+        "stops from O4A ⟂ O2A, a tuple": 'SOLUTION\nbeta = np.arcsin(R2 / D)\nstops = (-beta, np.pi + beta)',
     },
 }
 

@@ -3,8 +3,10 @@
 For every task of ex01–ex05, each variant below is a form of the right answer a student may give — rounded at
 the stated precision, a tuple, list, numpy array or sympy Matrix, sympy numbers, another order or sign where
 the check accepts it, ``sp.Eq`` rows, a solve's ``Motion`` or Newton run where a solve's answer is asked, the
-student's own Newton iterates.  The student copy (made from the solution by tools/make_exercises.py) gets the
-solution's answer in every answer cell, with the variant replacing the task's answer; then the whole copy runs
+student's own Newton iterates, and where a task asks for a procedure (ex03 and ex05, Task 1) the student's
+function returning those forms, printing as it goes, or written with math and another rule for the root.
+The student copy (made from the solution by tools/make_exercises.py) gets the solution's answer in every
+answer cell, with the variant replacing the task's answer; then the whole copy runs
 top to bottom in a fresh namespace, as a kernel runs it (every displayed value formatted as IPython does,
 sympy's LaTeX included), and must raise nothing, warn nothing, and show ✔ in every check cell — the variant's
 own first.  One run per set puts every task's last variant in at once and executes it in a real kernel.
@@ -102,12 +104,25 @@ VARIANTS: dict[str, dict[int, list[str]]] = {
             "reached_branch = reached_branch.upper()"],
     },
     "ex03": {
-        1: ["theta4_crossed = round(float(theta4_crossed), 4)",
-            "theta4_crossed = theta4_crossed + 2 * np.pi",
-            "theta4_crossed = theta4_crossed - 2 * np.pi",
-            "theta4_crossed = sp.Float(theta4_crossed)",
-            "theta4_crossed = np.array([theta4_crossed])",
-            "theta4_crossed = float(theta4_crossed)"],
+        1: ["solution = theta4_crossed_at\n"
+            "theta4_crossed_at = lambda theta2: round(float(solution(theta2)), 4)",
+            "solution = theta4_crossed_at\ntheta4_crossed_at = lambda theta2: solution(theta2) + 2 * np.pi",
+            "solution = theta4_crossed_at\ntheta4_crossed_at = lambda theta2: solution(theta2) - 2 * np.pi",
+            "solution = theta4_crossed_at\ntheta4_crossed_at = lambda theta2: sp.Float(solution(theta2))",
+            "solution = theta4_crossed_at\ntheta4_crossed_at = lambda theta2: np.array([solution(theta2)])",
+            "solution = theta4_crossed_at\n"
+            "def theta4_crossed_at(theta2):\n    print('θ2 =', theta2)\n    return solution(theta2)",
+            # math instead of numpy, and the root chosen by geometry: B right of A → O4 (the crossed side)
+            "import math\ndef theta4_crossed_at(theta2):\n"
+            "    K1, K2, K3 = l1 / l2, l1 / l4, (l2**2 - l3**2 + l4**2 + l1**2) / (2 * l2 * l4)\n"
+            "    a = math.cos(theta2) - K1 - K2 * math.cos(theta2) + K3\n"
+            "    b, c = -2 * math.sin(theta2), K1 - (K2 + 1) * math.cos(theta2) + K3\n"
+            "    ax, ay = l2 * math.cos(theta2), l2 * math.sin(theta2)\n"
+            "    for sign in (1, -1):\n"
+            "        theta4 = 2 * math.atan((-b + sign * math.sqrt(b * b - 4 * a * c)) / (2 * a))\n"
+            "        bx, by = l1 + l4 * math.cos(theta4), l4 * math.sin(theta4)\n"
+            "        if (l1 - ax) * (by - ay) - (0 - ay) * (bx - ax) < 0:\n"
+            "            return theta4"],
         2: ["omega4_formula = (sp.Symbol('omega2') * L2 * sp.sin(sp.Symbol('theta2') - sp.Symbol('theta3'))"
             " / (L4 * sp.sin(sp.Symbol('theta4') - sp.Symbol('theta3'))))",
             "omega4_formula = sp.Eq(w4, omega4_formula)",
@@ -130,7 +145,8 @@ VARIANTS: dict[str, dict[int, list[str]]] = {
             "omega3_formula = sp.Eq(w3, omega3_formula)",
             "omega3_formula = sp.Matrix([omega3_formula])",
             "omega3_formula = [omega3_formula]"],
-        2: ["from course_lib.saw import SEED_CODE\n"
+        2: ["r1_sign = 'A'", "r1_sign = ' (a) '",  # the sign question, in Task 2's second answer cell
+            "from course_lib.saw import SEED_CODE\n"
             "position = solve_consecutive(np.radians(50.0), saw=my_saw, x0=SEED_CODE)",
             "position = solve_consecutive(np.radians(50.0), saw=my_saw, variant='substituted')",
             "position = position.stages['position']",  # its Newton run, a NewtonResult
@@ -163,12 +179,14 @@ VARIANTS: dict[str, dict[int, list[str]]] = {
         4: ["why_two = 'A'", "why_two = '(a)'"],
     },
     "ex05": {
-        1: ["end_effector = tuple(round(float(v), 6) for v in end_effector)",
-            "end_effector = list(end_effector)",
-            "end_effector = np.array(end_effector)",
-            "end_effector = robot.forward(np.radians(70.0), np.radians(125.0), mode=-1)",
-            "end_effector = tuple(sp.Float(v) for v in end_effector)",
-            "end_effector = np.array(end_effector).reshape(2, 1)"],
+        1: ["solution = arms_down\n"
+            "arms_down = lambda t1, t4: tuple(round(float(v), 6) for v in solution(t1, t4))",
+            "solution = arms_down\narms_down = lambda t1, t4: list(solution(t1, t4))",
+            "solution = arms_down\narms_down = lambda t1, t4: np.array(solution(t1, t4))",
+            "solution = arms_down\narms_down = lambda t1, t4: tuple(sp.Float(v) for v in solution(t1, t4))",
+            "solution = arms_down\narms_down = lambda t1, t4: np.array(solution(t1, t4)).reshape(2, 1)",
+            "solution = arms_down\n"
+            "def arms_down(theta1, theta4):\n    print(theta1, theta4)\n    return solution(theta1, theta4)"],
         2: ["cranks = tuple(round(v, 4) for v in cranks)",
             "cranks = (cranks[0] + 2 * np.pi, cranks[1])",
             "cranks = robot.inverse(0.02, 0.21, modes=(-1, +1))",
@@ -193,7 +211,8 @@ AGG = "FigureCanvasAgg is non-interactive"  # plt.show() on this test's backend,
 
 def _copy_with_answers(solution: pathlib.Path, variants: dict[int, str]) -> list[tuple[int | None, str, str]]:
     """The student copy's code cells as (task, role, source): each answer cell holds the solution's answer,
-    followed by the task's variant (if any); role is "answer", "check" or "code"."""
+    followed by the task's variant (if any) where the variant rebinds an answer of that cell (a task may have
+    two answer cells); role is "answer", "check" or "code"."""
     original = nbformat.read(solution, as_version=4)
     copy = make_exercises.student_copy(nbformat.read(solution, as_version=4), solution.name)
     cells, task = [], None
@@ -206,7 +225,9 @@ def _copy_with_answers(solution: pathlib.Path, variants: dict[int, str]) -> list
             continue
         if make_exercises.BEGIN in source_cell.source:
             assert re.search(r"^\w+ = None$", cell.source, re.M), cell.source  # the student's stub
-            source = source_cell.source + ("\n" + variants[task] if task in variants else "")
+            stubs = set(re.findall(r"^(\w+) = None$", cell.source, re.M))
+            rebinds = task in variants and stubs & make_exercises._bound_names(ast.parse(variants[task]))
+            source = source_cell.source + ("\n" + variants[task] if rebinds else "")
             cells.append((task, "answer", source))
         else:
             cells.append((task, "check" if cell.source.startswith("checks.check_") else "code", cell.source))

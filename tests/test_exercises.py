@@ -282,6 +282,19 @@ def test_generator_replaces_the_block_by_the_hint_and_guards_dependent_cells():
     assert all(cell.outputs == [] and cell.execution_count is None for cell in code)
 
 
+def test_a_function_the_answer_defines_is_its_stub_too():
+    """An answer that is a procedure (ex03 and ex05 Task 1: the check calls the student's function): the
+    block's def is the name the check cell uses, so the copy sets it to None as it does a value."""
+    solution = _notebook(
+        "md:## Task 1 · A procedure (compute)",
+        "### BEGIN SOLUTION\n# HINT: def it\ndef theta4_at(theta2):\n    return 2 * theta2\n### END SOLUTION",
+        "checks.check_procedure(theta4_at)",
+    )
+    copy = make_exercises.student_copy(solution, "ex99.ipynb")
+    code = [cell for cell in copy.cells if cell.cell_type == "code"]
+    assert code[0].source == "# Hint: def it\n# Your answer: replace None.\ntheta4_at = None"
+
+
 def test_a_guard_names_each_task_in_turn_and_keeps_multiline_strings():
     solution = _notebook(
         "md:Some text first.\n\n## Task 1 · One (derive)",

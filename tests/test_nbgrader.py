@@ -224,8 +224,17 @@ def test_feedback_shows_the_checkers_message(course):
     feedback = _feedback(course, "bob", "ex03").read_text(encoding="utf-8")
     bench = FourBar(crank=0.07, coupler=0.20, rocker=0.15, ground=0.25)
     theta2 = np.radians(120.0)
-    message = checks.check_fourbar_theta4(bench.solve(theta2).theta4, bench, theta2, "crossed").message
-    assert "open branch" in message
+
+    def theta4_crossed_at(theta2):  # bob's answer: the task's quadratic with the open branch's root
+        l1, l2, l3, l4 = bench.l1, bench.l2, bench.l3, bench.l4
+        K1, K2, K3 = l1 / l2, l1 / l4, (l2**2 - l3**2 + l4**2 + l1**2) / (2 * l2 * l4)
+        a, b = np.cos(theta2) - K1 - K2 * np.cos(theta2) + K3, -2 * np.sin(theta2)
+        c = K1 - (K2 + 1) * np.cos(theta2) + K3
+        return 2 * np.arctan((-b - np.sqrt(b**2 - 4 * a * c)) / (2 * a))
+
+    message = checks.check_fourbar_theta4(theta4_crossed_at, bench, theta2, "crossed",
+                                          method="half-angle").message
+    assert "open branch" in message and "theta4_crossed_at" in message
     assert html.escape(message, quote=False) in feedback or message in feedback
     assert "NotImplementedError" in feedback
     # a checker's ✘ starts "Not yet:" (MathJax's help text in the page has "Not yet implemented")

@@ -161,7 +161,9 @@ def _free_names(tree: ast.Module) -> set[str]:
 def _answer_names(body: list[str], later: list[str]) -> tuple[str, ...]:
     """The names a solution body defines that later cells use, in order of definition."""
     used = set().union(*(_used_names(ast.parse(source)) for source in later))
-    order = [node.id for node in ast.walk(ast.parse("\n".join(body))) if isinstance(node, ast.Name)]
+    defines = ast.Name | ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef  # a def binds its name too
+    order = [node.id if isinstance(node, ast.Name) else node.name
+             for node in ast.walk(ast.parse("\n".join(body))) if isinstance(node, defines)]
     bound = _bound_names(ast.parse("\n".join(body)))
     return tuple(dict.fromkeys(name for name in order if name in bound and name in used))
 

@@ -4,11 +4,16 @@
 verdict) rules in order, the reference first, then known mistakes with their hints.  Sympy answers go to
 :func:`judge_expression` (sympy is imported only to judge them)."""
 
+import contextlib
 import functools
 import inspect
+import io
 import itertools
+import pathlib
 import re
+import sys
 import types
+import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -27,7 +32,7 @@ from ..planar import wrap_angle
 __all__ = ["ANGLE_TOL", "RELATIVE_TOL", "MOST_TYPED", "Precision", "FIGURES", "DECIMALS", "Feedback", "reads",
            "right", "wrong", "vector", "number", "integer", "word", "fields", "choice", "close", "near",
            "angles_close", "in_degrees", "diagnose", "first", "angle_verdict", "plain", "judge_expression",
-           "as_expressions", "same_equations", "task_argument", "task_possible"]
+           "as_expressions", "same_equations", "task_argument", "task_possible", "procedure", "solver_code"]
 
 #: Absolute tolerance on angles (rad) and relative tolerance on other numbers, where a checker compares
 #: computed quantities (not a student's rounded numbers: those are judged by a :class:`Precision`).
@@ -387,6 +392,82 @@ def task_possible(compute: Callable[[], Any], problem: str) -> Any:
     if not _finite_leaves(value):
         raise InvalidArgumentError(f"{problem}: no reference answer exists for this task")
     return value
+
+
+#: course_lib's own folder: the code of a call the student's function makes is found by its file
+_LIBRARY = pathlib.Path(__file__).resolve().parent.parent
+
+
+def solver_code(*machines: type) -> Callable[[types.CodeType], bool]:
+    """Whether a code object is one of course_lib's solves (the core in ``mechanism/``, ``motion.py``,
+    ``newton.py``, and the modules of ``machines``, e.g. FourBar's) — a property of a machine (its lengths
+    ``l1``, …) and the special methods (building a machine, reading a Motion's value) excepted: what a
+    procedure the task asks for must not call to get its answer."""
+    files = {_LIBRARY / name for name in ("motion.py", "newton.py")}
+    files |= {pathlib.Path(inspect.getfile(machine)).resolve() for machine in machines}
+    getters = {member.fget.__code__ for machine in machines for member in vars(machine).values()
+               if isinstance(member, property) and hasattr(member.fget, "__code__")}
+
+    def solves(code: types.CodeType) -> bool:
+        if code in getters or code.co_name.startswith("__"):
+            return False
+        path = pathlib.Path(code.co_filename)
+        return path in files or path.parent == _LIBRARY / "mechanism"
+
+    return solves
+
+
+def procedure(function: Any, calls: Sequence[tuple], solves: Callable[[types.CodeType], bool], called: str,
+              parse: Callable[[Any], Any]) -> list | Feedback:
+    """The results of the student's ``function`` at each argument tuple of ``calls``, each read by
+    ``parse`` — or the feedback on the first call that raises, returns what ``parse`` refuses, or calls one
+    of course_lib's solves (``solves`` of its code: the task asks for the work the solve would do).  What
+    the function prints is not shown; ``called`` is how the student calls it, e.g. "theta4_at(theta2)".
+
+    >>> from course_lib.fourbar import FourBar
+    >>> bar, read = FourBar(0.07, 0.20, 0.15, 0.25), number("θ4")
+    >>> procedure(lambda theta2: 2 * theta2, [(1.0,), (2.0,)], solver_code(FourBar), "function", read)
+    [2.0, 4.0]
+    >>> asks = procedure(lambda theta2: bar.solve(theta2).theta4, [(1.0,)], solver_code(FourBar), "function",
+    ...                  read)
+    >>> asks.ok, asks.message[:47]
+    (False, 'Not yet: your function calls FourBar.solve, fro')
+    """
+    results = []
+    for arguments in calls:
+        solver: list[str] = []
+
+        def watch(frame, event, _, solver=solver):
+            if event == "call" and not solver and solves(frame.f_code):
+                solver.append(frame.f_code.co_qualname)
+
+        shown = ", ".join(f"{float(value):.6g}" for value in arguments)
+        previous = sys.getprofile()
+        sys.setprofile(watch)
+        try:
+            with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings(), \
+                    np.errstate(all="ignore"):
+                warnings.simplefilter("ignore")
+                result = function(*arguments)
+        except Exception as error:
+            sys.setprofile(previous)
+            text = str(error).splitlines()[0][:160] if str(error) else ""
+            said = f"{type(error).__name__}: {text}" if text else type(error).__name__
+            return wrong(f"your {called} raised {said} when called with ({shown}); it is called with floats "
+                         "in radians, one call per instant.")
+        finally:
+            sys.setprofile(previous)
+        if solver:
+            return wrong(f"your {called} calls {solver[0]}, from course_lib: the task asks for the work that "
+                         "function does, so the check calls yours with course_lib's solves watched. Compute "
+                         "the answer from the task's formulas with numpy (compare with course_lib outside "
+                         "your function, if you like).")
+        value = parse(result)
+        if isinstance(value, Feedback):
+            return wrong(f"what your {called} returns at ({shown}): "
+                         + value.message.removeprefix("Not yet: "))
+        results.append(value)
+    return results
 
 
 def _finite_leaves(value: Any) -> bool:

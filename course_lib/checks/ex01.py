@@ -117,10 +117,13 @@ def check_redundant_parallelogram(answer) -> Feedback:
     True
     """
     return choice(answer, "b", {
-        "a": "the ground was counted once, correctly: L = 5 includes it, and M = 3·4 − 2·6 = 0 is the right "
-             "Gruebler count. The count is fine; its assumption is not.",
-        "c": "ideal pins have no clearance in this course; the motion is a real, finite motion.",
-        "d": "a pin is a full joint (one relative rotation); making them half joints would not explain why "
-             "this particular geometry moves and a slightly different one locks.",
+        "a": "the ground is counted once: L = 5 is the ground, the two cranks, the coupler and CD. And a "
+             "link fewer would not give 1 either: 3·(4 − 1) − 2·6 = −3. No recount of the links gives the "
+             "one freedom the linkage shows.",
+        "c": "the course's pins are ideal, with no clearance (Gruebler's count assumes so too), and the "
+             "motion here is a full turn of the cranks, not a rattle.",
+        "d": "a pin allows one relative motion, a rotation: a full joint. A half joint allows two (roll and "
+             "slide); counted so, C and D give M = 3·4 − 2·4 − 2 = 2, two freedoms — but one crank angle "
+             "sets this whole linkage.",
     }, "Correct: with CD equal and parallel to O2O4, the two pins at C and D repeat constraints the "
        "parallelogram already imposes. Gruebler assumes independent equations, so it undercounts.")

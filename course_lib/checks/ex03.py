@@ -26,24 +26,117 @@ def _has_toggle(linkage: FourBar) -> None:
                                    "answer exists for this task")
 
 
-@reads(number("θ4"), task={"linkage": FourBar, "theta2": "rad", "branch": BRANCHES}, possible=_assembles)
-def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str) -> Feedback:
-    """Exercise 03, task 1 and lesson 03's Try it: the rocker angle θ4 (rad, to 4 decimals) at crank angle
-    ``theta2`` on ``branch``.
+#: Crank angles (rad) where a student's θ4 procedure is called besides the task's own: spread over the turn
+FRESH_THETA2 = np.radians([10.0, 75.0, 160.0, 200.0, 250.0, 300.0, 345.0])
 
-    >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
-    >>> check_fourbar_theta4(bar.solve(2.0, branch="crossed").theta4 + 2 * np.pi, bar, 2.0, "crossed").ok
-    True
-    """
+
+def _number_or_function(what: str):
+    """A parser: the student's function as it is (a procedure to call), else one finite number."""
+    read = number(what)
+    return lambda answer: answer if callable(answer) and not isinstance(answer, type) else read(answer)
+
+
+def _theta4(linkage: FourBar, theta2: float, branch: str) -> float | None:
+    """θ4 of ``linkage`` at ``theta2`` on ``branch``; None where it does not close."""
+    try:
+        return float(linkage.solve(theta2, branch=branch).theta4)
+    except Exception:
+        return None
+
+
+def _half_angle_roots(linkage: FourBar, cos_angle: float, sin_angle: float) -> list[float]:
+    """Both roots θ4 = 2·atan((−b ± √(b² − 4ac))/2a) of the task's quadratic with cos θ2 taken at
+    ``cos_angle`` (in a and c) and sin θ2 at ``sin_angle`` (in b): a slip that puts degrees in some of them;
+    the finite ones."""
+    l1, l2, l3, l4 = linkage.l1, linkage.l2, linkage.l3, linkage.l4
+    K1, K2, K3 = l1 / l2, l1 / l4, (l2**2 - l3**2 + l4**2 + l1**2) / (2 * l2 * l4)
+    cosine = np.cos(cos_angle)
+    a, b, c = cosine - K1 - K2 * cosine + K3, -2 * np.sin(sin_angle), K1 - (K2 + 1) * cosine + K3
+    with np.errstate(all="ignore"):
+        roots = [2 * np.arctan((-b + sign * np.sqrt(b**2 - 4 * a * c)) / (2 * a)) for sign in (1, -1)]
+    return [float(root) for root in roots if np.isfinite(root)]
+
+
+def _theta4_verdict(answer: float, linkage: FourBar, theta2: float, branch: str, function: bool = False
+                    ) -> Feedback:
+    """θ4 (rad) at ``theta2`` judged against ``branch``'s, with the known slips named; ``function``: the
+    value is what the student's function returned (one slip more: θ2 converted with np.radians inside)."""
     other = "crossed" if branch == "open" else "open"
     this, that = linkage.solve(theta2, branch=branch), linkage.solve(theta2, branch=other)
+    degrees = np.degrees(theta2)
+    slips = [(_half_angle_roots(linkage, degrees, degrees),
+              f"θ2 went into cos θ2 and sin θ2 of a, b, c in degrees (cos {degrees:.6g} instead of cos "
+              f"{theta2:.6g}): numpy's cos and sin take radians, np.radians converts."),
+             (_half_angle_roots(linkage, theta2, degrees),
+              f"θ2 went into sin θ2 of b in degrees (sin {degrees:.6g} instead of sin {theta2:.6g}), while a "
+              "and c take cos θ2 in radians: convert it once, with np.radians, and use it everywhere."),
+             (_half_angle_roots(linkage, degrees, theta2),
+              f"θ2 went into cos θ2 of a and c in degrees (cos {degrees:.6g} instead of cos {theta2:.6g}), "
+              "while b takes sin θ2 in radians: convert it once, with np.radians, and use it everywhere.")]
+    if function:
+        slips.append((_half_angle_roots(linkage, np.radians(theta2), np.radians(theta2)),
+                      "your function converts θ2 with np.radians, but it is called with θ2 in radians "
+                      "already (as course_lib's functions are): use theta2 as it comes."))
     return angle_verdict(answer, this.theta4, [
         (that.theta4, f"that is θ4 of the {other} branch; the task asks for the {branch} one (the other "
                       "root of the half-angle quadratic)."),
         (this.theta3, "that is the coupler angle θ3; the task asks for the rocker angle θ4."),
         (that.theta3, f"that is θ3 of the {other} branch; the task asks for the rocker angle θ4 of the "
                       f"{branch} branch."),
+        *((roots, hint) for roots, hint in slips if roots),
     ], "recheck the half-angle coefficients (a, b, c) and which root (±√) you took.")
+
+
+def _where(theta2: float) -> str:
+    return f"θ2 = {theta2:.6g} rad ({np.degrees(theta2) % 360:.6g}°)"
+
+
+@reads(_number_or_function("θ4"), task={"linkage": FourBar, "theta2": "rad", "branch": BRANCHES,
+                                        "method": (None, "half-angle")}, possible=_assembles)
+def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str, method: str | None = None
+                         ) -> Feedback:
+    """Exercise 03, task 1 and lesson 03's Try it: the rocker angle θ4 (rad, to 4 decimals) at crank angle
+    ``theta2`` on ``branch`` — a number, or the student's function of θ2 (rad) that computes it, called here
+    at ``theta2`` and at the crank angles :data:`FRESH_THETA2` where the linkage closes.  With
+    ``method="half-angle"`` (exercise 03) only such a function passes, and only one that calls none of
+    course_lib's solves (``linkage.solve`` gives the number without the quadratic).
+
+    >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
+    >>> check_fourbar_theta4(bar.solve(2.0, branch="crossed").theta4 + 2 * np.pi, bar, 2.0, "crossed").ok
+    True
+    >>> check_fourbar_theta4(lambda t: bar.solve(t, branch="crossed").theta4, bar, 2.0, "crossed").ok
+    False
+    """
+    if not callable(answer):
+        verdict = _theta4_verdict(answer, linkage, theta2, branch)
+        if verdict.ok and method is not None:
+            return wrong("the number is right, but the task asks for the half-angle quadratic itself: give "
+                         "your function of θ2 that computes θ4 from a, b, c (the check calls it at other "
+                         "crank angles too). A number alone does not show how it was found — linkage.solve "
+                         "gives it without the quadratic.")
+        return verdict
+    probes = [theta2] + [angle for angle in FRESH_THETA2 if not angles_close(angle, theta2)
+                         and all(_theta4(linkage, angle, b) is not None for b in BRANCHES)]
+    name = getattr(answer, "__name__", "")
+    called = f"function {name}(theta2)" if name.isidentifier() else "function"
+    values = procedure(answer, [(angle,) for angle in probes], solver_code(FourBar), called, number("θ4"))
+    if isinstance(values, Feedback):
+        return values
+    verdict = _theta4_verdict(values[0], linkage, theta2, branch, function=True)
+    if not verdict.ok:
+        return wrong(f"your {called} at the task's {_where(theta2)}: "
+                     + verdict.message.removeprefix("Not yet: "))
+    for angle, value in zip(probes[1:], values[1:], strict=True):
+        if not DECIMALS.agrees(value, _theta4(linkage, angle, branch), angles=True):
+            if all(DECIMALS.agrees(other, values[0], angles=True) for other in values[1:]):
+                return wrong(f"your {called} returns the same θ4 at every crank angle: compute a, b, c "
+                             "and the root from its argument theta2, not from the task's "
+                             f"{np.degrees(theta2):.6g}°.")
+            there = _theta4_verdict(value, linkage, angle, branch, function=True)
+            return wrong(f"your {called} is right at the task's θ2 but not at {_where(angle)}: "
+                         + there.message.removeprefix("Not yet: "))
+    return right(f"Correct (to {DECIMALS}, angles modulo 2π): your {called} gives θ4 of the {branch} branch "
+                 f"at the task's θ2 and at {len(probes) - 1} other crank angles.")
 
 
 @reads()

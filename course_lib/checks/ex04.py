@@ -22,8 +22,8 @@ from ..saw import (
 )
 from .engine import *  # the feedback engine's helpers (engine.__all__)
 
-__all__ = ["check_saw_omega3_expression", "check_saw_position", "check_saw_slider_acceleration",
-           "check_saw_linear_stage"]
+__all__ = ["check_saw_omega3_expression", "check_saw_position", "check_saw_r1_sign",
+           "check_saw_slider_acceleration", "check_saw_linear_stage"]
 
 
 @reads()
@@ -233,6 +233,24 @@ def _position_verdict(answer: np.ndarray, saw: Saw, theta2: float) -> Feedback:
                                                                    "r3 sin θ3 = r1y."),
     ], "θ3 is right; recheck r1 and θ1 from r1 sin θ1 = r1y and r1 cos θ1 = r2 cos θ2 + r3 cos θ3.",
         angles=(False, True, True))
+
+
+def check_saw_r1_sign(answer) -> Feedback:
+    """Exercise 04, task 2: why r1 comes out negative at θ2 = 50° (a letter).
+
+    >>> check_saw_r1_sign("a").ok, check_saw_r1_sign("d").ok
+    (True, False)
+    """
+    return choice(answer, "a", {
+        "b": "a length to the left is not negative by itself: the same vector r1 is written with r1 > 0 and "
+             "θ1 + π just as well. What fixes the sign is the range the course keeps θ1 in.",
+        "c": "the solve converged (its residuals are below the tolerance); r1 is a signed coordinate along "
+             "the direction θ1, not a distance, and its sign goes with the range of θ1.",
+        "d": "the seed does not set the sign: r1 > 0 with the same θ1 (sin θ1 < 0) would give r1 sin θ1 < 0, "
+             "below O2, off the slider line r1 sin θ1 = r1y > 0. A run that ends at r1 > 0 ends at θ1 + π, "
+             "the same vector.",
+    }, "Correct: with θ1 in (−π/2, π/2], cos θ1 ≥ 0, and the slider lies left of O2 (r1 cos θ1 = r2 cos θ2 "
+       "+ r3 cos θ3 < 0), so r1 < 0; written with θ1 + π the same vector has r1 > 0.")
 
 
 @reads(task={"saw": Saw, "theta2": "rad", "omega2": "rad/s", "alpha2": "rad/s²",

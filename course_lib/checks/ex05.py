@@ -44,18 +44,36 @@ def _posed(robot: FiveBar, theta1: float, theta4: float, x3: float, y3: float) -
                                    "for this task")
 
 
-@reads(vector(2, "(x3, y3)"), task={"robot": FiveBar, "theta1": "rad", "theta4": "rad", "mode": (1, -1)},
-       possible=_assembles)
-def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, mode: int) -> Feedback:
-    """Exercise 05, task 1 and lesson 08's Try it: the end effector (x3, y3) in m, to 6 decimals (a
-    micrometre), in assembly mode ``mode`` (+1 arms up, −1 arms down).
+#: Crank angles (θ1, θ4), rad, where a student's forward procedure is called besides the task's own
+FRESH_CRANKS = np.radians([(45.0, 135.0), (60.0, 100.0), (90.0, 150.0), (30.0, 120.0), (80.0, 80.0),
+                           (110.0, 170.0)])
 
-    >>> check_fivebar_forward((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 1.2, 2.2, -1).ok
-    False
-    """
+
+def _number_pair_or_function(what: str):
+    """A parser: the student's function as it is (a procedure to call), else two finite numbers."""
+    read = vector(2, what)
+    return lambda answer: answer if callable(answer) and not isinstance(answer, type) else read(answer)
+
+
+def _closes(robot: FiveBar, theta1: float, theta4: float) -> bool:
+    """Whether both assemblies exist at (θ1, θ4), away from D = 0 (where X3 = g·Y3 + f has no slope)."""
+    try:
+        [tuple(robot.forward(theta1, theta4, mode=m)) for m in (1, -1)]
+    except Exception:
+        return False
+    size = max(robot.l1, robot.l2, robot.l3, robot.l4, robot.l5)
+    return bool(abs(robot.forward_coefficients(theta1, theta4)["D"]) > 0.05 * size)
+
+
+def _forward_verdict(answer, robot: FiveBar, theta1: float, theta4: float, mode: int, function: bool = False
+                     ) -> Feedback:
+    """(x3, y3) at (``theta1``, ``theta4``) judged against assembly ``mode``'s, with the known slips named;
+    ``function``: the value is what the student's function returned (one slip more: the angles converted
+    with np.radians inside)."""
     reference, other = (np.array(tuple(robot.forward(theta1, theta4, mode=m))) for m in (mode, -mode))
     x3, y3 = reference
     in_degrees = robot.forward(*np.degrees([theta1, theta4]), mode=mode, on_failure="nan")
+    twice = robot.forward(*np.radians([theta1, theta4]), mode=mode, on_failure="nan") if function else None
     k = robot.forward_coefficients(theta1, theta4)
     with np.errstate(all="ignore"):  # the notes' slip: +b where X3 = g·Y3 + f takes Y3 (lesson 08, §7)
         slipped = float(k["g"] * (k["b"] + mode * np.sqrt(k["b"] ** 2 - 4 * k["a"] * k["c"])) / (2 * k["a"])
@@ -67,6 +85,9 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
         (1000 * reference, "that looks like millimetres; give metres."),
         (reference[::-1], "the coordinates are swapped: give (x3, y3)."),
         (np.array(tuple(in_degrees)), "the crank angles went into cos/sin in degrees; use radians."),
+        *([(np.array(tuple(twice)), "your function converts the angles with np.radians, but it is "
+                                    "called with θ1, θ4 in radians already: use them as they come.")]
+          if function else []),
         ((slipped, y3), "y3 is right, but x3 is not: X3 = g·Y3 + f takes that same Y3, "
                         "(−b + σ√(b² − 4ac))/2a; with +b there (the slip of one line of the course notes, "
                         "lesson 08 §7) X3 moves by g·b/a."),
@@ -77,6 +98,57 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
                      "the task writes them."),
         ((x3, None), "x3 is right, but y3 is off: recheck a, b and c of the quadratic in Y3."),
     ], "from X3 = g·Y3 + f and a·Y3² + b·Y3 + c = 0, take Y3 = (−b + σ√(b² − 4ac))/2a.")
+
+
+def _where(theta1: float, theta4: float) -> str:
+    return (f"θ1 = {theta1:.6g} rad ({np.degrees(theta1) % 360:.6g}°), θ4 = {theta4:.6g} rad "
+            f"({np.degrees(theta4) % 360:.6g}°)")
+
+
+@reads(_number_pair_or_function("(x3, y3)"), task={"robot": FiveBar, "theta1": "rad", "theta4": "rad",
+                                                   "mode": (1, -1), "method": (None, "quadratic")},
+       possible=_assembles)
+def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, mode: int,
+                          method: str | None = None) -> Feedback:
+    """Exercise 05, task 1 and lesson 08's Try it: the end effector (x3, y3) in m, to 6 decimals (a
+    micrometre), in assembly mode ``mode`` (+1 arms up, −1 arms down) — two numbers, or the student's
+    function of (θ1, θ4) (rad) that computes them, called here at the task's angles and at the crank angles
+    :data:`FRESH_CRANKS` where the robot closes.  With ``method="quadratic"`` (exercise 05) only such a
+    function passes, and only one that calls none of course_lib's solves (``robot.forward`` gives the point,
+    ``robot.forward_coefficients`` f, g, a, b, c, without the derivation's work).
+
+    >>> check_fivebar_forward((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 1.2, 2.2, -1).ok
+    False
+    """
+    if not callable(answer):
+        verdict = _forward_verdict(answer, robot, theta1, theta4, mode)
+        if verdict.ok and method is not None:
+            return wrong("the numbers are right, but the task asks for the derivation's work: give your "
+                         "function of (θ1, θ4) that computes D, f, g, a, b, c and the root (the check calls "
+                         "it at other crank angles too). Numbers alone do not show how they were found — "
+                         "robot.forward gives them without the quadratic.")
+        return verdict
+    probes = [(theta1, theta4)] + [(t1, t4) for t1, t4 in FRESH_CRANKS if _closes(robot, t1, t4)
+                                   and not angles_close((t1, t4), (theta1, theta4))]
+    name = getattr(answer, "__name__", "")
+    called = f"function {name}(theta1, theta4)" if name.isidentifier() else "function"
+    values = procedure(answer, probes, solver_code(FiveBar), called, vector(2, "(x3, y3)"))
+    if isinstance(values, Feedback):
+        return values
+    verdict = _forward_verdict(values[0], robot, theta1, theta4, mode, function=True)
+    if not verdict.ok:
+        return wrong(f"your {called} at the task's {_where(theta1, theta4)}: "
+                     + verdict.message.removeprefix("Not yet: "))
+    for (t1, t4), value in zip(probes[1:], values[1:], strict=True):
+        if not MICROMETRES.agrees(value, tuple(robot.forward(t1, t4, mode=mode))):
+            if all(MICROMETRES.agrees(other, values[0]) for other in values[1:]):
+                return wrong(f"your {called} returns the same point at every crank angle: compute D, f, g, "
+                             "a, b, c from its arguments theta1, theta4, not from the task's angles.")
+            there = _forward_verdict(value, robot, t1, t4, mode, function=True)
+            return wrong(f"your {called} is right at the task's angles but not at {_where(t1, t4)}: "
+                         + there.message.removeprefix("Not yet: "))
+    return right(f"Correct (to {MICROMETRES}): your {called} gives the end effector at the task's angles "
+                 f"and at {len(probes) - 1} other pairs of crank angles.")
 
 
 @reads(vector(2, "(θ1, θ4)"), task={"robot": FiveBar, "x3": "m", "y3": "m", "modes": WORKING_MODES},

@@ -15,6 +15,7 @@ from itertools import permutations
 import numpy as np
 
 from ..errors import InvalidArgumentError, InvalidGeometryError, require_finite, require_positive
+from ..planar import wrap_angle
 from .engine import *  # the feedback engine's helpers (engine.__all__)
 
 __all__ = ["ShaperDrawing", "SHAPER", "quick_return_time_ratio", "check_shaper_loops",
@@ -769,23 +770,35 @@ def _direction(text) -> str | None:
 
 
 def _read_stroke(answer):
-    """Task 4's answer ((stroke, time ratio), cutting) as (the two numbers, "left" or "right"); else the
-    feedback."""
+    """Task 4's answer ((stroke, time ratio), stops, cutting) — or ((stroke, time ratio), cutting), the stops
+    left out — as (the two numbers, the two stops or None, "left" or "right"); else the feedback."""
+    asked = ("((stroke, time_ratio), stops, cutting): the numbers, the two crank angles where the ram stops "
+             "and the way it moves on the cutting stroke — the check cell of Task 4 passes "
+             "(stroke_and_ratio, stops, cutting)")
     if _is_motion(answer) or _is_declaration(answer):
-        return wrong("give the numbers read off your sweep, ((stroke, time_ratio), cutting), not the "
+        return wrong("give the numbers read off your sweep, ((stroke, time_ratio), stops, cutting), not the "
                      f"{'Motion' if _is_motion(answer) else 'declaration'} itself.")
-    if not (isinstance(answer, tuple | list) and len(answer) == 2) or all(
+    if not (isinstance(answer, tuple | list) and len(answer) in (2, 3)) or all(
             isinstance(entry, int | float | np.number) and not isinstance(entry, bool | np.bool_)
             for entry in answer):
-        return wrong("give ((stroke, time_ratio), cutting), the numbers and the way the ram moves on the "
-                     "cutting stroke — the check cell of Task 4 passes (stroke_and_ratio, cutting).")
-    numbers, cutting = answer
+        return wrong(f"give {asked}.")
+    numbers, *stops, cutting = answer
     if _is_motion(numbers):
         return wrong("stroke_and_ratio should be the numbers read off your sweep, (stroke, time_ratio), not "
                      "the Motion: the stroke is max x − min x, the time ratio slow over fast.")
     numbers = vector(2, "stroke_and_ratio = (stroke, time_ratio)")(numbers)
     if isinstance(numbers, Feedback):
         return numbers
+    if len(answer) == 3:
+        if stops[0] is None:
+            return wrong("stops is still None: give the two crank angles (rad) where the ram stops, "
+                         "stops = (θ2 at one stop, θ2 at the other).")
+        if _is_motion(stops[0]):
+            return wrong("stops should be two crank angles (rad), read off your sweep where ω4 changes sign, "
+                         "not the Motion.")
+        stops = vector(2, "stops = (θ2 at one stop, θ2 at the other)")(stops[0])
+        if isinstance(stops, Feedback):
+            return stops
     if cutting is None:
         return wrong('cutting is still None: answer the last question too, "left" or "right" (the way the '
                      'ram moves on the cutting stroke).')
@@ -793,7 +806,36 @@ def _read_stroke(answer):
     if direction is None:
         return wrong(f'cutting should be "left" or "right" (a string): the way the ram moves on the cutting '
                      f"stroke; got {cutting!r}"[:200] + ".")
-    return numbers, direction
+    return numbers, (stops if len(answer) == 3 else None), direction
+
+
+#: The crank angles of the stops: to 3 decimals (rad; interpolated between samples of a sweep).
+_STOPS = Precision(3, decimals=True)
+
+
+def _stops_verdict(stops: np.ndarray, shaper: ShaperDrawing) -> Feedback:
+    """The two crank angles (rad, either order, modulo 2π) where the lever, and so the ram, stops."""
+    reference = np.array(shaper.limit_angles())
+    beta = -reference[0]
+
+    def either(value, candidate):  # the pair in either order
+        return any(_STOPS.agrees(value[order], candidate, angles=True) for order in ([0, 1], [1, 0]))
+
+    return diagnose(stops, either, [
+        (reference, "the stops are right."),
+        (lambda v: either(np.radians(v), reference) and not either(v, reference),
+         "the stops are in degrees; give them in radians (np.radians converts)."),
+        (np.array([beta, np.pi - beta]), "those are the crank angles where sin θ2 = +r2/d; the lever stops "
+                                         "where O4A ⟂ O2A, below O2: sin θ2 = −r2/d."),
+        (lambda v: all(min(abs(wrap_angle(value - reference))) < 0.05 for value in v)
+         and len({round(float(wrap_angle(value)), 6) for value in v}) == 2,
+         "close, but not to 3 decimals: interpolate between the two samples where ω4 changes sign (lesson "
+         "12, section 4), or use the condition O4A ⟂ O2A there; the nearest sample is not enough."),
+        (lambda v: sum(min(abs(wrap_angle(value - reference))) < 5e-4 for value in v) == 1,
+         "one stop is right, the other is not: the lever stops twice a turn, once at each end of its swing "
+         "(ω4 changes sign twice)."),
+    ], "those are not the crank angles where the ram stops: it stops when the lever does, where ω4 changes "
+       "sign (O4A ⟂ O2A); give both, in radians.")
 
 
 def _cutting(shaper: ShaperDrawing) -> str:
@@ -804,14 +846,17 @@ def _cutting(shaper: ShaperDrawing) -> str:
 
 @reads(_read_stroke, task={"shaper": ShaperDrawing}, possible=_turns)
 def check_ram_stroke(answer, shaper: ShaperDrawing = SHAPER) -> Feedback:
-    """Exercise 06, task 4: ((stroke in m, time ratio), cutting): the stroke and the time ratio each to 3
-    significant figures (compute), and the way the ram moves on the cutting stroke, "left" or "right"
-    (interpret).
+    """Exercise 06, task 4: ((stroke in m, time ratio), stops, cutting): the stroke and the time ratio each
+    to 3 significant figures and the two crank angles where the ram stops (rad, to 3 decimals, either order)
+    (compute), and the way the ram moves on the cutting stroke, "left" or "right" (interpret);
+    ((stroke, time ratio), cutting) leaves the stops out.
 
-    >>> check_ram_stroke(((SHAPER.stroke(), SHAPER.time_ratio()), "left")).ok
+    >>> check_ram_stroke(((SHAPER.stroke(), SHAPER.time_ratio()), SHAPER.limit_angles(), "left")).ok
     True
+    >>> check_ram_stroke(((SHAPER.stroke(), SHAPER.time_ratio()), (3.5, 5.9), "left")).ok
+    False
     """
-    (stroke, ratio), cutting = answer
+    (stroke, ratio), stops, cutting = answer
     reference = shaper.stroke()
     swapped = (ratio, stroke), (reference, shaper.time_ratio())
     if any(_THREE.agrees(*swapped, digits=digits) for digits in (3, 2)):
@@ -826,9 +871,12 @@ def check_ram_stroke(answer, shaper: ShaperDrawing = SHAPER) -> Feedback:
     ], "the stroke is not right: sweep a full revolution on the drawn assembly and take max x − min x.")
     if not verdict.ok:
         return verdict
+    if stops is not None and not (stopped := _stops_verdict(stops, shaper)).ok:
+        return wrong("the stroke and the time ratio are right; " + stopped.message.removeprefix("Not yet: "))
     if cutting != _cutting(shaper):
         return wrong("the stroke and the time ratio are right; cutting is not. The shaper cuts on its slow "
                      "stroke, while the crank turns the long way round between the two stops: which way does "
                      "the ram move then? (The sign of v_x at a crank angle on that stroke tells.)")
-    return right(f"Correct: the ram stops when the lever does, so its stroke and its time ratio are the "
-                 f"lever's; it cuts moving {cutting}, on the slow stroke.")
+    where = " (at your two stops)" if stops is not None else ""
+    return right(f"Correct: the ram stops when the lever does{where}, so its stroke and its time ratio are "
+                 f"the lever's; it cuts moving {cutting}, on the slow stroke.")

@@ -202,3 +202,24 @@ def test_the_watch_is_left_as_it_was():
     forward_task(lambda t1, t4: 1 / 0)
     theta4_task(norton)
     assert sys.getprofile() is before
+
+
+def test_a_function_that_never_returns_is_answered_not_waited_for(monkeypatch):
+    import time
+
+    from course_lib.checks import engine
+    from course_lib.fourbar import FourBar
+
+    monkeypatch.setattr(engine, "PROCEDURE_SECONDS", 0.3)
+
+    def forever(theta2):
+        while True:
+            pass
+
+    start = time.perf_counter()
+    feedback = engine.procedure(forever, [(1.0,), (2.0,)], engine.solver_code(FourBar), "function",
+                                engine.number("θ4"))
+    assert time.perf_counter() - start < 3.0
+    assert not feedback.ok and "did not return within 0.3 s" in feedback.message
+    assert engine.procedure(lambda theta2: 2 * theta2, [(1.0,)], engine.solver_code(FourBar), "function",
+                            engine.number("θ4")) == [2.0]

@@ -417,12 +417,17 @@ def solver_code(*machines: type) -> Callable[[types.CodeType], bool]:
     return solves
 
 
+#: Seconds one call of a student's function may take in :func:`procedure` before it is reported as a hang.
+PROCEDURE_SECONDS = 5.0
+
+
 def procedure(function: Any, calls: Sequence[tuple], solves: Callable[[types.CodeType], bool], called: str,
               parse: Callable[[Any], Any]) -> list | Feedback:
     """The results of the student's ``function`` at each argument tuple of ``calls``, each read by
     ``parse`` — or the feedback on the first call that raises, returns what ``parse`` refuses, or calls one
     of course_lib's solves (``solves`` of its code: the task asks for the work the solve would do).  What
     the function prints is not shown; ``called`` is how the student calls it, e.g. "theta4_at(theta2)".
+    Each call may take PROCEDURE_SECONDS; one that takes longer is reported as an endless loop.
 
     >>> from course_lib.fourbar import FourBar
     >>> bar, read = FourBar(0.07, 0.20, 0.15, 0.25), number("θ4")
@@ -433,6 +438,8 @@ def procedure(function: Any, calls: Sequence[tuple], solves: Callable[[types.Cod
     >>> asks.ok, asks.message[:47]
     (False, 'Not yet: your function calls FourBar.solve, fro')
     """
+    from .worked import _limited, _TimeUp  # the time limit of worked answers
+
     results = []
     for arguments in calls:
         solver: list[str] = []
@@ -448,7 +455,11 @@ def procedure(function: Any, calls: Sequence[tuple], solves: Callable[[types.Cod
             with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings(), \
                     np.errstate(all="ignore"):
                 warnings.simplefilter("ignore")
-                result = function(*arguments)
+                result = _limited(PROCEDURE_SECONDS, functools.partial(function, *arguments))
+        except _TimeUp:
+            sys.setprofile(previous)
+            return wrong(f"your {called} did not return within {PROCEDURE_SECONDS:g} s when called with "
+                         f"({shown}) (an endless loop?); one call should take a moment.")
         except Exception as error:
             sys.setprofile(previous)
             text = str(error).splitlines()[0][:160] if str(error) else ""

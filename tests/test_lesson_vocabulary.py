@@ -1,0 +1,71 @@
+"""One vocabulary in every lesson and exercise set: no code line uses an older spelling the glossary keeps
+only for compatibility (docs/glossary.md, "Older spellings").  Counted per notebook: zero everywhere."""
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).parents[1]
+NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb")) + sorted((ROOT / "notebooks").glob("*/*.ipynb"))
+
+#: older spelling → the one the lessons use (both as the glossary lists them)
+OLDER = {
+    r"\bbranch\s*=": "assembly=",
+    r"\bon_unreachable\b|\bon_singular\b": "on_failure=",
+    r"\.mask\b": ".unreachable",
+    r"\bdraw_linkage\b": "draw",
+    r"\bjoint_positions\b": "mechanism.joints(motion)",
+    r"\bnewton\.is_singular\b|\bfrom course_lib\.newton import[^\n]*\bis_singular\b":
+        "newton.ill_conditioned",
+    r"\b(\w+)(?:\[[^\]]*\])?\.reachable\b": ".converged (a Motion's; `reachable` is a WorkspaceMap's grid)",
+}
+
+
+def code_lines(path: Path) -> list[str]:
+    cells = json.loads(path.read_text())["cells"]
+    return [line for cell in cells if cell["cell_type"] == "code"
+            for line in "".join(cell["source"]).splitlines()]
+
+
+def workspace_names(lines: list[str]) -> set[str]:
+    """Names bound to a WorkspaceMap in the notebook (``x = robot.workspace(...)``, a dict of them, or an
+    item of that dict): their ``reachable`` is the map's own field."""
+    names = {m.group(1) for line in lines
+             for m in re.finditer(r"(\w+)\s*=\s*(?:\{[^}]*:\s*)?\w+\.workspace\(", line)}
+    item = re.compile(r"(\w+)\s*=\s*(\w+)\[[^\]]*\]\s*(?:#.*)?$")
+    return names | {m.group(1) for line in lines for m in item.finditer(line) if m.group(2) in names}
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.relative_to(ROOT / "notebooks").as_posix())
+def test_no_code_line_in_an_older_spelling(path):
+    lines = code_lines(path)
+    maps = workspace_names(lines)
+    found = []
+    for line in lines:
+        for pattern, one in OLDER.items():
+            for match in re.finditer(pattern, line):
+                if match.groups() and match.group(1) in maps:
+                    continue
+                found.append(f"{line.strip()}  →  {one}")
+    assert not found, "\n".join(found)
+
+
+def test_the_glossary_lists_every_older_spelling_this_test_counts():
+    glossary = (ROOT / "docs" / "glossary.md").read_text()
+    older = glossary.split("### Older spellings", 1)[1].split("\n## ", 1)[0]
+    for word in ("branch=", "on_unreachable=", "on_singular=", "mask", "draw_linkage", "joint_positions",
+                 "is_singular", "reachable"):
+        assert word in older, word
+
+
+def test_the_pattern_counts_what_it_should():
+    lines = ['m = wiper.solve(t, branch="open")', "print(attempt.mask)", "ok = back.reachable",
+             "maps = {k: robot.workspace(g, g, k) for k in modes}", "one = maps[(1, 1)]",
+             "ok = one.reachable", "ok = maps[k].reachable",
+             'x = robot.inverse(0, 0.2, on_unreachable="nan")']
+    maps = workspace_names(lines)
+    hits = [line for line in lines for pattern in OLDER for m in re.finditer(pattern, line)
+            if not (m.groups() and m.group(1) in maps)]
+    assert maps == {"maps", "one"} and hits == [lines[0], lines[1], lines[2], lines[7]]

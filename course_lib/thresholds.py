@@ -22,6 +22,13 @@ LEVEL = 1e-12
 #: only where the lowest level of its quadratic between them, located, is at most CHANGE_LEVEL; above it they
 #: come near and part again (a near miss) and σ is kept.
 CHANGE_LEVEL = 1e-9
+#: On Newton's route a step over which J's orientation changes is a change point crossed only where the
+#: corrector moved its end by at most FLIP_SMOOTH of the step from the tangent's prediction (the path smooth
+#: there) and σ_min(J̃) at its two ends adds up to at most FLIP_NEAR of the step (J singular within it: along
+#: a path through a change point σ_min(J̃) grows like the distance from it); else the step may have reached
+#: the other assembly where the two come near (a near miss) and is taken again in halves.
+FLIP_SMOOTH = 0.05
+FLIP_NEAR = 0.3
 #: A closed-form or continued position is accepted where |F_i| / (typical size of row i) stays below this.
 RESIDUAL = 1e-8
 #: Two lengths (or a point and a pivot) closer than COINCIDENT × the longest length are equal: rounding.

@@ -11,6 +11,7 @@ import heapq
 import numpy as np
 
 from ..symbolic import is_angle
+from ..thresholds import FLIP_NEAR, FLIP_SMOOTH
 from .singular import SINGULAR
 
 #: A continuation step changes no unknown by more than this (radians, or typical lengths).
@@ -20,14 +21,8 @@ MAX_CHANGE = 0.1
 #: A corrector step moves no unknown by more than this (radians, or typical lengths).
 MAX_STEP = 0.5
 
-#: A step over which the orientation of J changes is kept as a change point crossed only where it looks like
-#: one: the corrector moved its end by at most FLIP_SMOOTH of the step from the tangent's prediction (the
-#: path is smooth there) and σ_min(J̃) at its two ends adds up to at most FLIP_NEAR of the step (J singular
-#: within it: along a path through a change point σ_min(J̃) grows like the distance from it).  Else it is
-#: taken again in halves, down to FLIP_DEPTH halvings: a step that reached the other assembly where the two
-#: come near (a near miss of a limit) keeps the orientation in halves.
-FLIP_SMOOTH = 0.05
-FLIP_NEAR = 0.3
+#: A step whose change of orientation does not look like a change point crossed (``FLIP_SMOOTH``,
+#: ``FLIP_NEAR`` of :mod:`course_lib.thresholds`) is taken again in halves, down to FLIP_DEPTH halvings.
 FLIP_DEPTH = 16
 
 #: A sweep of one input with at least this many instants is followed on its path first (anchors a spacing

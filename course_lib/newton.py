@@ -35,6 +35,8 @@ __all__ = ["NewtonResult", "BatchNewtonResult", "newton", "newton_batch", "finit
 
 #: The most updates a run may take: the history of one run stays small.
 MAX_ITERATIONS = 10_000
+#: The most unknowns one Newton run takes: an update is an n×n solve (n³/3 operations, n² numbers).
+MAX_UNKNOWNS = 500
 ON_FAILURE = ("raise", "report")
 
 
@@ -169,9 +171,12 @@ class LinearStack:
     @property
     def ratio(self) -> np.ndarray:
         """|det J| / Π‖row of J‖ per matrix (see :func:`hadamard_ratio`)."""
-        if self.n > 3:
+        if self.n > 3:  # det of J with unit rows: det J and the product overflow for many rows, the ratio not
             J = self._J
-            return np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+            norms = np.linalg.norm(J, axis=-1, keepdims=True)
+            with np.errstate(all="ignore"):
+                ratio = np.abs(np.linalg.det(np.where(norms > 0, J / norms, 0.0)))
+            return np.where(norms[..., 0].min(axis=-1) > 0, ratio, 0.0)
         A = self._A
         if self.n == 2:
             rows = (A[0, 0] * A[0, 0] + A[0, 1] * A[0, 1]) * (A[1, 0] * A[1, 0] + A[1, 1] * A[1, 1])
@@ -325,6 +330,9 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
         x = np.atleast_1d(np.asarray(x0, dtype=float)).copy()
     except (TypeError, ValueError):
         x = np.array([np.nan])
+    if x.ndim == 1 and x.size > MAX_UNKNOWNS:  # each update solves an n×n system: judged before any work
+        raise InvalidArgumentError(f"x0 must hold at most {MAX_UNKNOWNS:,} unknowns (each Newton update "
+                                   f"solves an n×n system); got {x.size:,} (shape {x.shape})")
     if x.ndim != 1 or not np.all(np.isfinite(x)):
         raise InvalidGeometryError(f"x0 must be a finite number or 1-D vector; got {x0!r}")
     n = x.size
@@ -363,7 +371,8 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
             if not np.isfinite(J).all():
                 failure = f"jac returned {J.tolist()} at x={here()}, after {len(steps)} iterations"
                 break
-            ratio = abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=1))  # hadamard_ratio, one J
+            norms = np.linalg.norm(J, axis=1)  # hadamard_ratio of one J, its rows made unit: no overflow
+            ratio = abs(np.linalg.det(J / norms[:, None])) if norms.min() > 0 else 0.0
             if not ratio > 1.0 / MAX_CONDITION:
                 message = f"the Jacobian is {singular_jacobian_text(n)} at x={here()}; Newton cannot take " \
                           "a step from here: try another seed"

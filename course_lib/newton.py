@@ -171,12 +171,8 @@ class LinearStack:
     @property
     def ratio(self) -> np.ndarray:
         """|det J| / Π‖row of J‖ per matrix (see :func:`hadamard_ratio`)."""
-        if self.n > 3:  # det of J with unit rows: det J and the product overflow for many rows, the ratio not
-            J = self._J
-            norms = np.linalg.norm(J, axis=-1, keepdims=True)
-            with np.errstate(all="ignore"):
-                ratio = np.abs(np.linalg.det(np.where(norms > 0, J / norms, 0.0)))
-            return np.where(norms[..., 0].min(axis=-1) > 0, ratio, 0.0)
+        if self.n > 3:
+            return _unit_rows_det(self._J)
         A = self._A
         if self.n == 2:
             rows = (A[0, 0] * A[0, 0] + A[0, 1] * A[0, 1]) * (A[1, 0] * A[1, 0] + A[1, 1] * A[1, 1])
@@ -224,6 +220,17 @@ class LinearStack:
         if self.n == 2:
             return np.array([A[1, 1] * b[0] - A[0, 1] * b[1], A[0, 0] * b[1] - A[1, 0] * b[0]]) / det
         return (self._cofactors * b[:, None]).sum(axis=0) / det
+
+
+def _unit_rows_det(J: np.ndarray) -> np.ndarray:
+    """|det J| / Π‖row of J‖ per matrix (N, n, n) as |det| of J with every row made unit (divided by its largest
+    entry, then by its length): neither det J nor the product of lengths over- or underflows, however many
+    rows or however large or small their entries (a zero row gives 0, a NaN NaN)."""
+    with np.errstate(all="ignore"):
+        largest = np.abs(J).max(axis=-1, keepdims=True)
+        scaled = J / np.where(largest > 0, largest, 1.0)
+        length = np.linalg.norm(scaled, axis=-1, keepdims=True)
+        return np.abs(np.linalg.det(scaled / np.where(length > 0, length, 1.0)))
 
 
 def hadamard_ratio(J: np.ndarray) -> np.ndarray:
@@ -371,8 +378,7 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
             if not np.isfinite(J).all():
                 failure = f"jac returned {J.tolist()} at x={here()}, after {len(steps)} iterations"
                 break
-            norms = np.linalg.norm(J, axis=1)  # hadamard_ratio of one J, its rows made unit: no overflow
-            ratio = abs(np.linalg.det(J / norms[:, None])) if norms.min() > 0 else 0.0
+            ratio = float(_unit_rows_det(J[None])[0])  # hadamard_ratio of one J
             if not ratio > 1.0 / MAX_CONDITION:
                 message = f"the Jacobian is {singular_jacobian_text(n)} at x={here()}; Newton cannot take " \
                           "a step from here: try another seed"

@@ -223,9 +223,9 @@ class LinearStack:
 
 
 def _unit_rows_det(J: np.ndarray) -> np.ndarray:
-    """|det J| / Π‖row of J‖ per matrix (N, n, n) as |det| of J with every row made unit (divided by its largest
-    entry, then by its length): neither det J nor the product of lengths over- or underflows, however many
-    rows or however large or small their entries (a zero row gives 0, a NaN NaN)."""
+    """|det J| / Π‖row of J‖ per matrix (N, n, n) as |det| of J with every row made unit (divided by its
+    largest entry, then by its length): neither det J nor the product of lengths over- or underflows, however
+    many rows or however large or small their entries (a zero row gives 0, a NaN NaN)."""
     with np.errstate(all="ignore"):
         largest = np.abs(J).max(axis=-1, keepdims=True)
         scaled = J / np.where(largest > 0, largest, 1.0)

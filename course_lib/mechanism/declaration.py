@@ -68,8 +68,8 @@ def _expression(where: str, value) -> sp.Expr:
                       if isinstance(node, AppliedUndef | sp.Integral | sp.Derivative | sp.Subs | sp.Sum
                                     | sp.Product | sp.Limit)})
     if unknown:  # nothing numpy can evaluate: an undefined function, an unevaluated integral or derivative
-        raise InvalidGeometryError(f"{where} uses {', '.join(unknown)}, which has no numeric value: write the "
-                                   f"loop with known functions only (sin, cos, sqrt, …); got {expr}"[:400])
+        raise InvalidGeometryError(f"{where} uses {', '.join(unknown)}, which has no numeric value: write "
+                                   f"the loop with known functions (sin, cos, sqrt, …); got {expr}"[:400])
     if expr.has(sp.I) or expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
         raise InvalidGeometryError(f"{where} must be real (no I, no infinity): write the x and y components "
                                    f"as two rows; got {expr}")

@@ -579,7 +579,16 @@ def outcome(call, expect) -> tuple[str, str]:
     return "silent", f"returned {result!r}"[:300]
 
 
-@pytest.mark.parametrize("label", ROWS)
+#: Rows the core still fails, each with why (strict: once fixed, such a row fails until it leaves this list)
+LEFT = {label: "the derived half-angle quadratic's coefficients (lengths to the fourth power) underflow "
+               "or overflow: 'no assembly' for an assembled linkage (closed_forms.py)"
+        for label in ROWS if label.startswith("the wiper declared at ") and label.split()[4] in
+        ("1e-90:", "1e+78:", "1e+85:", "1e+90:")}
+
+
+@pytest.mark.parametrize("label", [
+    pytest.param(label, marks=pytest.mark.xfail(strict=True, reason=LEFT[label])) if label in LEFT else label
+    for label in ROWS])
 def test_a_bad_input_is_named_or_answered_correctly(label):
     call, expect = ROWS[label]
     kind, detail = outcome(call, expect)

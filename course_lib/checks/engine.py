@@ -164,6 +164,8 @@ class Precision:
         values = _reals(value)
         if values is None or values.shape != shape or values[kept].shape != references.shape:
             return False
+        if not np.all(np.isfinite(values[kept])):  # NaN or inf is nothing's value (and wraps to no angle)
+            return False
         try:
             flags = np.broadcast_to(flags, shape)
         except ValueError:

@@ -600,6 +600,9 @@ def test_the_campaign_is_large():
 
 
 if __name__ == "__main__":
+    import warnings
+
+    warnings.filterwarnings("error", category=RuntimeWarning, module="course_lib.*")  # as pyproject's pytest
     tally: dict[str, list[str]] = {}
     for label, (call, expect) in ROWS.items():
         kind, detail = outcome(call, expect)

@@ -74,6 +74,8 @@ def _numbers(name: str, value: Any, what: str) -> np.ndarray:
     problem = None
     if isinstance(value, str | bytes | bool | np.bool_) or value is None:
         problem = type(value).__name__
+    elif isinstance(value, np.ma.MaskedArray):  # numpy would compute its masked entries too
+        problem = "a masked array: its masked entries would be computed too; give the values to use"
     else:
         try:
             array = np.asarray(value)

@@ -35,6 +35,8 @@ __all__ = ["NewtonResult", "BatchNewtonResult", "newton", "newton_batch", "finit
 
 #: The most updates a run may take: the history of one run stays small.
 MAX_ITERATIONS = 10_000
+#: The most unknowns one Newton run takes: an update is an n×n solve (n³/3 operations, n² numbers).
+MAX_UNKNOWNS = 500
 ON_FAILURE = ("raise", "report")
 
 
@@ -170,8 +172,7 @@ class LinearStack:
     def ratio(self) -> np.ndarray:
         """|det J| / Π‖row of J‖ per matrix (see :func:`hadamard_ratio`)."""
         if self.n > 3:
-            J = self._J
-            return np.abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+            return _unit_rows_det(self._J)
         A = self._A
         if self.n == 2:
             rows = (A[0, 0] * A[0, 0] + A[0, 1] * A[0, 1]) * (A[1, 0] * A[1, 0] + A[1, 1] * A[1, 1])
@@ -219,6 +220,17 @@ class LinearStack:
         if self.n == 2:
             return np.array([A[1, 1] * b[0] - A[0, 1] * b[1], A[0, 0] * b[1] - A[1, 0] * b[0]]) / det
         return (self._cofactors * b[:, None]).sum(axis=0) / det
+
+
+def _unit_rows_det(J: np.ndarray) -> np.ndarray:
+    """|det J| / Π‖row of J‖ per matrix (N, n, n) as |det| of J with every row made unit (divided by its
+    largest entry, then by its length): neither det J nor the product of lengths over- or underflows, however
+    many rows or however large or small their entries (a zero row gives 0, a NaN NaN)."""
+    with np.errstate(all="ignore"):
+        largest = np.abs(J).max(axis=-1, keepdims=True)
+        scaled = J / np.where(largest > 0, largest, 1.0)
+        length = np.linalg.norm(scaled, axis=-1, keepdims=True)
+        return np.abs(np.linalg.det(scaled / np.where(length > 0, length, 1.0)))
 
 
 def hadamard_ratio(J: np.ndarray) -> np.ndarray:
@@ -325,6 +337,9 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
         x = np.atleast_1d(np.asarray(x0, dtype=float)).copy()
     except (TypeError, ValueError):
         x = np.array([np.nan])
+    if x.ndim == 1 and x.size > MAX_UNKNOWNS:  # each update solves an n×n system: judged before any work
+        raise InvalidArgumentError(f"x0 must hold at most {MAX_UNKNOWNS:,} unknowns (each Newton update "
+                                   f"solves an n×n system); got {x.size:,} (shape {x.shape})")
     if x.ndim != 1 or not np.all(np.isfinite(x)):
         raise InvalidGeometryError(f"x0 must be a finite number or 1-D vector; got {x0!r}")
     n = x.size
@@ -363,7 +378,7 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
             if not np.isfinite(J).all():
                 failure = f"jac returned {J.tolist()} at x={here()}, after {len(steps)} iterations"
                 break
-            ratio = abs(np.linalg.det(J)) / np.prod(np.linalg.norm(J, axis=1))  # hadamard_ratio, one J
+            ratio = float(_unit_rows_det(J[None])[0])  # hadamard_ratio of one J
             if not ratio > 1.0 / MAX_CONDITION:
                 message = f"the Jacobian is {singular_jacobian_text(n)} at x={here()}; Newton cannot take " \
                           "a step from here: try another seed"

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import ipywidgets as widgets
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.colors import to_rgba_array
 from matplotlib.figure import Figure
@@ -158,6 +159,9 @@ class Explorer:
         changed = self._drawn_geometry is None or geometry != self._drawn_geometry
         try:
             readout = self.draw(state, changed)
+            if not isinstance(readout, Readout):
+                raise InvalidArgumentError(f"draw must return a Readout (its status and lines); got "
+                                           f"{readout!r}"[:300])
             self._drawn_geometry = geometry
         except (CourseLibError, ArithmeticError, ValueError, TypeError, IndexError) as err:
             self._drawn_geometry = None
@@ -294,16 +298,61 @@ def build_explorer(spec: ExplorerSpec) -> Explorer:
     >>> crank.update(theta_deg=60.0).lines, crank.artists["crank"].get_xydata()[1].round(3).tolist()
     (('turned',), [0.5, 0.0])
     """
-    figure = Figure(figsize=spec.size, dpi=80)
-    axes, before, after = spec.panels(figure)
+    size = _checked_spec(spec)
+    figure = Figure(figsize=size, dpi=80)
+    laid_out = spec.panels(figure)
+    if not (isinstance(laid_out, tuple | list) and len(laid_out) == 3 and isinstance(laid_out[0], Axes)
+            and laid_out[0].figure is figure and all(isinstance(part, Mapping) for part in laid_out[1:])):
+        raise InvalidArgumentError(f"panels must return (axes of the figure it is given, the artists drawn "
+                                   f"before, the artists drawn after), two dicts; got {laid_out!r}"[:400])
+    axes, before, after = laid_out
     linkage = LinkageArtist(axes, animated=True, **spec.linkage)
     artists = {**before, **linkage.artists, **after}
     if "failure" not in artists:
         artists["failure"] = _failure_text(axes)
+    unknown = [name for name in spec.geometry_artists if name not in artists]
+    if unknown:
+        raise InvalidArgumentError(f"geometry_artists must name artists of the explorer "
+                                   f"({', '.join(artists)}); got {unknown[0]!r}")
     stage = ExplorerStage(axes, linkage, artists)
     return Explorer(spec.name, dict(spec.controls), figure, artists,
                     lambda state, geometry_changed: spec.draw(stage, state, geometry_changed),
                     spec.geometry_keys, spec.extra, spec.geometry_artists)
+
+
+_LINKAGE_OPTIONS = ("links", "styles", "blocks", "labels", "plates", "label_offset")
+
+
+def _checked_spec(spec) -> tuple[float, float]:
+    """A specification's parts checked by name before anything is drawn; its figure size (inches)."""
+    if not isinstance(spec, ExplorerSpec):
+        raise InvalidArgumentError(f"spec must be an ExplorerSpec; got {spec!r}"[:300])
+    if not isinstance(spec.name, str) or not spec.name.strip():
+        raise InvalidArgumentError(f"name must be the explorer's name, some text; got {spec.name!r}")
+    controls = spec.controls
+    if not isinstance(controls, Mapping) or not all(
+            isinstance(key, str) and isinstance(control, widgets.ValueWidget)
+            for key, control in controls.items()):
+        raise InvalidArgumentError(f"controls must map state keys (text) to input widgets (sliders, toggles, "
+                                   f"…); got {controls!r}"[:300])
+    for name in ("panels", "draw"):
+        if not callable(getattr(spec, name)):
+            raise InvalidArgumentError(f"{name} must be a function; got {getattr(spec, name)!r}")
+    linkage = spec.linkage
+    if not isinstance(linkage, Mapping) or "links" not in linkage or set(linkage) - set(_LINKAGE_OPTIONS):
+        raise InvalidArgumentError(f"linkage must map 'links' (and any of {', '.join(_LINKAGE_OPTIONS[1:])}) "
+                                   f"to the linkage's drawing; got {linkage!r}"[:300])
+    keys = spec.geometry_keys
+    if isinstance(keys, str) or not isinstance(keys, Sequence) or any(key not in controls for key in keys):
+        raise InvalidArgumentError(f"geometry_keys must be state keys of the controls "
+                                   f"({', '.join(controls)}); got {keys!r}")
+    if isinstance(spec.geometry_artists, str) or not isinstance(spec.geometry_artists, Sequence):
+        raise InvalidArgumentError(f"geometry_artists must be a sequence of artist names; got "
+                                   f"{spec.geometry_artists!r}")
+    if isinstance(spec.extra, str) or not isinstance(spec.extra, Sequence) or not all(
+            isinstance(widget, widgets.Widget) for widget in spec.extra):
+        raise InvalidArgumentError(f"extra must be a sequence of widgets; got {spec.extra!r}"[:300])
+    return _figure_size(spec.size)
 
 
 _REFUSED = object()  # marks a value update() does not set
@@ -921,6 +970,8 @@ def mechanism_explorer(
         raise InvalidGeometryError("motion must have a solved instant to start from; none converged")
     if readout is not None and not callable(readout):
         raise InvalidArgumentError(f"readout must be a function of the instant, or None; got {readout!r}")
+    if not isinstance(title, str):
+        raise InvalidArgumentError(f"title must be text; got {title!r}")
     width, height = _figure_size(size)
     if not mechanism.links:
         raise InvalidGeometryError(f"mechanism must have declared links to draw; got links "
@@ -979,12 +1030,23 @@ def mechanism_explorer(
                 f"{where}: the loops cannot be closed here from the nearest solved instant.",
                 f"course_lib says: {err}"))
         stage.solved(mechanism.joints(now), ())  # first: a readout may raise
-        return Readout("ok", tuple(readout(now) if readout is not None else
-                                   [f"{unknown} = {value:.4g}" for unknown, value in now.position.items()]))
+        if readout is None:
+            return Readout("ok", tuple(f"{unknown} = {value:.4g}" for unknown, value in now.position.items()))
+        return Readout("ok", _readout_lines(readout(now)))
 
     return build_explorer(ExplorerSpec(title, controls, (width, height), panels,
                                        {"links": mechanism.links, "blocks": blocks, "styles": styles,
                                         "plates": mechanism.plates}, draw))
+
+
+def _readout_lines(lines) -> tuple[str, ...]:
+    """What a readout function returned as the readout's lines: one text is one line; else a sequence of
+    texts, or the named error (shown as the readout of a state that cannot be drawn)."""
+    if isinstance(lines, str):
+        return (lines,)
+    if isinstance(lines, Sequence) and all(isinstance(line, str) for line in lines):
+        return tuple(lines)
+    raise InvalidArgumentError(f"readout must return a line of text or a list of lines; got {lines!r}"[:300])
 
 
 #: The name the declarations' vocabulary uses: ``explore(mechanism, motion)``, as ``draw`` and ``animate``.

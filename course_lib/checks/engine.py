@@ -169,6 +169,8 @@ class Precision:
         values = _reals(value)
         if values is None or values.shape != shape or values[kept].shape != references.shape:
             return False
+        if not np.all(np.isfinite(values[kept])):  # NaN or inf is nothing's value (and wraps to no angle)
+            return False
         try:
             flags = np.broadcast_to(flags, shape)
         except ValueError:
@@ -186,6 +188,9 @@ class Precision:
         True
         """
         array = _require_reals("vector", vector)
+        if not np.all(np.isfinite(array)):
+            raise InvalidArgumentError(f"vector must hold finite numbers (its size counts the digits); "
+                                       f"got {_shown(vector)}")
         if not array.size:
             raise InvalidArgumentError(f"vector must hold at least one number (its size counts the digits); "
                                        f"got {vector!r}")
@@ -212,10 +217,14 @@ class Precision:
             raise InvalidArgumentError(f"value must hold at most {MOST_TYPED} numbers to count their digits; "
                                        f"got {count} (shape {np.shape(value)})")
         numbers = _require_reals("value", value)
+        if not np.all(np.isfinite(numbers)):
+            raise InvalidArgumentError(f"value must hold finite numbers to count their digits; got "
+                                       f"{_shown(value)}")
+        least = 0 if self.decimals else 1  # 3.0 has 0 decimals; 0.5 has 1 significant figure, not 0
 
         def digits(number: float) -> int:
-            written = (f"{{:.{n}f}}" if self.decimals else f"{{:.{max(n - 1, 0)}e}}" for n in range(18))
-            return next((n for n, text in enumerate(written) if float(text.format(number)) == number), 17)
+            written = ((n, f"{{:.{n}f}}" if self.decimals else f"{{:.{n - 1}e}}") for n in range(least, 18))
+            return next((n for n, text in written if float(text.format(number)) == number), 17)
         return max((digits(number) for number in numbers.ravel().tolist() if number != 0), default=0)
 
     def more_digits(self, value, reference, angles=False) -> "Feedback | None":
@@ -232,6 +241,8 @@ class Precision:
         """
         kind = "decimals" if self.decimals else "significant figures"
         values = _reals(value)
+        if values is not None and not np.all(np.isfinite(values)):
+            return None  # NaN or inf is no rounding of anything
         references = (list(reference) if isinstance(reference, tuple | list)
                       or isinstance(reference, np.ndarray) and reference.ndim == 1 else None)
         if values is None or values.ndim != 1 or references is None or len(references) != values.size:

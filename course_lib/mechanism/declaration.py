@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
+from sympy.core.function import AppliedUndef
 
 from ..errors import (
     InvalidGeometryError,
@@ -62,6 +63,13 @@ def _expression(where: str, value) -> sp.Expr:
         raise InvalidGeometryError(f"{where} uses {', '.join(rough)}, which is not smooth: Newton and the "
                                    f"rates need derivatives everywhere, so write the loop without it; "
                                    f"got {expr}")
+    unknown = sorted({str(node.func) if isinstance(node, AppliedUndef) else type(node).__name__
+                      for node in sp.preorder_traversal(expr)
+                      if isinstance(node, AppliedUndef | sp.Integral | sp.Derivative | sp.Subs | sp.Sum
+                                    | sp.Product | sp.Limit)})
+    if unknown:  # nothing numpy can evaluate: an undefined function, an unevaluated integral or derivative
+        raise InvalidGeometryError(f"{where} uses {', '.join(unknown)}, which has no numeric value: write "
+                                   f"the loop with known functions (sin, cos, sqrt, …); got {expr}"[:400])
     if expr.has(sp.I) or expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
         raise InvalidGeometryError(f"{where} must be real (no I, no infinity): write the x and y components "
                                    f"as two rows; got {expr}")
@@ -366,13 +374,17 @@ class Declaration:
             raise InvalidGeometryError(f"parameters must map some of {list(self.parameters)} to numbers; "
                                        f"got {parameters!r}")
         by_name = {s.name: s for s in self.parameters}
-        values = dict(self.parameters)
+        values, given = dict(self.parameters), set()
         for key, value in parameters.items():
             name = key.name if isinstance(key, sp.Symbol) else key
             if name not in by_name:
                 raise InvalidGeometryError(f"parameters must give numbers for some of "
                                            f"{list(self.parameters)} and nothing else; "
                                            f"got {list(parameters)}")
+            if name in given:  # as a symbol and by name: which one was meant is not known
+                raise InvalidGeometryError(f"parameters gives {name} twice (as a symbol and by its name); "
+                                           f"give it once; got {parameters!r}"[:400])
+            given.add(name)
             values[by_name[name]] = _number(f"parameters[{name}]", value)
         other = copy.copy(self)
         other.parameters = MappingProxyType({k: values[k] for k in self.parameters})

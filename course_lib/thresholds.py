@@ -8,8 +8,8 @@ explorers read them from here, so no machine keeps a threshold of its own.
 True
 """
 
-__all__ = ["APPROACH", "CHANGE_LEVEL", "COINCIDENT", "LEVEL", "MAX_CONDITION", "NEAR_SINGULAR", "RESIDUAL",
-           "SINGULAR"]
+__all__ = ["APPROACH", "CHANGE_LEVEL", "COINCIDENT", "FLIP_NEAR", "FLIP_SMOOTH", "LEVEL", "MAX_CONDITION",
+           "NEAR_SINGULAR", "RESIDUAL", "SINGULAR"]
 
 #: J is singular where σ_min(J̃) < SINGULAR (J̃: J with rows and columns scaled by their typical sizes).
 SINGULAR = 1e-6

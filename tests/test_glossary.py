@@ -185,6 +185,7 @@ def test_saw_has_no_closed_form_block_and_its_sides_are_the_slider_cranks(side):
     det = sp.lambdify((r1, th1, th3, r3), sp.simplify(loops.jacobian([r1, th1, th3]).det()))
     assert np.all(motion.r1 < 0)
     # one instant alone keeps the core's angle rule, [−π, π]; a sweep from θ2 = 0 stays near π (the glossary)
+    assert round(saw.motion(0.0, assembly="right").theta1, 3) == -2.955  # outside (−π/2, π/2]: r1 < 0 kept
     alone, swept = saw.motion(1.0).theta3, saw.motion([0.0, 1.0]).theta3[1]
     assert round(alone, 3) == -3.035 and round(swept, 3) == 3.248 and abs(swept - alone - 2 * np.pi) < 1e-12
     assert np.all(-np.sign(det(motion.r1, motion.theta1, motion.theta3, saw.r3)) == sigma)

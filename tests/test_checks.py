@@ -200,7 +200,7 @@ def test_seed_branch():
     reached, other = ("open", "crossed") if side > 0 else ("crossed", "open")
     assert checks.check_seed_branch(reached, BENCH, theta2, (2.5, 0.3)).ok
     assert checks.check_seed_branch(reached.upper(), BENCH, theta2, (2.5, 0.3)).ok
-    rejects(checks.check_seed_branch(other, BENCH, theta2, (2.5, 0.3)), "other branch")
+    rejects(checks.check_seed_branch(other, BENCH, theta2, (2.5, 0.3)), "other assembly")
     rejects(checks.check_seed_branch("left", BENCH, theta2, (2.5, 0.3)), '"open" or "crossed"')
 
 
@@ -216,7 +216,7 @@ def test_fourbar_theta4():
     assert check(theta4 + 2 * np.pi, BENCH, theta2, "crossed").ok and check(
         theta4 - 4 * np.pi, BENCH, theta2, "crossed"
     )
-    rejects(check(open4, BENCH, theta2, "crossed"), "open branch", hidden=[theta4])
+    rejects(check(open4, BENCH, theta2, "crossed"), "open assembly", hidden=[theta4])
     rejects(check(np.degrees(theta4), BENCH, theta2, "crossed"), "degrees", hidden=[theta4])
     rejects(check(theta3, BENCH, theta2, "crossed"), "θ3")
     rejects(check("1.2", BENCH, theta2, "crossed"), "number")
@@ -270,7 +270,7 @@ def test_fourbar_rates():
     assert check(np.array([omega4, alpha4]), BENCH, theta2, omega2, alpha2, "open").ok
     bare4 = _rates_by_sympy(BENCH, theta2, 0.0, alpha2, "open")[1]  # every ω² term gone
     rejects(check((omega4, bare4), BENCH, theta2, omega2, alpha2, "open"), "ω²", hidden=[alpha4])
-    rejects(check((other4, other_alpha4), BENCH, theta2, omega2, alpha2, "open"), "crossed branch")
+    rejects(check((other4, other_alpha4), BENCH, theta2, omega2, alpha2, "open"), "crossed assembly")
     rejects(check((-omega4, alpha4), BENCH, theta2, omega2, alpha2, "open"), "wrong sign", hidden=[omega4])
     rejects(check((alpha4, omega4), BENCH, theta2, omega2, alpha2, "open"), "swapped")
     rejects(check((omega3, alpha4), BENCH, theta2, omega2, alpha2, "open"), "ω3")
@@ -333,7 +333,7 @@ def test_saw_position():
     assert check((r1, theta1, theta3), MY_SAW, theta2).ok
     equivalent = check((-r1, theta1 + np.pi, theta3 - 2 * np.pi), MY_SAW, theta2)
     assert equivalent.ok and "(−π/2, π/2]" in equivalent.message
-    rejects(check((r1, theta1, np.pi - theta3), MY_SAW, theta2), "other branch", hidden=[theta3])
+    rejects(check((r1, theta1, np.pi - theta3), MY_SAW, theta2), "other assembly", hidden=[theta3])
     rejects(check((1000 * r1, theta1, theta3), MY_SAW, theta2), "millimetres", hidden=[r1])
     rejects(check((r1, np.degrees(theta1), np.degrees(theta3)), MY_SAW, theta2), "degrees")
     rejects(check((r1, theta1), MY_SAW, theta2), "3 plain numbers")
@@ -477,7 +477,7 @@ def test_rocker_pin_speed():
         theta4 = fourbar_by_circles(BENCH, angle, "crossed")[1]
         crossed.append(BENCH.l4 * np.array([np.cos(theta4), np.sin(theta4)]))
     crossed_speed = np.linalg.norm(crossed[1] - crossed[0]) / (2 * h) * omega2
-    rejects(check(crossed_speed, BENCH, theta2, omega2), "crossed branch", hidden=[speed])
+    rejects(check(crossed_speed, BENCH, theta2, omega2), "crossed assembly", hidden=[speed])
 
 
 def test_motor_start_against_a_numerical_integration():

@@ -86,7 +86,7 @@ def test_a_right_number_from_the_given_solve_is_not_a_tick():
 
 
 @pytest.mark.parametrize(("answer", "says"), [
-    (lambda t: norton(t, -1), "open branch"),
+    (lambda t: norton(t, -1), "open assembly"),
     (lambda t: norton(THETA2), "same θ4 at every crank angle"),  # the task's angle typed in
     (lambda t: SOLVED.theta4, "same θ4 at every crank angle"),  # a solve made outside, read inside
     (lambda t: norton(t, +1 if t < 3.0 else -1), "200°"),  # right at 120°, the other root further round

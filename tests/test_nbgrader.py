@@ -234,7 +234,7 @@ def test_feedback_shows_the_checkers_message(course):
 
     message = checks.check_fourbar_theta4(theta4_crossed_at, bench, theta2, "crossed",
                                           method="half-angle").message
-    assert "open branch" in message and "theta4_crossed_at" in message
+    assert "open assembly" in message and "theta4_crossed_at" in message
     assert html.escape(message, quote=False) in feedback or message in feedback
     assert "NotImplementedError" in feedback
     # a checker's ✘ starts "Not yet:" (MathJax's help text in the page has "Not yet implemented")

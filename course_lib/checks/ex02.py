@@ -148,7 +148,7 @@ def check_seed_branch(answer, linkage: FourBar, theta2: float, seed) -> Feedback
                     jac=lambda x: linkage.loop_jacobian(*x)).x[1]
     reached = [b for b in BRANCHES if angles_close(theta4, linkage.solve(theta2, branch=b).theta4)]
     return first([(answer not in reached,
-                   "that is the other branch. Solve from the seed, then compare θ4 with FourBar.solve(θ2, "
-                   'branch="open") and branch="crossed" (angles modulo 2π).')],
+                   "that is the other assembly. Solve from the seed, then compare θ4 with FourBar.solve(θ2, "
+                   'assembly="open") and assembly="crossed" (angles modulo 2π).')],
                  "Correct: the seed, not the equations, picks the assembly — compare your θ4 with the closed "
-                 "form of each branch.")
+                 "form of each assembly.")

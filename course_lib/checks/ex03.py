@@ -78,11 +78,11 @@ def _theta4_verdict(answer: float, linkage: FourBar, theta2: float, branch: str,
                       "your function converts θ2 with np.radians, but it is called with θ2 in radians "
                       "already (as course_lib's functions are): use theta2 as it comes."))
     return angle_verdict(answer, this.theta4, [
-        (that.theta4, f"that is θ4 of the {other} branch; the task asks for the {branch} one (the other "
+        (that.theta4, f"that is θ4 of the {other} assembly; the task asks for the {branch} one (the other "
                       "root of the half-angle quadratic)."),
         (this.theta3, "that is the coupler angle θ3; the task asks for the rocker angle θ4."),
-        (that.theta3, f"that is θ3 of the {other} branch; the task asks for the rocker angle θ4 of the "
-                      f"{branch} branch."),
+        (that.theta3, f"that is θ3 of the {other} assembly; the task asks for the rocker angle θ4 of "
+                      f"the {branch} assembly."),
         *((roots, hint) for roots, hint in slips if roots),
     ], "recheck the half-angle coefficients (a, b, c) and which root (±√) you took.")
 
@@ -135,8 +135,8 @@ def check_fourbar_theta4(answer, linkage: FourBar, theta2: float, branch: str, m
             there = _theta4_verdict(value, linkage, angle, branch, function=True)
             return wrong(f"your {called} is right at the task's θ2 but not at {_where(angle)}: "
                          + there.message.removeprefix("Not yet: "))
-    return right(f"Correct (to {DECIMALS}, angles modulo 2π): your {called} gives θ4 of the {branch} branch "
-                 f"at the task's θ2 and at {len(probes) - 1} other crank angles.")
+    return right(f"Correct (to {DECIMALS}, angles modulo 2π): your {called} gives θ4 of the {branch} "
+                 f"assembly at the task's θ2 and at {len(probes) - 1} other crank angles.")
 
 
 @reads()
@@ -178,8 +178,8 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
         ((omega4, alpha4), "Correct: the same Jacobian J solves both the velocity and the acceleration "
                            "equations."),
         ((alpha4, omega4), "the two are swapped: give (ω4, α4)."),
-        ((other.omega4, other.alpha4), f"those are the rates of the {other_branch} branch; the task is on "
-                                       f"the {branch} branch."),
+        ((other.omega4, other.alpha4), f"those are the rates of the {other_branch} assembly; the task is "
+                                       f"on the {branch} assembly."),
         ((omega4, linkage.solve(theta2, 0.0, alpha2, branch=branch).alpha4),
          "ω4 is right, but α4 misses the ω² (centripetal) terms: A_k = α_k k̂ × R_k − ω_k² R_k for every "
          "link, including ω2², ω3² and ω4²."),

@@ -225,7 +225,7 @@ def _position_verdict(answer: np.ndarray, saw: Saw, theta2: float) -> Feedback:
         (lambda v: DECIMALS.agrees(abs(v[0]) / 1000.0, abs(r1)), "r1 looks like millimetres; give lengths in "
                                                                  "metres."),
         (lambda v: DECIMALS.agrees(v[2], mirror, angles=True) or in_degrees(v[2], mirror, DECIMALS),
-         "θ3 is on the other branch: asin gives the rod pointing right, but the saw's rod points left, "
+         "θ3 is on the other assembly: asin gives the rod pointing right, but the saw's rod points left, "
          "θ3 = π − asin((r1y − r2 sin θ2)/r3)."),
         (lambda v: any(in_degrees(v[i], angle, DECIMALS) for i, angle in degrees),
          "an angle is in degrees; give θ1 and θ3 in radians."),

@@ -165,9 +165,12 @@ def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: t
     theta1, theta4 = reference = solutions[modes]
 
     def other_mode(m):
-        signs = " and ".join(s for s, mine, want in zip(("σ1", "σ2"), m, modes, strict=True) if mine != want)
-        return (f"that is working mode ({m[0]:+d}, {m[1]:+d}): the sign {signs} of the square root is the "
-                "other one.")
+        flipped = [s for s, mine, want in zip(("σ1", "σ2"), m, modes, strict=True) if mine != want]
+        if len(flipped) == 2:
+            return (f"that is working mode ({m[0]:+d}, {m[1]:+d}): the signs σ1 and σ2 before the square "
+                    "roots are both the other ones.")
+        return (f"that is working mode ({m[0]:+d}, {m[1]:+d}): the sign {flipped[0]} before the square root "
+                "is the other one.")
 
     return diagnose(answer, DECIMALS, [
         (reference, "Correct: working mode (σ1, σ2) = " + f"({modes[0]:+d}, {modes[1]:+d})."),

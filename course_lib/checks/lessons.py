@@ -117,8 +117,8 @@ def check_rocker_pin_speed(answer, linkage: FourBar, theta2: float, omega2: floa
         (speed, "Correct: B moves perpendicular to the rocker at |ω4|·l4."),
         (lambda value: value < 0, "a speed is a magnitude: it cannot be negative."),
         (speed * 1000, "that looks like mm/s; give the speed in m/s (lengths in metres)."),
-        (crossed, f"that is the speed of B on the {other} branch; the lesson's linkage is on the {branch} "
-                  "branch."),
+        (crossed, f"that is the speed of B on the {other} assembly; the lesson's linkage is on the {branch} "
+                  "assembly."),
         (speed / linkage.l4, "that is |ω4| in rad/s: multiply by the rocker length l4."),
         (abs(omega2) * linkage.l2, "that is the speed of the crank pin A (ω2·l2); the task asks for the "
                                    "rocker pin B."),

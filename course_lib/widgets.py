@@ -526,7 +526,7 @@ def fourbar_explorer(
     controls = {key: _metres(key, value, f"{key} l{k} (m)", 0.02, 0.40)
                 for k, (key, value) in enumerate(named.items(), 1)}
     p = _metres("p", 0.5 * controls["coupler"].value if p is None else p, "point P: p (m)", 0.0, 0.40)
-    branch = _toggle("branch", BRANCHES, "branch", branch)
+    branch = _toggle("assembly", BRANCHES, "branch", branch)
     controls.update(theta2_deg=_degrees("theta2", theta2, "θ2 (°)"), branch=branch, p=p,
                     delta_deg=_degrees("delta", delta, "point P: δ (°)"))
 
@@ -627,7 +627,7 @@ def fourbar_explorer(
         warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
         return stage.solved(joints, (
             f"θ2 = {np.degrees(theta2):.1f}°  →  θ3 = {np.degrees(solution.theta3):.2f}°, "
-            f"θ4 = {np.degrees(solution.theta4):.2f}°  ({branch} branch)",
+            f"θ4 = {np.degrees(solution.theta4):.2f}°  ({branch} assembly)",
             f"transmission angle μ = {np.degrees(mu):.2f}°{warning}",
             f"coupler point P = ({point[0]:.4f}, {point[1]:.4f}) m", *lines),
             point_p=([point[0]], [point[1]]), mu_cursor=([np.degrees(theta2)], [np.degrees(mu)]))

@@ -412,11 +412,11 @@ def test_display_bundle_through_ipython_and_after_close():
 # (builder, update arguments, statuses allowed, text the readout must contain or None)
 BAD_UPDATES = [
     (fourbar_explorer, {"branch": "Open"}, {"ok"}, None),
-    (fourbar_explorer, {"branch": " CROSSED "}, {"ok"}, "crossed branch"),
+    (fourbar_explorer, {"branch": " CROSSED "}, {"ok"}, "crossed assembly"),
     (fourbar_explorer, {"branch": None}, {"invalid"},
-     "branch: refused None, not one of 'open', 'crossed'; kept 'open'"),
+     "assembly: refused None, not one of 'open', 'crossed'; kept 'open'"),
     (fourbar_explorer, {"branch": "sideways"}, {"invalid"}, "refused"),
-    (fourbar_explorer, {"branch": 1}, {"invalid"}, "branch: refused 1, not one of"),
+    (fourbar_explorer, {"branch": 1}, {"invalid"}, "assembly: refused 1, not one of"),
     (fourbar_explorer, {"branch": True}, {"invalid"}, "refused"),
     (fourbar_explorer, {"theta2_deg": NAN}, {"invalid"},
      "θ2 (°): refused NaN, not a number; kept 60"),

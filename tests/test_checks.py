@@ -117,6 +117,13 @@ def test_point_velocity():
     in_degrees = -speed * length * np.array([-np.sin(degrees), np.cos(degrees)])
     rejects(checks.check_point_velocity(in_degrees, length, degrees, speed, True), "degrees")
     rejects(checks.check_point_velocity(0.96, length, degrees, speed, True), "speed", "vector")
+    # a complex entry in the pair is named as one; the (z.real, z.imag) hint is for one complex z only
+    for pair in ([velocity[0] * 1j, velocity[1]], (velocity[0], sp.I * velocity[1]), np.array(velocity) * 1j):
+        feedback = checks.check_point_velocity(pair, length, degrees, speed, True)
+        rejects(feedback, "an entry is a complex number", "one real number")
+        assert "z.real" not in feedback.message, feedback
+    z = complex(*velocity)
+    rejects(checks.check_point_velocity(z, length, degrees, speed, True), "(z.real, z.imag)")
 
 
 def test_choice_questions():
@@ -238,6 +245,13 @@ def test_omega4_expression():
     rejects(checks.check_omega4_expression(rates[w3]), "ω3")
     rejects(checks.check_omega4_expression(rates[w4] / w2), "ω2")
     rejects(checks.check_omega4_expression(rates[w4] + sp.Symbol("q")), "symbols")
+    # a length replaced by the bench's number: told to keep it a symbol, not to differentiate again
+    for numbers, named in (({l2: 0.07}, "keep l2"), ({l4: 0.15}, "keep l4"),
+                           ({l2: 0.07, l4: 0.15}, "keep l2 and l4")):
+        feedback = checks.check_omega4_expression(rates[w4].subs(numbers))
+        rejects(feedback, named, "as symbols")
+        assert "differentiate" not in feedback.message, feedback
+    assert checks.check_omega4_expression(rates[w4].subs(l3, 0.20)).ok  # l3 cancels out of ω4
 
 
 def _rates_by_sympy(linkage, theta2, omega2, alpha2, branch):
@@ -274,6 +288,10 @@ def test_fourbar_rates():
     rejects(check((-omega4, alpha4), BENCH, theta2, omega2, alpha2, "open"), "wrong sign", hidden=[omega4])
     rejects(check((alpha4, omega4), BENCH, theta2, omega2, alpha2, "open"), "swapped")
     rejects(check((omega3, alpha4), BENCH, theta2, omega2, alpha2, "open"), "ω3")
+    steady4 = _rates_by_sympy(BENCH, theta2, omega2, 0.0, "open")[1]  # α2 = 0, every ω² term kept
+    feedback = check((omega4, steady4), BENCH, theta2, omega2, alpha2, "open")
+    rejects(feedback, "α2 = 0", "α2 = -40 rad/s² is given", "slowing down", hidden=[alpha4])
+    assert "once more" not in feedback.message, feedback
     flipped4 = _rates_by_sympy(BENCH, theta2, omega2, -alpha2, "open")[1]  # α2 entered with its sign flipped
     rejects(
         check((omega4, flipped4), BENCH, theta2, omega2, alpha2, "open"), "opposite sign", hidden=[alpha4]

@@ -409,7 +409,12 @@ def test_wrong_ram_rates_are_named():
             hidden=hidden)
     rejects(check((float(f"{velocity:.3g}"), float(f"{acceleration:.4g}")), theta2, omega2),
             "give more digits", hidden=hidden)
-    rejects(check((velocity, -acceleration), theta2, omega2), "velocity is right", hidden=hidden)
+    rejects(check((velocity, -acceleration), theta2, omega2), "velocity is right", "wrong sign",
+            hidden=hidden)
+    # the task's numbers, to 4 figures, with a_x's sign flipped: its sign is named (no "constant ω2" story)
+    flipped = check((float(f"{velocity:.4g}"), float(f"{-acceleration:.4g}")), theta2, omega2)
+    rejects(flipped, "acceleration has the wrong sign", hidden=hidden)
+    assert "Even at constant" not in flipped.message, flipped
     at_rest = declared_shaper().solve({th2: theta2}, guess=GUESS)
     rejects(check(at_rest, theta2, omega2), "holds no rates", hidden=hidden)
     elsewhere = declared_shaper().solve({th2: 1.0}, rates={th2: omega2}, accelerations={th2: 0.0},

@@ -140,3 +140,34 @@ def test_numbers_from_the_drawing_without_a_declaration_are_not_a_tick():
     verdicts, printed = run(copy_cells({1: "SOLUTION", 2: from_drawing}))
     assert [verdict.ok for verdict in verdicts] == [True, False, False, False], verdicts
     assert "declare the shaper" in verdicts[1].message and "Answer Task 2 first" in printed
+
+
+#: a task's numbers given as a student may, the check saying ✘ on them
+STOPS_GIVEN = 'stops = (-0.41, 3.55)\nstroke_and_ratio = (0.3, 1.5)\ncutting = "left"'
+#: wrong-but-plausible answers → (the answers, the task whose check says ✘, what the cells after it print)
+WRONG = {
+    "one loop only": ({1: "SOLUTION\nloops = [lever_loop]"}, 1, "not the shaper's two vector loops yet"),
+    "two vectors that are not loops": ({1: "SOLUTION\nloops = [R(r2, th2), R(l4, th4)]"}, 1,
+                                       "not the shaper's two vector loops yet"),
+    "the guess a list": ({1: "SOLUTION", 2: "SOLUTION\nguess = [1.2, 0.2, 0.1, 0.2]", 4: STOPS_GIVEN}, 2,
+                         "shaper and guess do not solve the shaper"),
+    "the guess with θ4 + π and r4 < 0": (
+        {1: "SOLUTION", 2: "SOLUTION\nguess = {th4: 1.2 + np.pi, r4: -0.2, th5: 0.1, x: 0.2}",
+         4: STOPS_GIVEN}, 2, "shaper and guess do not solve the shaper"),
+    "shaper not a Mechanism": ({1: "SOLUTION", 2: "SOLUTION\nshaper = 'the shaper'", 4: STOPS_GIVEN}, 2,
+                               "shaper is not a Mechanism yet"),
+    "the stops as text": ({1: "SOLUTION", 2: "SOLUTION", 3: "SOLUTION", 4: 'SOLUTION\nstops = "3.5, 5.9"'}, 4,
+                          "give two crank angles in radians"),
+}
+
+
+@pytest.mark.parametrize("name", list(WRONG))
+def test_a_wrong_answer_runs_the_rest_of_the_copy_and_says_the_cell_needs_a_right_answer(name):
+    answers, task, says = WRONG[name]
+    verdicts, printed = run(copy_cells(answers))
+    assert not verdicts[task - 1].ok, verdicts
+    assert all(verdict.ok for verdict, number in zip(verdicts, range(1, 5), strict=True)
+               if number in answers and number != task and answers[number] == "SOLUTION"), verdicts
+    assert says in printed, printed
+    if task == 2:  # both cells that use shaper and guess say so: the drawing and the stops' plot
+        assert printed.count(says) == 2, printed

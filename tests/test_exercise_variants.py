@@ -15,7 +15,9 @@ own first.  One run per set puts every task's last variant in at once and execut
 from __future__ import annotations
 
 import ast
+import contextlib
 import importlib.util
+import io
 import pathlib
 import re
 import warnings
@@ -300,3 +302,36 @@ def test_the_last_variant_of_every_task_runs_in_a_kernel(name):
         if role == "check":
             text = "".join(str(output.get("data", {}).get("text/plain", "")) for output in cell.outputs)
             assert text.startswith("✔"), (task, source, text)
+
+
+#: set → task → wrong answers a student may plausibly give: the check says ✘, and the cells after it say
+#: in one sentence that they need a right answer above — no traceback, no warning.
+WRONG: dict[str, dict[int, list[str]]] = {
+    "ex01": {
+        2: ["loop_components = 'l2*cos(theta2) + l3*cos(theta3) - l4*cos(theta4) - l1*cos(theta1)'",
+            "loop_components = 0",
+            "loop_components = [1, 2]",
+            "loop_components = 'x, y'"],
+        3: ["velocity_A = [0.6788j, 0.6788]",
+            "velocity_A = np.array([0.6788j, 0.6788])",  # a complex array: float() of it would warn
+            "velocity_A = -12.0j * 0.080 * np.exp(1j * np.radians(135.0))",  # v as one complex z
+            "velocity_A = 0.6788 + 0.6788j",
+            "velocity_A = [sp.I * 0.6788, 0.6788]",
+            "velocity_A = '0.6788, 0.6788'"],
+    },
+}
+WRONG_ROWS = [(name, task, answer) for name, tasks in WRONG.items() for task, answers in tasks.items()
+              for answer in answers]
+
+
+@pytest.mark.parametrize(("name", "task", "answer"), WRONG_ROWS,
+                         ids=[f"{name}-task{task}-{index}"
+                              for index, (name, task, _) in enumerate(WRONG_ROWS)])
+def test_a_wrong_answer_runs_the_rest_of_the_copy_and_says_the_cell_needs_a_right_answer(name, task, answer):
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        checked = _run(_copy_with_answers(SOLUTIONS[name], {task: answer}))
+    wrong = checked[task]
+    assert all(isinstance(feedback, Feedback) and not feedback.ok for feedback in wrong), wrong
+    assert all(feedback.ok for each, feedbacks in checked.items() if each != task for feedback in feedbacks)
+    assert "the check above says what to fix" in printed.getvalue(), printed.getvalue()

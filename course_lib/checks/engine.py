@@ -610,9 +610,13 @@ def vector(size: int | tuple[int, ...], what: str):
     def parse(answer):
         values, problem = _floats(answer)
         if values is None:
-            vector_z = count == 2 and problem == "a complex number"
-            return wrong(f"{what} should be {expected}, not {problem}"
-                         + (" (for a vector z = x + iy, give (z.real, z.imag))." if vector_z else "."))
+            if problem == "a complex number" and not _container(answer):
+                vector_z = " (for a vector z = x + iy, give (z.real, z.imag))" if count == 2 else ""
+                return wrong(f"{what} should be {expected}, not a complex number{vector_z}.")
+            if problem == "a complex number":  # complex entries in a pair or list: each is one real number
+                return wrong(f"{what} should be {expected}; an entry is a complex number (with j or I): each "
+                             "entry is one real number.")
+            return wrong(f"{what} should be {expected}, not {problem}.")
         if values.size not in sizes:
             if whole := _whole_result(answer):
                 return wrong(f"{what} should be {expected}; got {whole}: take from it the "

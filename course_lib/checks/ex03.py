@@ -152,12 +152,18 @@ def check_omega4_expression(answer) -> Feedback:
     l2, l3, l4, t2, t3, t4, w2 = symbols = sp.symbols("l2 l3 l4 theta2 theta3 theta4 omega2", real=True)
     omega4 = w2 * l2 * sp.sin(t2 - t3) / (l4 * sp.sin(t4 - t3))
     omega3 = w2 * l2 * sp.sin(t4 - t2) / (l3 * sp.sin(t3 - t4))
+    read = plain(answer, [symbol.name for symbol in symbols])
+    held = set() if isinstance(read, Feedback) else {symbol.name for symbol in read.free_symbols}
+    numbered = " and ".join(name for name in ("l2", "l4") if name not in held)  # a length given as its number
     return judge_expression(answer, symbols, [
         (omega4, "Correct: ω4 = ω2·l2·sin(θ2 − θ3) / (l4·sin(θ4 − θ3)) in some equivalent form."),
         (-omega4, "a sign error: recheck the signs of the velocity equations (the minus on R4)."),
         ([omega3, -omega3], "that is ω3, the coupler's angular velocity; the task asks for the rocker's ω4."),
         (omega4 / w2, "the factor ω2 is missing: the velocity equations are proportional to the input "
                       "speed."),
+        (lambda expr: bool(numbered), f"your ω4 has no {numbered}: keep {numbered} (and the other lengths) "
+                                      "as symbols — the task asks for ω4 in l2, l3, l4, θ2, θ3, θ4, ω2, "
+                                      "not at the linkage's numbers."),
     ], "differentiate the two loop components, then solve the linear 2×2 system for ω3, ω4.")
 
 
@@ -183,6 +189,10 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
         ((omega4, linkage.solve(theta2, 0.0, alpha2, branch=branch).alpha4),
          "ω4 is right, but α4 misses the ω² (centripetal) terms: A_k = α_k k̂ × R_k − ω_k² R_k for every "
          "link, including ω2², ω3² and ω4²."),
+        ((omega4, linkage.solve(theta2, omega2, 0.0, branch=branch).alpha4),
+         f"ω4 is right, but α4 is that of a crank turning at constant speed (α2 = 0): α2 = {alpha2:g} rad/s² "
+         "is given" + (" (the crank is slowing down)" if alpha2 * omega2 < 0 else "")
+         + ", so keep its α2 k̂ × R2 terms."),
         ((omega4, -alpha4), "ω4 is right, but α4 has the wrong sign."),
         ((omega4, linkage.solve(theta2, omega2, -alpha2, branch=branch).alpha4),
          "ω4 is right, but α4 is that of a crank whose α2 has the opposite sign: check the sign of the "

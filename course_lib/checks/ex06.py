@@ -704,6 +704,9 @@ def check_ram_motion(answer, theta2: float, omega2: float, alpha2: float = 0.0,
          "the ram moves the other way: the crank turns counter-clockwise, so ω2 is positive."),
         (ram_of(np.degrees(theta2), omega2, alpha2),
          "that is the ram at θ2 given in degrees but read as radians: convert with np.radians."),
+        ((velocity[3], -acceleration[3]),
+         "the velocity is right, but the acceleration has the wrong sign: a_x is the x entry of the solve's "
+         "acceleration as it is (ẍ, positive along +x)."),
         ((velocity[3], None), "the velocity is right; the acceleration is not. Even at constant ω2 the ram "
                               "accelerates: solve with rates and accelerations given "
                               "(accelerations={θ2: α2})."),

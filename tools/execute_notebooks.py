@@ -61,9 +61,10 @@ _CELL_ID = re.compile(r"^[a-zA-Z0-9_-]{1,64}$")  # nbformat 4.5's rule
 def normalize(notebook: nbformat.NotebookNode, name: str) -> nbformat.NotebookNode:
     """The notebook as JupyterLab 4 saves it (in place; returned for convenience).
 
-    Cell ids are kept when valid and unique; a missing one is the first 8 hex digits of the SHA-1
-    of the file name, the cell's position and its source, so the same notebook always gets the
-    same ids.
+    Consecutive stream outputs of one cell (stdout, stderr) are merged, so a print comes out the same
+    however the kernel flushed it.  Cell ids are kept when valid and unique; a missing one is the first 8
+    hex digits of the SHA-1 of the file name, the cell's position and its source, so the same notebook
+    always gets the same ids.
     """
     notebook.nbformat, notebook.nbformat_minor = 4, 5
     seen: set[str] = set()
@@ -76,6 +77,16 @@ def normalize(notebook: nbformat.NotebookNode, name: str) -> nbformat.NotebookNo
                 cell_id, salt = hashlib.sha1(text.encode("utf-8")).hexdigest()[:8], salt + 1
             cell["id"] = cell_id
         seen.add(cell_id)
+    for cell in notebook.cells:  # a print arrives in one or several stream messages, as the kernel flushes
+        merged = []
+        for output in cell.get("outputs", []):
+            if (merged and output.get("output_type") == "stream" and merged[-1].get("output_type") == "stream"
+                    and merged[-1].get("name") == output.get("name")):
+                merged[-1]["text"] = "".join(merged[-1]["text"]) + "".join(output["text"])
+            else:
+                merged.append(output)
+        if "outputs" in cell:
+            cell["outputs"] = merged
     notebook.metadata["kernelspec"] = dict(KERNELSPEC)
     notebook.metadata.pop("widgets", None)  # widget state is regenerated on every run
     return notebook

@@ -540,9 +540,10 @@ class FiveBar:
 
     @older_failure_keywords
     def velocity_jacobian(self, theta1, theta4, x3, y3, *, on_failure: str | None = None) -> np.ndarray:
-        """J = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = J·(ω1, ω4).  ``SingularJacobianError`` at a
-        parallel singularity (``on_failure="nan"``, NaN), as the two
-        rate functions at theirs.
+        """The velocity Jacobian V = −A⁻¹·B (m/rad), shape (..., 2, 2): (Ẋ3, Ẏ3) = V·(ω1, ω4) (A, B: the
+        loop's Jacobians in the end effector and in the cranks; V is not the loop Jacobian J).
+        ``SingularJacobianError`` at a parallel singularity (``on_failure="nan"``, NaN), as the two rate
+        functions at theirs.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> np.round(robot.velocity_jacobian(*robot.inverse(0.0, 0.2, modes=(-1, +1)), 0.0, 0.2), 4).tolist()

@@ -76,10 +76,16 @@ def assert_same_motion(machine: Motion, core: Motion) -> None:
 @pytest.mark.parametrize("assembly", ["open", "crossed"])
 @pytest.mark.parametrize("linkage", LINKAGES[:12] + [FourBar(0.06, 0.18, 0.12, 0.20), FourBar(1, 1, 1, 1)])
 def test_the_machine_solve_is_its_declaration_solve_to_the_bit(linkage, assembly):
-    for theta2, omega2, alpha2 in ((SWEEP, 10.0, -3.0), (0.7, 2.0, 0.5), (SWEEP[:40], SWEEP[:40], 1.0)):
-        machine = linkage.solve(theta2, omega2, alpha2, assembly=assembly, on_failure="nan")
-        core = linkage.mechanism.solve({"theta2": theta2}, {"theta2": omega2}, {"theta2": alpha2},
-                                       assembly=ASSEMBLIES[assembly], on_failure="nan")
+    assert_machine_is_its_core(linkage.solve, linkage.mechanism, assembly, ASSEMBLIES[assembly], omega2=10.0)
+
+
+def assert_machine_is_its_core(solve, mechanism, assembly, sigma, omega2):
+    """``solve(theta2, omega2, alpha2, assembly=...)`` of a machine and its declaration's solve with that σ:
+    the same Motion to the bit, on a sweep, one instant, and a sweep with a rate per instant."""
+    for theta2, rate, alpha2 in ((SWEEP, omega2, -3.0), (0.7, 2.0, 0.5), (SWEEP[:40], SWEEP[:40], 1.0)):
+        machine = solve(theta2, rate, alpha2, assembly=assembly, on_failure="nan")
+        core = mechanism.solve({"theta2": theta2}, {"theta2": rate}, {"theta2": alpha2}, assembly=sigma,
+                               on_failure="nan")
         assert type(core) is Motion and isinstance(machine, Motion)
         assert_same_motion(machine, core)
 
@@ -431,12 +437,8 @@ def newton_saw(machine: Saw):
 @pytest.mark.parametrize("assembly", ["left", "right"])
 @pytest.mark.parametrize("machine", SAWS)
 def test_the_saw_motion_is_its_declaration_solve_to_the_bit(machine, assembly):
-    for theta2, omega2, alpha2 in ((SWEEP, 6.0, -3.0), (0.7, 2.0, 0.5), (SWEEP[:40], SWEEP[:40], 1.0)):
-        mine = machine.motion(theta2, omega2, alpha2, assembly=assembly, on_failure="nan")
-        core = machine.mechanism.solve({"theta2": theta2}, {"theta2": omega2}, {"theta2": alpha2},
-                                       assembly=SAW_ASSEMBLIES[assembly], on_failure="nan")
-        assert type(core) is Motion and isinstance(mine, Motion)
-        assert_same_motion(mine, core)
+    assert_machine_is_its_core(machine.motion, machine.mechanism, assembly, SAW_ASSEMBLIES[assembly],
+                               omega2=6.0)
 
 
 @pytest.mark.parametrize(("assembly", "side"), [("left", -1), ("right", +1)])

@@ -402,7 +402,7 @@ row("explore an unsolved sweep", lambda: explore(FB, FourBar(0.02, 0.02, 0.02, 0
                                                                                             on_failure="nan")),
     named(ANY, "motion"))
 
-# ---------------------------------------------------------------- raw tracebacks the issue names
+# ---------------------------------------------------------------- raw tracebacks, each now a named error
 EMPTY = Correct(lambda motion: all(np.shape(motion.position[name]) == np.shape(motion.inputs["theta2"])
                                     and np.size(motion.position[name]) == 0 for name in ("theta3", "theta4")))
 row("solve on an empty sweep: an empty motion", lambda: WIPER.solve({th2: []}), EMPTY)

@@ -74,9 +74,7 @@ class Continuation:
         """The sign of det J̃ at one instant (J scaled by the typical sizes), 0 where J is singular there: the
         two assemblies of a block have opposite signs, so a change of sign along a motion is a change point
         crossed, or a step that reached the other assembly."""
-        rows, columns = self._scales
-        det = np.linalg.det(self._J(q, u) / rows[:, None] / columns[None, :])
-        return 0.0 if not abs(det) > SINGULAR else float(np.sign(det))
+        return float(self._orientations(np.asarray(q)[None], np.asarray(u)[None])[0])
 
     def _correct(self, q, u, tol, max_iter) -> tuple[np.ndarray, bool, int]:
         """Newton from ``q`` at one instant, steps by the least-squares solve of the scaled J (the smallest
@@ -129,9 +127,9 @@ class Continuation:
                 return None, count
             here = u_from + done * step_u
             J, F_u = self._rate_terms(q, here)
-            singular = not self._smallest(J) >= SINGULAR
+            smallest_here = self._smallest(J)
             prediction = q
-            if not singular:
+            if smallest_here >= SINGULAR:
                 tangent = np.linalg.solve(J, -(F_u @ step_u))
                 prediction = q + h * tangent
                 change = float(np.max(np.abs(h * tangent) * columns))
@@ -146,14 +144,14 @@ class Continuation:
             if fixed:
                 found[angles] = _unwrap_to(found[angles], prediction[angles])
                 now = self._orientation(found, there)
-                close = float(np.max(np.abs(found - prediction) * columns)) <= max(0.5 * change, 1e-6)
-                moved = float(np.max(np.abs(found - q) * columns))
                 off = float(np.max(np.abs(found - prediction) * columns))
+                close = off <= max(0.5 * change, 1e-6)
+                moved = float(np.max(np.abs(found - q) * columns)) if close and sign and now != sign else 0.0
                 if close and sign and now and now != sign and depth < FLIP_DEPTH and (
                         off > FLIP_SMOOTH * moved
-                        or self._smallest(J) + self._smallest(self._J(found, there)) > FLIP_NEAR * moved):
-                    # J far from singular at both ends for so short a step: no change point can lie between
-                    # (σ_min(J̃) changes by about the step), so the other assembly where the two come near
+                        or smallest_here + self._smallest(self._J(found, there)) > FLIP_NEAR * moved):
+                    # not like a change point crossed (FLIP_SMOOTH, FLIP_NEAR): maybe the other assembly
+                    # where the two come near, so the step again in halves
                     halves, used = self._advance(q, here, there, tol, max_iter, smallest, depth + 1)
                     count += used
                     if halves is not None:
@@ -187,18 +185,27 @@ class Continuation:
         for path in paths:
             if len(path) >= BATCH_MIN and self._batched(q, iterations, u, path, tol, max_iter, notes):
                 continue
-            last, sign = path[0], orientation(path[0])
+            reached, signs = [path[0]], [orientation(path[0])]
             for k in path[1:]:
-                found, iterations[k] = self._advance(q[last], u[last], u[k], tol, max_iter)
+                found, iterations[k] = self._advance(q[reached[-1]], u[reached[-1]], u[k], tol, max_iter)
                 if found is None:  # the motion stops before u[k] (a limit): the instants beyond it too
                     break
                 q[k] = found
-                now = orientation(k)
-                if sign and now and now != sign:
-                    notes.append(f"the assemblies meet (a change point) between {self._where(u, last)} and "
-                                 f"{self._where(u, k)}: the motion continues on the smooth one")
-                last, sign = k, now or sign
+                reached.append(k)
+                signs.append(orientation(k))
+            self._note_change_points(u, reached, np.array(signs), notes)
         return q, iterations
+
+    def _note_change_points(self, u, instants, signs, notes) -> None:
+        """The change points met along a path, added to ``notes``: between two consecutive ``instants``
+        (found, in the path's order) where J's orientation (``signs``, 0 where singular) differs from the
+        last nonzero one before it."""
+        given = signs != 0
+        last = np.maximum.accumulate(np.where(given, np.arange(len(signs)), -1))
+        before = np.r_[-1, last[:-1]]
+        for k in np.flatnonzero(given & (before >= 0) & (signs != signs[np.maximum(before, 0)])):
+            notes.append(f"the assemblies meet (a change point) between {self._where(u, instants[k - 1])} "
+                         f"and {self._where(u, instants[k])}: the motion continues on the smooth one")
 
     def _batched(self, q, iterations, u, path, tol, max_iter, notes) -> bool:
         """The instants of ``path`` (one input, in order, ``q[path[0]]`` solved) solved together: the path
@@ -251,23 +258,16 @@ class Continuation:
         close &= (now == expected) & (expected != 0)
         q[rest] = np.where(close[:, None], found, np.nan)
         iterations[rest] = np.asarray(result.iterations)
+        orientation = np.r_[signs[0], now]
         for k in np.flatnonzero(~close):  # the others one by one, from the instant before
             before, after = path[k], path[k + 1]
             if np.isfinite(q[before]).all():
                 step, iterations[after] = self._advance(q[before], u[before], u[after], tol, max_iter)
                 if step is not None:
                     q[after] = step
-        found_rows = np.isfinite(q[path]).all(axis=1)
-        orientation = np.zeros(len(path))
-        orientation[found_rows] = self._orientations(q[path][found_rows], u[path][found_rows])
-        last, sign = path[0], orientation[0]
-        for k in range(1, len(path)):
-            if not found_rows[k]:
-                continue
-            if sign and orientation[k] and orientation[k] != sign:
-                notes.append(f"the assemblies meet (a change point) between {self._where(u, last)} and "
-                             f"{self._where(u, path[k])}: the motion continues on the smooth one")
-            last, sign = path[k], orientation[k] or sign
+                    orientation[k + 1] = self._orientation(step, u[after])
+        reached = np.isfinite(q[path]).all(axis=1)
+        self._note_change_points(u, path[reached], orientation[reached], notes)
         return True
 
     def _orientations(self, q, u) -> np.ndarray:

@@ -504,15 +504,14 @@ def analytic(theta2, omega2=0.0, alpha2=0.0, *, saw: Saw = COURSE_SAW, on_failur
 
 def joint_positions(theta2, *, saw: Saw = COURSE_SAW) -> np.ndarray:
     """Crank pivot O2, crank pin A and slider pin C (m), shape (..., 3, 2), for drawing: the declaration's
-    points (:attr:`Saw.mechanism`) at the course's closed-form position.
+    points (:attr:`Saw.mechanism`) at :meth:`Saw.motion`'s position, in declared order (the older spelling
+    of ``saw.mechanism.joints(saw.motion(theta2))``, which gives them by name).
 
     >>> np.round(joint_positions(0.0), 4).tolist()
     [[0.0, 0.0], [0.075, 0.0], [-0.0889, 0.045]]
     """
-    theta2 = require_finite("theta2", theta2, unit="rad")
     saw = _checked_saw(saw)
-    motion = _saw_motion(saw, analytic(theta2, saw=saw), theta2)
-    return np.stack(np.broadcast_arrays(*saw.mechanism.joints(motion).values()), axis=-2)
+    return np.stack(np.broadcast_arrays(*saw.mechanism.joints(saw.motion(theta2)).values()), axis=-2)
 
 
 @dataclass(frozen=True)

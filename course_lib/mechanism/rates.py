@@ -27,11 +27,16 @@ class Rates:
         """J, or J̃ = J with rows and columns divided by their typical sizes where those are extreme (lengths
         of 1e±50 and beyond, whose determinants would overflow or underflow), and those sizes (or None): the
         solve is then J̃·(columns·x) = b / rows."""
-        rows, columns = self._scales
-        sizes = np.r_[rows, columns]
-        if ((sizes >= 1e-50) & (sizes <= 1e50)).all():
+        if not self._extreme_scales():
             return J, None
+        rows, columns = self._scales
         return J / rows[:, None] / columns[None, :], (rows, columns)
+
+    def _extreme_scales(self) -> bool:
+        """Whether some row or column of J has a typical size beyond 1e±50 (its determinants would overflow
+        or underflow): then the rates are solved on J̃."""
+        sizes = np.r_[self._scales]
+        return not ((sizes >= 1e-50) & (sizes <= 1e50)).all()
 
     def _fused(self, q, u, u_rate, u_acc, known=None):
         """J (N, n, n), q̇ and q̈ (N, n) in one pass (:attr:`_fused_rate_fn`: Cramer's rule per block, as
@@ -39,7 +44,7 @@ class Rates:
         block of three or more unknowns, or lengths so extreme that :meth:`_unit_rows` scales J); NaN and
         inf where J is singular, which the caller masks."""
         fused = self._fused_rate_fn
-        if fused is None or self._unit_rows(np.eye(len(self.unknowns)))[1] is not None:
+        if fused is None or self._extreme_scales():
             return None
         n = len(self.unknowns)
         terms = fused(self._values, q, u, u_rate, u_acc, known=known, same_point=True)

@@ -71,6 +71,11 @@ def _sigma(value, per_instant: bool):
     return array.astype(np.int8)
 
 
+def _linear(form) -> bool:
+    """Whether a block's closed form is linear in its first unknown (one solution, no σ)."""
+    return isinstance(form, LoopForm) and form.kind == "length" and form.quadratic[0] == 0
+
+
 class ClosedForms:
     """The blocks, their closed forms by the half-angle route, and each block's σ along a sweep."""
 
@@ -167,23 +172,27 @@ class ClosedForms:
         """
         return list(self._structure["forms"])
 
+    @_derived
+    def _slots(self) -> list:
+        """Each block's closed form, or a :class:`KernelBlock` of its unknowns where it has none (a block a
+        kernel may solve)."""
+        structure = self._structure
+        return [form if form is not None else KernelBlock(tuple(self.unknowns[j] for j in columns))
+                for form, (_, columns) in zip(structure["forms"], structure["blocks"], strict=True)]
+
     @property
     def _forms(self) -> list:
         """Each block's closed form, a :class:`KernelBlock` where a kernel solves a block with none, else
         None (Newton solves it)."""
-        forms = list(self._structure["forms"])
-        for k, (form, (_, columns)) in enumerate(zip(forms, self._structure["blocks"], strict=True)):
-            if form is None and self.unknowns[columns[0]].name in self._kernels:
-                forms[k] = KernelBlock(tuple(self.unknowns[j] for j in columns))
-        return forms
+        return [slot if isinstance(slot, LoopForm) or slot.unknowns[0].name in self._kernels else None
+                for slot in self._slots]
 
     @property
     def _closed_fns(self) -> list | None:
         """Per block, the compiled (a, b, c), second-unknown and det J_b functions (J_b: the block's rows
         and unknowns of J, as declared; σ = −sign(det J_b)); None unless every block reduces or has a
         kernel (a block with a kernel and no closed form: (None, None, False, det J_b))."""
-        forms = self._forms
-        if any(form is None for form in forms):
+        if any(form is None for form in self._forms):
             return None
         return self._compiled_blocks
 
@@ -199,9 +208,8 @@ class ClosedForms:
             second = None
             if form.second is not None:
                 second = self._compile(list(form.second[1:]), self.unknowns, self.inputs)
-            linear = form.kind == "length" and form.quadratic[0] == 0
-            compiled.append((self._compile(list(form.quadratic), self.unknowns, self.inputs), second, linear,
-                             orientation))
+            compiled.append((self._compile(list(form.quadratic), self.unknowns, self.inputs), second,
+                             _linear(form), orientation))
         return compiled
 
     def _block_of(self, every: bool = False) -> dict[str, str]:
@@ -210,16 +218,12 @@ class ClosedForms:
         closed form): of the blocks ``solve`` chooses σ for (none unless every block reduces or has a
         kernel), or, with ``every``, of every block a kernel may be registered on."""
         if every:
-            forms = [form if form is not None else KernelBlock(tuple(self.unknowns[j] for j in columns))
-                     for form, (_, columns) in zip(self._structure["forms"], self._structure["blocks"],
-                                                   strict=True)]
-            fns = self._compiled_blocks
+            forms = self._slots
         elif self._closed_fns is None:
             return {}
         else:
-            forms, fns = self._forms, self._closed_fns
-        return {s.name: form.unknowns[0].name for form, (_, _, linear, _) in zip(forms, fns, strict=True)
-                if not linear for s in form.unknowns}
+            forms = self._forms
+        return {s.name: form.unknowns[0].name for form in forms if not _linear(form) for s in form.unknowns}
 
     def _assembly_at(self, position: Mapping, inputs: Mapping, shape) -> dict[str, np.ndarray] | None:
         """σ = −sign(det J_b) of each closed-form block at values found another way (a machine's own

@@ -303,20 +303,18 @@ class Solving:
                 if not found.all():  # the unknowns' cos and sin taken at 0 where not found, as their values
                     safe = np.where(found[:, None], q_part, 0.0)
                     known = {key: value for key, value in known.items() if key[0] in inputs}
-                fused = self._fused(safe, u_part, u_rate[part], u_acc[part], known)
-                if fused is not None:  # J, q̇, q̈ in one pass (blocks of one or two unknowns)
-                    J, rates[0][part], rates[1][part] = fused
-                    smallest = self._smallest(J)
-                    bad = ~found | ~(smallest >= SINGULAR) | undetermined[part]
+                fused = self._fused(safe, u_part, u_rate[part], u_acc[part], known)  # J, q̇, q̈ in one pass
+                J, F_u = (fused[0], None) if fused is not None else self._rate_terms(safe, u_part, known,
+                                                                                     same_point=True)
+                rates[2][part] = smallest = self._smallest(J)
+                bad = ~found | ~(smallest >= SINGULAR) | undetermined[part]
+                if fused is not None:
+                    rates[0][part], rates[1][part] = fused[1:]
                     if bad.any():
                         rates[0][part][bad] = rates[1][part][bad] = np.nan
                 else:
-                    J, F_u = self._rate_terms(safe, u_part, known, same_point=True)
-                    smallest = self._smallest(J)
-                    bad = ~found | ~(smallest >= SINGULAR) | undetermined[part]
                     rates[0][part], rates[1][part], _ = self._rates(safe, u_part, u_rate[part], u_acc[part],
                                                                     bad, (J, F_u), known)
-                rates[2][part] = smallest
         return q, undetermined, sigma, rates
 
     @staticmethod

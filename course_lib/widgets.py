@@ -35,6 +35,7 @@ from PIL import Image as PILImage
 
 from .errors import CourseLibError, InvalidArgumentError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
+from .planar import wrap_angle
 from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _ground_symbol, _motion_background, _Quantizer
 from .thresholds import APPROACH, COINCIDENT
 
@@ -736,7 +737,7 @@ def saw_explorer(
         values = motion.x
         # θ3 in the course's range (π/2, 3π/2), as eq. 20 and the curve below write it (the core's single
         # instant gives it in [−π, π])
-        values[2] += 2 * np.pi * np.round((np.pi - values[2]) / (2 * np.pi))
+        values[2] = np.pi + wrap_angle(values[2] - np.pi)
         artists["title"].set_text(f"t = {t:.3f} s")
         artists["profile_cursor"].set_xdata([t, t])
         for k, (key, _label) in enumerate(_SAW_PANELS):

@@ -31,6 +31,8 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 import sympy as sp  # noqa: E402
+from test_mechanism import LOOP, WIPER_POINTS, l1, l2, l3, l4, th2, th3, th4  # noqa: E402
+from test_mechanism import WIPER_LENGTHS as NUMBERS  # noqa: E402
 
 from course_lib import checks  # noqa: E402
 from course_lib.checks import Precision  # noqa: E402
@@ -54,15 +56,10 @@ ROBOT = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
 SAW = Saw(r1y=0.045, r2=0.075, r3=0.17)
 SLIDER = OffsetSliderCrank(0.075, 0.170, 0.045)
 
-th2, th3, th4 = sp.symbols("theta2 theta3 theta4")
-l1, l2, l3, l4 = sp.symbols("l1:5", positive=True)
-LOOP = sp.Matrix([l2 * sp.cos(th2) + l3 * sp.cos(th3) - l4 * sp.cos(th4) - l1,
-                  l2 * sp.sin(th2) + l3 * sp.sin(th3) - l4 * sp.sin(th4)])
-NUMBERS = {l1: 0.20, l2: 0.06, l3: 0.18, l4: 0.12}
-POINTS = {"O2": sp.Matrix([0, 0]), "A": sp.Matrix([l2 * sp.cos(th2), l2 * sp.sin(th2)]),
-          "B": sp.Matrix([l1 + l4 * sp.cos(th4), l4 * sp.sin(th4)]), "O4": sp.Matrix([l1, 0])}
-LINKS = [("O2", "A"), ("A", "B"), ("B", "O4")]
-WIPER = Mechanism([LOOP], [th3, th4], [th2], NUMBERS, points=POINTS, links=LINKS, ground=["O2", "O4"])
+# the wiper declared on the core, as tests/test_mechanism.py declares it, with its ground named
+WIPER = Mechanism([LOOP], [th3, th4], [th2], NUMBERS, points=WIPER_POINTS, links=[("O2", "A"), ("A", "B"),
+                                                                                   ("B", "O4")],
+                  ground=["O2", "O4"])
 WIDE = WIPER.with_parameters({l1: 0.35, l2: 0.1, l3: 0.3, l4: 0.2})  # the same loops, other numbers
 SWEEP = np.linspace(0.0, 2 * np.pi, 13)
 SW = WIPER.solve({th2: 0.7}, rates={th2: 2.0}, accelerations={th2: 1.0}, assembly={"theta4": 1})

@@ -26,7 +26,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import Motion, recast
+from .motion import Motion, machine_joints, recast
 from .newton import linear_solver
 from .planar import Unpacks, scalar_or_array
 from .thresholds import COINCIDENT, LEVEL, RESIDUAL
@@ -92,11 +92,11 @@ class SingularityMeasures(Unpacks):
 
 @dataclass(frozen=True)
 class WorkspaceMap:
-    """Inverse kinematics of working mode ``modes`` over the grid ``x``, ``y`` (m, shape (ny, nx)), NaN
-    where not ``reachable``."""
+    """Inverse kinematics of working mode ``modes`` over the grid of end-effector positions ``x3``, ``y3``
+    (X3, Y3 in m, shape (ny, nx)), NaN where not ``reachable``; ``x``, ``y`` are the grid's older names."""
 
-    x: np.ndarray
-    y: np.ndarray
+    x3: np.ndarray
+    y3: np.ndarray
     reachable: np.ndarray
     theta1: np.ndarray
     theta4: np.ndarray
@@ -104,6 +104,16 @@ class WorkspaceMap:
     serial_leg4: np.ndarray
     parallel: np.ndarray
     modes: tuple[int, int]
+
+    @property
+    def x(self) -> np.ndarray:
+        """The older name of :attr:`x3`."""
+        return self.x3
+
+    @property
+    def y(self) -> np.ndarray:
+        """The older name of :attr:`y3`."""
+        return self.y3
 
 
 @cache
@@ -307,15 +317,19 @@ class FiveBar:
             ("alpha4", alpha4, "rad/s^2"))]
         return self._forward(theta1, theta4, mode, None, on_failure, rates)
 
-    def joints(self, theta1, theta4, x3, y3) -> np.ndarray:
-        """Joints P1 … P5 (m), shape (..., 5, 2), of a configuration (no solving): the declaration's
-        points (:attr:`mechanism`).
+    def joints(self, motion, theta4=None, x3=None, y3=None):
+        """The points P1 … P5 (m) of a solved ``motion`` (``forward``'s or ``inverse``'s), by name
+        (``self.mechanism.joints(motion)``).  The older spelling ``joints(theta1, theta4, x3, y3)`` takes a
+        configuration (no solving) and stacks them, shape (..., 5, 2).
 
-        >>> np.round(FiveBar(0.10, 0.15, 0.15, 0.10, 0.08).joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
+        >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
+        >>> np.round(robot.joints(robot.inverse(0.0, 0.2))["P2"], 3).tolist()
+        [-0.043, 0.056]
+        >>> np.round(robot.joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
         """
-        points = self.mechanism.joints(self._configuration(theta1, theta4, x3, y3))
-        return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
+        return machine_joints(self, motion, lambda: self.mechanism.joints(
+            self._configuration(motion, theta4, x3, y3)))
 
     def _configuration(self, theta1, theta4, x3, y3) -> ForwardResult:
         """A checked configuration (no solving) as a :class:`ForwardResult`, to draw or take joints of:
@@ -590,12 +604,13 @@ class FiveBar:
         return self._cores["inverse"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     def workspace(self, x, y, modes: tuple[int, int] = (1, 1)) -> WorkspaceMap:
-        """:class:`WorkspaceMap` of working mode ``modes`` over the grid of the 1-D vectors ``x``, ``y`` (m).
+        """:class:`WorkspaceMap` of working mode ``modes`` over the grid of the 1-D vectors ``x``, ``y`` (m)
+        of end-effector positions X3, Y3.
 
         >>> robot = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
         >>> w = robot.workspace(np.linspace(-0.3, 0.3, 61), np.linspace(-0.3, 0.3, 61))
-        >>> w.reachable.shape, bool(w.reachable[30, 30]), bool(w.reachable[0, 0])
-        ((61, 61), False, False)
+        >>> w.reachable.shape, bool(w.reachable[30, 30]), bool(w.reachable[0, 0]), float(w.y3[40, 30])
+        ((61, 61), False, False, 0.1)
         """
         x, y = require_finite("x", x, "m"), require_finite("y", y, "m")
         if x.ndim != 1 or y.ndim != 1:

@@ -24,7 +24,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import Deferred, Motion, recast
+from .motion import Deferred, Motion, machine_joints, recast
 from .planar import Unpacks, scalar_or_array, wrap_angle
 from .thresholds import COINCIDENT, LEVEL
 
@@ -304,16 +304,16 @@ class FourBar:
         return self.solve(theta2, omega2, alpha2, branch=branch, assembly=assembly, on_failure=on_failure)
 
     @older_failure_keywords
-    def joints(self, theta2, branch: str = "open", *, on_failure: str | None = None) -> np.ndarray:
-        """Coordinates of O2, A, B, O4 (m) for drawing, shape (..., 4, 2): the declaration's points
-        (:attr:`mechanism`) at the closed form's position.
+    def joints(self, motion, branch: str = "open", *, on_failure: str | None = None):
+        """The points O2, A, B, O4 (m) of a solved ``motion``, by name (``self.mechanism.joints(motion)``).
+        The older spelling ``joints(theta2, branch)`` solves at θ2 and stacks them, shape (..., 4, 2).
 
-        >>> FourBar(1.0, 1.0, 1.0, 1.0).joints(np.pi / 2).round(12).tolist()
-        [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]
+        >>> bar = FourBar(1.0, 1.0, 1.0, 1.0)
+        >>> {name: point.round(12).tolist() for name, point in bar.joints(bar.solve(np.pi / 2)).items()}
+        {'O2': [0.0, 0.0], 'A': [0.0, 1.0], 'B': [1.0, 1.0], 'O4': [1.0, 0.0]}
         """
-        policy = failure_policy(on_failure)
-        points = self.mechanism.joints(self.solve(theta2, branch=branch, on_failure=policy))
-        return np.stack(np.broadcast_arrays(*points.values()), axis=-2)
+        return machine_joints(self, motion, lambda: self.mechanism.joints(
+            self.solve(motion, branch=branch, on_failure=failure_policy(on_failure))))
 
     @older_failure_keywords
     def transmission_angle(self, theta2, branch: str = "open", acute: bool = True,

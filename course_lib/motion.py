@@ -15,7 +15,7 @@ import numpy as np
 if TYPE_CHECKING:
     from .newton import NewtonResult
 
-__all__ = ["Motion", "Deferred"]
+__all__ = ["Motion", "Deferred", "machine_joints"]
 
 
 class Deferred:
@@ -137,3 +137,20 @@ def recast(motion: Motion, kind: type[Motion], *, at_rest: bool = False, **extra
         rest = MappingProxyType({name: still for name in motion.position})
         values["velocity"] = values["acceleration"] = rest
     return kind(**values, **extra)
+
+
+def machine_joints(machine, given, older):
+    """A machine's ``joints``: of a :class:`Motion` (``machine.joints(machine.solve(...))``), the declared
+    points by name, as ``machine.mechanism.joints(motion)`` (the one meaning of joints); of the machine's
+    inputs (the older spelling, ``FourBar.joints(theta2, branch)``), ``older()``: the same points stacked
+    in declared order, shape (..., P, 2).
+
+    >>> from course_lib.fourbar import FourBar
+    >>> bar = FourBar(1.0, 1.0, 1.0, 1.0)
+    >>> bar.joints(bar.solve(np.pi / 2))["B"].round(12).tolist(), bar.joints(np.pi / 2).shape
+    ([1.0, 1.0], (4, 2))
+    """
+    if isinstance(given, Motion):
+        return machine.mechanism.joints(given)
+    points = older()
+    return np.stack(np.broadcast_arrays(*points.values()), axis=-2)

@@ -41,7 +41,7 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import Motion, recast
+from .motion import Motion, machine_joints, recast
 from .newton import NewtonResult
 from .planar import Unpacks
 from .profile import first_turn_time, motor_profile
@@ -125,13 +125,15 @@ class Saw:
                                       assembly=sigma, on_failure=policy)
         return recast(motion, SawMotion)
 
-    def joints(self, theta2) -> np.ndarray:
-        """O2, A and C (m), shape (..., 3, 2): :func:`joint_positions` of this saw.
+    def joints(self, motion):
+        """The points O2, A and C (m) of a solved ``motion``, by name (``self.mechanism.joints(motion)``).
+        The older spelling ``joints(theta2)`` is :func:`joint_positions` of this saw, shape (..., 3, 2).
 
-        >>> np.round(Saw().joints(0.0), 4).tolist()
-        [[0.0, 0.0], [0.075, 0.0], [-0.0889, 0.045]]
+        >>> saw = Saw()
+        >>> np.round(saw.joints(saw.motion(0.0))["C"], 4).tolist(), saw.joints(0.0).shape
+        ([-0.0889, 0.045], (3, 2))
         """
-        return joint_positions(theta2, saw=self)
+        return machine_joints(self, motion, lambda: self.mechanism.joints(self.motion(motion)))
 
 
 #: The saw of the course (r1y = 0.045 m, r2 = 0.075 m, r3 = 0.170 m).

@@ -27,8 +27,7 @@ ROBOT = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
 SAW_TEXTBOOK = OffsetSliderCrank(0.075, 0.170, 0.045)
 # an assembled pose of the robot, and the methods that take one
 POSE = dict(zip(("theta1", "theta4", "x3", "y3"), (1.2, 1.9, *ROBOT.forward(1.2, 1.9)), strict=True))
-FIVEBAR_POSE_METHODS = ("singularity_measures", "joints", "jacobian_end_effector", "jacobian_cranks",
-                        "constraints")
+FIVEBAR_POSE_METHODS = ("singularity_measures", "jacobian_end_effector", "jacobian_cranks", "constraints")
 
 # ---------------------------------------------------------------- bad values, by kind
 NOT_A_NUMBER = ["0.06", True, False, None, 1j, "abc", b"1", {"l": 1}, {1.0}, [0.1, "x"], [[0.1], [0.2, 0.3]]]
@@ -83,6 +82,10 @@ ANGLE_CALLS = {
     "FiveBar.inverse.y3": (lambda value: ROBOT.inverse(0.0, value), "y3"),
     **{f"FiveBar.{method}.{name}": (lambda value, method=method, name=name: getattr(ROBOT, method)(
         **{**POSE, name: value}), name) for method in FIVEBAR_POSE_METHODS for name in POSE},
+    # joints' first argument is a motion; its older spelling takes the pose by position
+    **{f"FiveBar.joints.{name}": (lambda value, k=k: ROBOT.joints(
+        *[value if j == k else given for j, given in enumerate(POSE.values())]), name)
+       for k, name in enumerate(POSE)},
     "saw.analytic": (lambda value: saw.analytic(value), "theta2"),
     "saw.solve_consecutive": (lambda value: saw.solve_consecutive(value), "theta2"),
     "saw.solve_simultaneous": (lambda value: saw.solve_simultaneous(value), "theta2"),

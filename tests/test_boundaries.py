@@ -140,10 +140,10 @@ def test_slider_crank_dead_centres_stop_the_slider(crank, extra, offset, branch,
         with strict():
             motion = machine.solve(dead, omega2, branch=branch)
             near = machine.solve([dead - step, dead + step], omega2, branch=branch)
-        assert abs(motion.x - x) < 1e-12 * rod                # B where rod and crank line up
-        assert abs(motion.v) < 1e-12 * omega2 * crank         # and the slider stands still there
+        assert abs(motion.xC - x) < 1e-12 * rod                # B where rod and crank line up
+        assert abs(motion.v_xC) < 1e-12 * omega2 * crank         # and the slider stands still there
         assert np.isfinite(np.array(near)).all()
-        assert near.v[0] * near.v[1] < 0                      # turning back
+        assert near.v_xC[0] * near.v_xC[1] < 0                      # turning back
 
 
 # ------------------------------------------------------------------ four-bar dead centres and toggles

@@ -337,7 +337,7 @@ def test_saw_omega3_expression():
 def _saw_by_slider_crank(theta2, omega2=0.0, alpha2=0.0):
     """(r1, θ1, θ3, a_r) from the Cartesian slider-crank: r1 = −√(x² + r1y²) (r1 < 0: slider on the left)."""
     motion = OffsetSliderCrank(crank=0.06, rod=0.15, offset=0.03).solve(theta2, omega2, alpha2, branch="left")
-    x, v, a = float(motion.x), float(motion.v), float(motion.a)
+    x, v, a = float(motion.xC), float(motion.v_xC), float(motion.a_xC)
     rho = np.hypot(x, 0.03)
     r1, theta1 = -rho, np.arctan(0.03 / x)
     a_r = -(v**2 + x * a) / rho + x**2 * v**2 / rho**3
@@ -369,7 +369,7 @@ def test_saw_slider_acceleration():
     rejects(check(1000 * a_r, MY_SAW, theta2, omega2, alpha2), "1000")
     # the slider's own acceleration ẍ (x = r1 cos θ1 of the Cartesian slider-crank), and the course's saw
     textbook = OffsetSliderCrank(crank=0.06, rod=0.15, offset=0.03)
-    x_ddot = float(textbook.solve(theta2, omega2, alpha2, branch="left").a)
+    x_ddot = float(textbook.solve(theta2, omega2, alpha2, branch="left").a_xC)
     rejects(check(x_ddot, MY_SAW, theta2, omega2, alpha2), "ẍ", "a_r = d²r1/dt²", hidden=[a_r])
     course = analytic(theta2, omega2, alpha2)[6]
     rejects(check(course, MY_SAW, theta2, omega2, alpha2), "saw=my_saw", hidden=[a_r])
@@ -540,9 +540,9 @@ def test_blade_peak_speed_against_the_textbook_slider_crank():
     omega2 = 6.472
     textbook = OffsetSliderCrank(MY_SAW.r2, MY_SAW.r3, MY_SAW.r1y)
     grid = np.linspace(0, 2 * np.pi, 3601)
-    start = grid[np.argmax(np.abs(textbook.solve(grid, omega2, branch="left").v))]
+    start = grid[np.argmax(np.abs(textbook.solve(grid, omega2, branch="left").v_xC))]
     best = scipy.optimize.minimize_scalar(
-        lambda t: -abs(float(textbook.solve(t, omega2, branch="left").v)),
+        lambda t: -abs(float(textbook.solve(t, omega2, branch="left").v_xC)),
         bracket=(start - 0.01, start + 0.01),
     )
     peak = -best.fun

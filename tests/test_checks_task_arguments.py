@@ -237,8 +237,8 @@ def saw_rates():
 def blade_peak():
     textbook = OffsetSliderCrank(MY_SAW.r2, MY_SAW.r3, MY_SAW.r1y)
     grid = np.linspace(0, 2 * np.pi, 3601)
-    start = grid[np.argmax(np.abs(textbook.solve(grid, 6.472, branch="left").v))]
-    best = scipy.optimize.minimize_scalar(lambda t: -abs(float(textbook.solve(t, 6.472, branch="left").v)),
+    start = grid[np.argmax(np.abs(textbook.solve(grid, 6.472, branch="left").v_xC))]
+    best = scipy.optimize.minimize_scalar(lambda t: -abs(float(textbook.solve(t, 6.472, branch="left").v_xC)),
                                           bracket=(start - 0.01, start + 0.01))
     return -best.fun
 

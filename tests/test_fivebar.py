@@ -507,6 +507,8 @@ def test_a_large_workspace_agrees_with_inverse_and_the_measures():
     ok = solution.reachable
     assert np.array_equal(w.reachable, ok) and 0.3 < ok.mean() < 0.5
     assert np.array_equal(w.theta1, solution.theta1, equal_nan=True)
+    assert np.array_equal(w.x3, X) and np.array_equal(w.y3, Y)          # the grid, X3 across, Y3 up
+    assert w.x is w.x3 and w.y is w.y3                                    # the older names
     measures = ROBOT.singularity_measures(solution.theta1[ok], solution.theta4[ok], X[ok], Y[ok])
     for name in ("serial_leg1", "serial_leg4", "parallel"):
         assert np.array_equal(getattr(w, name)[ok], getattr(measures, name))

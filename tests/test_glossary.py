@@ -160,9 +160,9 @@ def test_slider_crank_branch_is_sigma(offset, branch, sigma):
     motion = machine.solve(theta2, branch=branch)
     assert np.all(np.sign(np.cos(motion.theta3)) == -sigma)   # det J_b = rod·cos θ3, σ = −sign(det J_b)
     assert np.all(np.asarray(motion.assembly["theta3"]) == sigma)
-    assert np.all(np.asarray(motion.assembly["x"]) == sigma)
-    core = machine.mechanism.solve({"theta2": theta2}, assembly={"x": sigma})
-    assert np.abs(core.position["x"] - motion.x).max() < 1e-12
+    assert np.all(np.asarray(motion.assembly["xC"]) == sigma)
+    core = machine.mechanism.solve({"theta2": theta2}, assembly={"xC": sigma})
+    assert np.abs(core.position["xC"] - motion.xC).max() < 1e-12
 
 
 @pytest.mark.parametrize("side", ["left", "right"])
@@ -176,7 +176,7 @@ def test_saw_has_no_closed_form_block_and_its_sides_are_the_slider_cranks(side):
         "r1": {sigma}, "theta1": {sigma}, "theta3": {sigma}}
     same = OffsetSliderCrank(saw.r2, saw.r3, saw.r1y).solve(theta2, branch=side)
     assert same_angle(motion.theta3, same.theta3).max() < 1e-12
-    assert np.abs(motion.r1 * np.cos(motion.theta1) - same.x).max() < 1e-12
+    assert np.abs(motion.r1 * np.cos(motion.theta1) - same.xC).max() < 1e-12
     assert np.all(np.asarray(same.assembly["theta3"]) == sigma)
     # σ = −sign(det J_b), det J_b = −r1·r3·cos θ3 here (sympy), and the kernel keeps r1 < 0
     r1, th1, th3, r1y, r2, r3, th2 = sp.symbols("r1 theta1 theta3 r1y r2 r3 theta2")

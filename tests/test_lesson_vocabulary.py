@@ -29,19 +29,36 @@ def code_lines(path: Path) -> list[str]:
             for line in "".join(cell["source"]).splitlines()]
 
 
-def workspace_names(lines: list[str]) -> set[str]:
-    """Names bound to a WorkspaceMap in the notebook (``x = robot.workspace(...)``, a dict of them, or an
-    item of that dict): their ``reachable`` is the map's own field."""
+def bound_names(lines: list[str], call: str = r"\w+\.workspace\(") -> set[str]:
+    """Names bound in the notebook to what ``call`` returns (``x = robot.workspace(...)``, a dict of them,
+    or an item of that dict); by default WorkspaceMaps, whose ``reachable`` is the map's own field."""
     names = {m.group(1) for line in lines
-             for m in re.finditer(r"(\w+)\s*=\s*(?:\{[^}]*:\s*)?\w+\.workspace\(", line)}
+             for m in re.finditer(r"(\w+)\s*=\s*(?:\{[^}]*:\s*)?" + call, line)}
     item = re.compile(r"(\w+)\s*=\s*(\w+)\[[^\]]*\]\s*(?:#.*)?$")
     return names | {m.group(1) for line in lines for m in item.finditer(line) if m.group(2) in names}
+
+
+workspace_names = bound_names
+
+#: older names of a result's values, counted only on names bound to that kind of result: (pattern, the one)
+OLDER_MAP_VALUES = (r"\b(\w+)(?:\[[^\]]*\])?\.(?:x|y)\b", "WorkspaceMap.x3, .y3")
+OLDER_SLIDER_VALUES = (r"\b(\w+)\.(?:x|v|a)\b", "SliderCrankMotion.xC, .v_xC, .a_xC")
+
+
+def slider_names(lines: list[str]) -> set[str]:
+    """Names bound to a slider-crank's solve: ``OffsetSliderCrank(...).solve(...)``, or ``m.solve(...)`` of a
+    name bound to ``OffsetSliderCrank(...)``."""
+    machines = {m.group(1) for line in lines
+                for m in re.finditer(r"(\w+)\s*=\s*OffsetSliderCrank\(", line)}
+    either = "".join(f"|{name}" for name in machines)
+    call = r"(?:OffsetSliderCrank\([^)]*\)" + either + r")\.(?:solve|motion)\("
+    return bound_names(lines, call)
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.relative_to(ROOT / "notebooks").as_posix())
 def test_no_code_line_in_an_older_spelling(path):
     lines = code_lines(path)
-    maps = workspace_names(lines)
+    maps, sliders = workspace_names(lines), slider_names(lines)
     found = []
     for line in lines:
         for pattern, one in OLDER.items():
@@ -49,6 +66,8 @@ def test_no_code_line_in_an_older_spelling(path):
                 if match.groups() and match.group(1) in maps:
                     continue
                 found.append(f"{line.strip()}  →  {one}")
+        for names, (pattern, one) in ((maps, OLDER_MAP_VALUES), (sliders, OLDER_SLIDER_VALUES)):
+            found += [f"{line.strip()}  →  {one}" for m in re.finditer(pattern, line) if m.group(1) in names]
     assert not found, "\n".join(found)
 
 
@@ -69,3 +88,18 @@ def test_the_pattern_counts_what_it_should():
     hits = [line for line in lines for pattern in OLDER for m in re.finditer(pattern, line)
             if not (m.groups() and m.group(1) in maps)]
     assert maps == {"maps", "one"} and hits == [lines[0], lines[1], lines[2], lines[7]]
+
+
+def test_the_older_value_names_are_counted_on_their_results_only():
+    lines = ["w = robot.workspace(g, g)", "plt.contourf(w.x, w.y3, w.reachable)",
+             "maps = {k: robot.workspace(g, g, k) for k in m}",
+             "textbook = OffsetSliderCrank(crank=R2, rod=R3).solve(0.0)", "print(textbook.x, textbook.v_xC)",
+             "slider = OffsetSliderCrank(0.1, 0.3)", "m = slider.motion(t)", "gap = m.a - other.a",
+             "r = newton(f, j, 1.0)", "print(r.x, maps[(1, 1)].y)"]
+    maps, sliders = workspace_names(lines), slider_names(lines)
+    assert maps == {"w", "maps"} and sliders == {"textbook", "m"}
+    hits = [(line, m.group(0)) for line in lines for names, (pattern, _) in
+            ((maps, OLDER_MAP_VALUES), (sliders, OLDER_SLIDER_VALUES))
+            for m in re.finditer(pattern, line) if m.group(1) in names]
+    assert hits == [(lines[1], "w.x"), (lines[4], "textbook.x"), (lines[7], "m.a"),
+                    (lines[9], "maps[(1, 1)].y")]

@@ -48,7 +48,8 @@ ANGLES = np.radians([0.0, 60.0, 200.0])
 COURSE_RATES = {
     "four-bar": (lambda theta, rate: WIPER.solve(theta, omega2=rate),
                  {"omega3": "theta3", "omega4": "theta4"}),
-    "slider-crank": (lambda theta, rate: SLIDER.solve(theta, omega2=rate), {"omega3": "theta3", "v": "x"}),
+    "slider-crank": (lambda theta, rate: SLIDER.solve(theta, omega2=rate),
+                     {"omega3": "theta3", "v_xC": "xC"}),
     "saw": (lambda theta, rate: SAW.motion(theta, omega2=rate), {"omega1": "theta1", "omega3": "theta3",
                                                                  "v_r": "r1"}),
 }

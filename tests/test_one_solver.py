@@ -192,7 +192,7 @@ def test_the_slider_kernel_agrees_with_the_derived_closed_form_and_its_side_with
         ax, ay = slider.crank * np.cos(SWEEP), slider.crank * np.sin(SWEEP)
         with np.errstate(invalid="ignore"):
             run = side * np.sqrt(slider.rod**2 - (slider.offset - ay) ** 2)
-        assert np.abs(kernel.position["x"] - (ax + run))[found].max(initial=0.0) < 1e-12
+        assert np.abs(kernel.position["xC"] - (ax + run))[found].max(initial=0.0) < 1e-12
         checked += int(np.count_nonzero(found))
     assert checked > 500
 

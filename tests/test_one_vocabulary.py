@@ -11,6 +11,7 @@ from course_lib.errors import InvalidGeometryError
 from course_lib.fivebar import FiveBar
 from course_lib.fourbar import FourBar
 from course_lib.mechanism import Mechanism
+from course_lib.saw import Saw
 from course_lib.slider_crank import OffsetSliderCrank
 
 
@@ -39,8 +40,8 @@ def test_the_slider_cranks_branches_are_sigmas_of_the_core(branch, sigma):
     crank = OffsetSliderCrank(0.075, 0.170, 0.045)
     motion = crank.solve(THETA2, branch=branch)
     assert set(np.ravel(motion.assembly["theta3"])) == {sigma}
-    core = crank.mechanism.solve({"theta2": THETA2}, assembly={"x": sigma})
-    assert np.abs(core.position["x"] - motion.x).max() < 1e-12
+    core = crank.mechanism.solve({"theta2": THETA2}, assembly={"xC": sigma})
+    assert np.abs(core.position["xC"] - motion.xC).max() < 1e-12
 
 
 ROBOT = FiveBar(0.10, 0.15, 0.15, 0.10, 0.08)
@@ -133,8 +134,8 @@ def test_a_machine_takes_its_assembly_by_alias_or_by_sigma(name, sigma):
         assert np.array_equal(chosen.theta4, by_branch.theta4) and set(chosen.assembly["theta4"]) == {sigma}
     crank = OffsetSliderCrank(0.075, 0.170, 0.045)
     side = "left" if sigma > 0 else "right"
-    assert np.array_equal(crank.solve(THETA2, assembly={"x": sigma}).x, crank.solve(THETA2, branch=side).x)
-    assert np.array_equal(crank.solve(THETA2, assembly=side).x, crank.solve(THETA2, branch=side).x)
+    assert np.array_equal(crank.solve(THETA2, assembly={"xC": sigma}).xC, crank.solve(THETA2, branch=side).xC)
+    assert np.array_equal(crank.solve(THETA2, assembly=side).xC, crank.solve(THETA2, branch=side).xC)
 
 
 @pytest.mark.parametrize(("name", "sigma"), [("arms up", +1), ("arms down", -1)])
@@ -171,3 +172,25 @@ def test_the_five_bars_inverse_assembly_names_each_legs_sigma():
 def test_a_wrong_assembly_is_named(call, match):
     with pytest.raises(InvalidGeometryError, match=match):
         call()
+
+
+# ------------------------------------------------------------- joints: of a motion, by name, on every machine
+def test_every_machines_joints_of_a_motion_are_its_declared_points_by_name():
+    theta = np.linspace(-1.0, 2.0, 7)
+    bar, slider, saw, robot = (FourBar(0.06, 0.18, 0.12, 0.20), OffsetSliderCrank(0.075, 0.170, 0.045), Saw(),
+                               FiveBar(0.10, 0.15, 0.15, 0.10, 0.08))
+    cases = {bar: (bar.solve(theta), {"A": (0.0, 0.06, "O2"), "B": (0.20, 0.12, "O4")}, ("A", "B", 0.18)),
+             slider: (slider.solve(theta, assembly="left"), {"A": (0.0, 0.075, "O2")}, ("A", "C", 0.170)),
+             saw: (saw.motion(theta), {"A": (0.0, 0.075, "O2")}, ("A", "C", 0.170)),
+             robot: (robot.forward(np.linspace(1.0, 1.4, 7), 1.9),
+                     {"P2": (0.04, 0.10, "P1"), "P4": (-0.04, 0.10, "P5")}, ("P2", "P3", 0.15))}
+    for machine, (motion, on_circles, (end, other, length)) in cases.items():
+        joints = machine.joints(motion)
+        assert list(joints) == list(machine.mechanism.points)  # by name, declared order
+        for name, (centre_x, radius, pivot) in on_circles.items():  # each pin on its pivot's circle
+            assert np.allclose(joints[pivot], [centre_x, 0.0], atol=1e-15)
+            assert np.abs(np.hypot(*(joints[name] - joints[pivot]).T) - radius).max() < 1e-12
+        assert np.abs(np.hypot(*(joints[other] - joints[end]).T) - length).max() < 1e-12
+        if machine is not robot:  # the older spelling: the same points stacked in declared order, from θ2
+            older = machine.joints(theta, "left") if machine is slider else machine.joints(theta)
+            assert np.array_equal(older, np.stack(list(joints.values()), axis=-2))

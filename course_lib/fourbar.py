@@ -317,15 +317,16 @@ class FourBar:
 
     @older_failure_keywords
     def transmission_angle(self, theta2, branch: str = "open", acute: bool = True,
-                           *, on_failure: str | None = None):
+                           *, assembly=None, on_failure: str | None = None):
         """Transmission angle μ (rad): the joint angle at B, |θ4 − θ3| folded into [0, π], with ``acute``
-        (Norton's design value) into [0, π/2]; good force transmission wants μ ≥ 40° or so.
+        (Norton's design value) into [0, π/2]; good force transmission wants μ ≥ 40° or so
+        (``thresholds.TRANSMISSION_MIN_DEG``).  ``assembly=`` as in :meth:`solve`.
 
         >>> round(float(np.degrees(FourBar(0.06, 0.18, 0.12, 0.20).transmission_angle(np.pi / 2))), 4)
         85.752
         """
         policy = failure_policy(on_failure)
-        solution = self.solve(theta2, branch=branch, on_failure=policy)
+        solution = self.solve(theta2, branch=branch, assembly=assembly, on_failure=policy)
         turn = np.asarray(solution.theta4) - np.asarray(solution.theta3)
         joint_angle = np.abs(wrap_angle(turn, nan_ok=True))
         mu = np.minimum(joint_angle, np.pi - joint_angle) if acute else joint_angle
@@ -347,10 +348,11 @@ class FourBar:
 
     @older_failure_keywords
     def coupler_point(self, theta2, p: float, delta: float, omega2=0.0, alpha2=0.0, branch: str = "open",
-                      *, on_failure: str | None = None) -> CouplerPointMotion:
+                      *, assembly=None, on_failure: str | None = None) -> CouplerPointMotion:
         """Motion of the coupler point P of :meth:`with_coupler_point`: its declaration differentiated by the
         core (:meth:`~course_lib.mechanism.Mechanism.point_motion`), which is the course's V_P = ω2 k̂×R2
-        + ω3 k̂×r and A_P = α2 k̂×R2 − ω2² R2 + α3 k̂×r − ω3² r with r = P − A.
+        + ω3 k̂×r and A_P = α2 k̂×R2 − ω2² R2 + α3 k̂×r − ω3² r with r = P − A.  ``assembly=`` as in
+        :meth:`solve`.
 
         >>> motion = FourBar(1.0, 1.0, 1.0, 1.0).coupler_point(np.pi / 2, p=0.5, delta=0.0, omega2=1.0)
         >>> motion.position.round(12).tolist(), motion.velocity.round(12).tolist()
@@ -358,7 +360,7 @@ class FourBar:
         """
         plate = self.with_coupler_point(p, delta)
         policy = failure_policy(on_failure)
-        solution = self.solve(theta2, omega2, alpha2, branch=branch, on_failure=policy)
+        solution = self.solve(theta2, omega2, alpha2, branch=branch, assembly=assembly, on_failure=policy)
         position, velocity, acceleration = plate.point_motion(
             solution, rates={"theta2": omega2}, accelerations={"theta2": alpha2})["P"]
         return CouplerPointMotion(position=position, velocity=velocity, acceleration=acceleration)

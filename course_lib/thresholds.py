@@ -9,7 +9,7 @@ True
 """
 
 __all__ = ["APPROACH", "CHANGE_LEVEL", "COINCIDENT", "FLIP_NEAR", "FLIP_SMOOTH", "LEVEL", "MAX_CONDITION",
-           "NEAR_SINGULAR", "RESIDUAL", "SINGULAR"]
+           "NEAR_SINGULAR", "RESIDUAL", "SINGULAR", "TRANSMISSION_MIN_DEG"]
 
 #: J is singular where σ_min(J̃) < SINGULAR (J̃: J with rows and columns scaled by their typical sizes).
 SINGULAR = 1e-6
@@ -40,3 +40,6 @@ APPROACH = 0.05
 #: Newton's step test (not the mechanism's singularity rule): a Jacobian whose |det| is below
 #: 1 / MAX_CONDITION × the product of its row lengths gives no trustworthy step.
 MAX_CONDITION = 1e12
+#: The course's design value for a four-bar's transmission angle μ (acute, Norton's): below it (degrees) the
+#: force transmission is poor, and the four-bar explorer says so and draws the line.
+TRANSMISSION_MIN_DEG = 40.0

@@ -9,7 +9,7 @@ Every explorer here is an :class:`ExplorerSpec` (controls, panels, linkage, draw
 :func:`build_explorer`; ``mechanism_explorer`` makes one for any declared mechanism or machine.
 
 >>> explorer = fourbar_explorer()
->>> explorer.update(theta2_deg=90.0).status, explorer.update(branch="sideways").status
+>>> explorer.update(theta2_deg=90.0).status, explorer.update(assembly="sideways").status
 ('ok', 'invalid')
 """
 
@@ -37,7 +37,7 @@ from .errors import CourseLibError, InvalidArgumentError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
 from .planar import wrap_angle
 from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _ground_symbol, _motion_background, _Quantizer
-from .thresholds import APPROACH, COINCIDENT
+from .thresholds import APPROACH, COINCIDENT, TRANSMISSION_MIN_DEG
 
 __all__ = ["Explorer", "ExplorerSpec", "ExplorerStage", "Readout", "build_explorer", "fourbar_explorer",
            "saw_explorer", "fivebar_explorer", "mechanism_explorer", "explore"]
@@ -81,7 +81,7 @@ class Explorer:
 
     >>> explorer = fourbar_explorer()
     >>> explorer.status, sorted(explorer.state)[:3], "Grashof" in explorer.message
-    ('ok', ['branch', 'coupler', 'crank'], True)
+    ('ok', ['assembly', 'coupler', 'crank'], True)
     >>> explorer.render()[:4] == explorer.picture()[:4] == b"\\x89PNG"
     True
     """
@@ -510,12 +510,14 @@ _TRIANGLE = np.array([[0.0, 0.0], [-1.0, -1.6], [1.0, -1.6]])  # the fixed-pivot
 
 def fourbar_explorer(
     crank: float = 0.06, coupler: float = 0.18, rocker: float = 0.12, ground: float = 0.20,
-    theta2: float = np.pi / 3, branch: str = "open", p: float | None = None, delta: float = np.radians(30.0),
+    theta2: float = np.pi / 3, assembly: str = "open", p: float | None = None,
+    delta: float = np.radians(30.0), *, branch: str | None = None,
 ) -> Explorer:
     """Explorer of a four-bar linkage (:class:`course_lib.fourbar.FourBar`); arguments are the initial
     values (m, rad), lengths within the sliders' range 0.02…0.40 m.
 
-    Sliders: lengths l1…l4, crank angle θ2, coupler point P at p from A turned δ from AB; toggle: branch.
+    Sliders: lengths l1…l4, crank angle θ2, coupler point P at p from A turned δ from AB; toggle: the
+    assembly ("open" or "crossed"; ``branch=`` its older name).
     Drawing: the linkage, the coupler curve of P, the transmission angle μ(θ2).  Readout: Grashof class,
     θ3, θ4, μ, input range, or why the loop cannot close (with the two circles that fail to meet).
 
@@ -527,18 +529,19 @@ def fourbar_explorer(
     controls = {key: _metres(key, value, f"{key} l{k} (m)", 0.02, 0.40)
                 for k, (key, value) in enumerate(named.items(), 1)}
     p = _metres("p", 0.5 * controls["coupler"].value if p is None else p, "point P: p (m)", 0.0, 0.40)
-    branch = _toggle("assembly", BRANCHES, "branch", branch)
-    controls.update(theta2_deg=_degrees("theta2", theta2, "θ2 (°)"), branch=branch, p=p,
+    given = ("assembly", assembly) if branch is None else ("branch", branch)  # branch=: the older name
+    toggle = _toggle("assembly", BRANCHES, *given)
+    controls.update(theta2_deg=_degrees("theta2", theta2, "θ2 (°)"), assembly=toggle, p=p,
                     delta_deg=_degrees("delta", delta, "point P: δ (°)"))
 
-    def panels(figure):  # the linkage with its coupler curve; μ(θ2) with its 40° line
+    def panels(figure):  # the linkage with its coupler curve; μ(θ2) with its design line (40°)
         grid = figure.add_gridspec(1, 2, width_ratios=(1.45, 1.0), left=0.095, right=0.98, bottom=0.13,
                                    top=0.97, wspace=0.22)
         ax = _grid(figure.add_subplot(grid[0]), xlabel="x (m)", ylabel="y (m)")
         ax_mu = _grid(figure.add_subplot(grid[1]), xlabel="θ2 (°)", ylabel="transmission angle μ (°)",
                       xlim=(-180, 180), ylim=(0, 92), xticks=np.arange(-180, 181, 90))
-        ax_mu.axhline(40.0, color="0.5", linestyle=":", lw=1)
-        ax_mu.text(-175, 42, "μ = 40°", color="0.4", fontsize=8)
+        ax_mu.axhline(TRANSMISSION_MIN_DEG, color="0.5", linestyle=":", lw=1)
+        ax_mu.text(-175, TRANSMISSION_MIN_DEG + 2, f"μ = {TRANSMISSION_MIN_DEG:g}°", color="0.4", fontsize=8)
         curve_line, = ax.plot([], [], color="tab:purple", lw=1.2, label="coupler curve of P")
         ax.legend(handles=[curve_line], loc="lower right", fontsize=8)
         return ax, {
@@ -559,15 +562,15 @@ def fourbar_explorer(
     def draw(stage, state, geometry_changed: bool) -> Readout:
         """Solve the four-bar at the state's θ2 and move the artists."""
         ax, artists = stage.axes, stage.artists
-        theta2, branch = np.radians(float(state["theta2_deg"])), state["branch"]
+        theta2, assembly = np.radians(float(state["theta2_deg"])), state["assembly"]
         four = FourBar(**{key: state[key] for key in named})
         l1, l2, l3, l4 = four.l1, four.l2, four.l3, four.l4
         p, delta = float(state["p"]), np.radians(float(state["delta_deg"]))
         offset = stage.linkage.label_offset = 0.04 * max(l1, l2, l3, l4)
         if geometry_changed:
             sweep = np.linspace(-np.pi, np.pi, 361)
-            curve = four.coupler_point(sweep, p, delta, branch=branch, on_failure="nan").position
-            mu = four.transmission_angle(sweep, branch=branch, on_failure="nan")
+            curve = four.coupler_point(sweep, p, delta, assembly=assembly, on_failure="nan").position
+            mu = four.transmission_angle(sweep, assembly=assembly, on_failure="nan")
             artists["coupler_curve"].set_data(curve[:, 0], curve[:, 1])
             artists["mu_curve"].set_data(np.degrees(sweep), np.degrees(mu))
             # the limits stay while crank circle, rocker circle and coupler curve fit and fill half of them
@@ -593,23 +596,23 @@ def fourbar_explorer(
             else f"input range: θ2 in {ranges} (toggle positions at the ends)" if reach.intervals
             else "input range: none — these lengths cannot be assembled at any θ2",
         )
-        A = np.array([l2 * np.cos(theta2), l2 * np.sin(theta2)])
-        O2, O4 = np.zeros(2), np.array([l1, 0.0])
         artists["mu_cursor_line"].set_xdata([np.degrees(theta2)] * 2)
         for name in ("reach_A", "reach_O4", "point_p", "mu_cursor"):
             artists[name].set_visible(False)
         try:
-            solution = four.solve(theta2, branch=branch)
-            mu = four.transmission_angle(theta2, branch=branch)
+            solution = four.solve(theta2, assembly=assembly)
+            mu = four.transmission_angle(theta2, assembly=assembly)
             joints = four.with_coupler_point(p, delta).joints(solution)  # O2, A, B, O4 and P, as declared
             point = joints["P"]
             finite = np.isfinite(np.hstack([solution.theta3, solution.theta4, mu, point])).all()
             failure = None if finite else "the closed form returns no number here"
         except CourseLibError as err:
             failure = err
-        if failure is not None:
+        if failure is not None:  # the declared points the input alone places (B, unknown, is NaN)
+            pins = four.joints(four.solve(theta2, assembly=assembly, on_failure="nan"))
+            A, O4 = pins["A"], pins["O4"]
             at, distance = f"θ2 = {np.degrees(theta2):.0f}°", float(np.hypot(*(O4 - A)))
-            known, says = {"O2": O2, "A": A, "O4": O4}, f"course_lib says: {failure}"
+            known, says = {name: pins[name] for name in ("O2", "A", "O4")}, f"course_lib says: {failure}"
             if distance < COINCIDENT**0.5 * max(l1, l2):  # A on O4 (to √rounding): θ3 is undefined
                 return stage.failed(known, f"A lands on O4 at {at}", "singular", (
                     f"{at}: the crank pin A lands on the pivot O4 (l2 = l1), "
@@ -625,10 +628,11 @@ def fourbar_explorer(
                 why + " (the dashed circles about A and O4 do not meet).",
                 "Move θ2 back into the input range, or change the lengths.", *lines, says),
                 circles=(("reach_A", A, l3), ("reach_O4", O4, l4)))
-        warning = "  ← below 40°: poor force transmission" if np.degrees(mu) < 40 else ""
+        warning = (f"  ← below {TRANSMISSION_MIN_DEG:g}°: poor force transmission"
+                   if np.degrees(mu) < TRANSMISSION_MIN_DEG else "")
         return stage.solved(joints, (
             f"θ2 = {np.degrees(theta2):.1f}°  →  θ3 = {np.degrees(solution.theta3):.2f}°, "
-            f"θ4 = {np.degrees(solution.theta4):.2f}°  ({branch} assembly)",
+            f"θ4 = {np.degrees(solution.theta4):.2f}°  ({assembly} assembly)",
             f"transmission angle μ = {np.degrees(mu):.2f}°{warning}",
             f"coupler point P = ({point[0]:.4f}, {point[1]:.4f}) m", *lines),
             point_p=([point[0]], [point[1]]), mu_cursor=([np.degrees(theta2)], [np.degrees(mu)]))
@@ -638,7 +642,7 @@ def fourbar_explorer(
         "four-bar", controls, (8.6, 3.8), panels, {  # the ground link is drawn dashed, as its lengths change
             "links": {name: ends for name, ends in declared.links.named().items() if name != "ground"},
             "plates": declared.plates, "labels": {"A": "A", "B": "B", "P": "P"}},
-        draw, (*named, "branch", "p", "delta_deg"),
+        draw, (*named, "assembly", "p", "delta_deg"),
         ("coupler_curve", "mu_curve", "ground", "ground_O2", "ground_O4", "label_O2", "label_O4")))
 
 
@@ -800,8 +804,8 @@ def fivebar_explorer(
         "sigma2": _toggle("σ2 (θ4 root)", _ROOT, "sigma2", sigma2),
     }
     grid = np.linspace(-limit, limit, 161)
-    half = robot.l5 / 2
-    P1, P5 = np.array([half, 0.0]), np.array([-half, 0.0])
+    pivots = robot.joints(robot.forward(theta1, theta4, on_failure="nan"))  # the declared P1, P5 (fixed)
+    P1, P5 = pivots["P1"], pivots["P5"]
 
     def panels(figure):  # the workspace shaded, the ground pivots, the legend
         ax = _grid(figure.add_axes((0.12, 0.1, 0.85, 0.86)), xlabel="X (m)", ylabel="Y (m)")
@@ -811,14 +815,14 @@ def fivebar_explorer(
         shade[reachable] = (0.12, 0.47, 0.71, 0.16)
         shading = ax.imshow(shade, extent=(-limit, limit, -limit, limit), origin="lower",
                             interpolation="nearest")
-        for center in (half, -half):
-            _ground_symbol(ax, (center, 0.0), 0.012)
+        for pivot in (P1, P5):
+            _ground_symbol(ax, tuple(pivot), 0.012)
         singular_line, = ax.plot([], [], ".", color="tab:red", ms=2, label="parallel singularity of (σ1, σ2)")
         ax.plot([], [], "s", color=(0.12, 0.47, 0.71, 0.3), label="workspace (both legs reach)")
         ax.legend(loc="lower left", fontsize=8)
         return ax, {
             "workspace": shading, "singularity": singular_line,
-            "base": _moving_line(ax, [-half, half], [0.0, 0.0], color=LINK_COLORS[4], lw=2),
+            "base": _moving_line(ax, *np.transpose([P5, P1]), color=LINK_COLORS[4], lw=2),
         }, {
             "end_effector": _moving_line(ax, [], [], "o", ms=8, color="black", zorder=5),
             "target": _moving_line(ax, [], [], "x", ms=11, mew=2.5, color=_ERROR_COLOR),

@@ -43,7 +43,7 @@ def test_fourbar_crossed_branch_changes_the_coupler_curve_not_the_grashof_class(
     explorer = fourbar_explorer(**WIPER)
     grashof = explorer.message.splitlines()[3]
     curve = np.array(explorer.artists["coupler_curve"].get_data())
-    assert explorer.update(branch="crossed").status == "ok"
+    assert explorer.update(assembly="crossed").status == "ok"
     assert explorer.message.splitlines()[3] == grashof and grashof.startswith("Grashof crank-rocker")
     assert np.nanmax(np.abs(np.array(explorer.artists["coupler_curve"].get_data()) - curve)) > 0.01
 

@@ -44,7 +44,7 @@ def _xy(line):
 
 @pytest.mark.parametrize("branch", ["open", "crossed"])
 def test_fourbar_drawing_matchescircle_intersections(branch):
-    explorer = fourbar_explorer(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20, branch=branch)
+    explorer = fourbar_explorer(crank=0.06, coupler=0.18, rocker=0.12, ground=0.20, assembly=branch)
     for theta2_deg in (-150.0, -30.0, 0.0, 45.0, 100.0, 170.0):
         _check_fourbar_state(explorer, theta2_deg, branch)
 
@@ -143,7 +143,7 @@ def test_fourbar_slider_event_redraws_and_reuses_one_figure():
         explorer.controls["theta2_deg"].value = -180.0 + 15 * k
         if k % 8 == 0:
             explorer.controls["coupler"].value = 0.15 + 0.002 * k
-            explorer.controls["branch"].value = ("open", "crossed")[k % 16 // 8]
+            explorer.controls["assembly"].value = ("open", "crossed")[k % 16 // 8]
     assert explorer.figure is figure
     assert len(plt.get_fignums()) == fignums
     assert _figures_alive() == alive
@@ -411,13 +411,13 @@ def test_display_bundle_through_ipython_and_after_close():
 # ------------------------------------------------------------------------------ bad values
 # (builder, update arguments, statuses allowed, text the readout must contain or None)
 BAD_UPDATES = [
-    (fourbar_explorer, {"branch": "Open"}, {"ok"}, None),
-    (fourbar_explorer, {"branch": " CROSSED "}, {"ok"}, "crossed assembly"),
-    (fourbar_explorer, {"branch": None}, {"invalid"},
+    (fourbar_explorer, {"assembly": "Open"}, {"ok"}, None),
+    (fourbar_explorer, {"assembly": " CROSSED "}, {"ok"}, "crossed assembly"),
+    (fourbar_explorer, {"assembly": None}, {"invalid"},
      "assembly: refused None, not one of 'open', 'crossed'; kept 'open'"),
-    (fourbar_explorer, {"branch": "sideways"}, {"invalid"}, "refused"),
-    (fourbar_explorer, {"branch": 1}, {"invalid"}, "assembly: refused 1, not one of"),
-    (fourbar_explorer, {"branch": True}, {"invalid"}, "refused"),
+    (fourbar_explorer, {"assembly": "sideways"}, {"invalid"}, "refused"),
+    (fourbar_explorer, {"assembly": 1}, {"invalid"}, "assembly: refused 1, not one of"),
+    (fourbar_explorer, {"assembly": True}, {"invalid"}, "refused"),
     (fourbar_explorer, {"theta2_deg": NAN}, {"invalid"},
      "θ2 (°): refused NaN, not a number; kept 60"),
     (fourbar_explorer, {"theta2_deg": INF}, {"invalid"}, "not a finite number"),
@@ -551,7 +551,8 @@ BAD_BUILDERS = [
     (fourbar_explorer, {"p": -0.1}, "p"),
     (fourbar_explorer, {"p": 2.0}, "p"),
     (fourbar_explorer, {"branch": "sideways"}, "branch"),
-    (fourbar_explorer, {"branch": None}, "branch"),
+    (fourbar_explorer, {"assembly": "sideways"}, "assembly"),
+    (fourbar_explorer, {"assembly": None}, "assembly"),
     (fourbar_explorer, {"theta2": NAN}, "theta2"),
     (fourbar_explorer, {"theta2": "1"}, "theta2"),
     (fourbar_explorer, {"delta": INF}, "delta"),
@@ -594,7 +595,8 @@ def test_builder_refuses_out_of_range_arguments_by_name(build, arguments, name):
 
 @pytest.mark.parametrize(("build", "arguments", "key", "value"), [
     (fourbar_explorer, {"theta2": 7.0}, "theta2_deg", pytest.approx(np.degrees(7.0) - 360.0)),
-    (fourbar_explorer, {"branch": "Crossed"}, "branch", "crossed"),
+    (fourbar_explorer, {"branch": "Crossed"}, "assembly", "crossed"),
+    (fourbar_explorer, {"assembly": "Crossed"}, "assembly", "crossed"),
     (fourbar_explorer, {"crank": 0.02, "p": 0.0}, "crank", 0.02),
     (saw_explorer, {"t": np.float64(1.5), "frames": 60.0}, "t", 1.5),
     (fivebar_explorer, {"sigma": -1.0, "mode": "Inverse"}, "sigma", -1),

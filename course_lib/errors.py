@@ -52,7 +52,9 @@ class UnreachableError(CourseLibError, ValueError):
 
 
 class SingularJacobianError(CourseLibError, ArithmeticError):
-    """A Jacobian is singular or numerically singular, so a Newton step is undefined."""
+    """A Jacobian is singular or numerically singular, so a Newton step (or a rate) is undefined there.
+    ``x``: the unknowns where it is (Newton's iterate, or the position found), None where not at hand;
+    ``condition_number``: J's, where computed (inf when exactly singular)."""
 
     def __init__(self, message: str, x: Any = None, condition_number: float = np.inf):
         super().__init__(message)

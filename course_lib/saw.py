@@ -341,7 +341,8 @@ def _check_assembly(theta2, saw: Saw, on_failure: str = "raise") -> np.ndarray:
         first = float(np.broadcast_to(theta2, toggle.shape)[toggle].ravel()[0])
         raise SingularJacobianError(
             f"the Jacobian is singular at theta2={first:.6g}: the rod r3 is perpendicular to the "
-            "slider line (cos(theta3) = 0), a limit position where the rates are undefined", x=first)
+            "slider line (cos(theta3) = 0), a limit position where the rates are undefined",
+            x=q[toggle][0].tolist())  # the unknowns r1, θ1, θ3 there
     return sine
 
 

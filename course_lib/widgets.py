@@ -777,16 +777,17 @@ _ROOT = (("+1 (+√Δ)", 1), ("−1 (−√Δ)", -1))  # σ1, σ2: the sign befo
 
 def fivebar_explorer(
     l1: float = 0.10, l2: float = 0.15, l3: float = 0.15, l4: float = 0.10, l5: float = 0.08,
-    mode: str = "forward", theta1: float = 1.2, theta4: float = 1.9, sigma: int = 1,
-    x3: float = 0.0, y3: float = 0.2, sigma1: int = 1, sigma2: int = 1,
+    kinematics: str = "forward", theta1: float = 1.2, theta4: float = 1.9, sigma: int = 1,
+    x3: float = 0.0, y3: float = 0.2, sigma1: int = 1, sigma2: int = 1, *, mode: str | None = None,
 ) -> Explorer:
     """Explorer of the five-bar robot (:class:`course_lib.fivebar.FiveBar`); arguments are the initial
-    values (m, rad).  ``mode`` "forward": sliders θ1, θ4 and the assembly σ (+1 arms up) give the end
-    effector P3 = (X3, Y3); "inverse": sliders X3, Y3 and the working mode (σ1, σ2) give θ1, θ4.  The
-    workspace is shaded; in inverse mode the mode's parallel singularity curve is dotted.
+    values (m, rad).  ``kinematics`` "forward": sliders θ1, θ4 and the assembly σ (+1 arms up) give the end
+    effector P3 = (X3, Y3); "inverse": sliders X3, Y3 and the working mode (σ1, σ2) give θ1, θ4 (``mode=``
+    is the older name of ``kinematics=``: a five-bar's mode is the course's sign σ).  The workspace is
+    shaded; in the inverse kinematics the working mode's parallel singularity curve is dotted.
 
     >>> explorer = fivebar_explorer()
-    >>> explorer.update(mode="inverse", x3=0.0, y3=0.2).status, explorer.update(x3=0.3, y3=0.3).status
+    >>> explorer.update(kinematics="inverse", x3=0.0, y3=0.2).status, explorer.update(x3=0.3, y3=0.3).status
     ('ok', 'unreachable')
     """
     from .fivebar import FiveBar
@@ -795,7 +796,8 @@ def fivebar_explorer(
     reach = max(robot.l1 + robot.l2, robot.l4 + robot.l3) + robot.l5 / 2
     limit = float(np.ceil(reach * 1.1 / 0.01) * 0.01)
     controls = {
-        "mode": _toggle("mode", ("forward", "inverse"), "mode", mode),
+        "kinematics": _toggle("kinematics", ("forward", "inverse"),
+                              *(("kinematics", kinematics) if mode is None else ("mode", mode))),
         "theta1_deg": _degrees("theta1", theta1, "θ1 (°)"),
         "theta4_deg": _degrees("theta4", theta4, "θ4 (°)"),
         "sigma": _toggle("assembly σ", _SIGMA, "sigma", sigma),
@@ -835,9 +837,9 @@ def fivebar_explorer(
     def draw(stage, state, geometry_changed: bool) -> Readout:
         """Forward or inverse kinematics of the state and the artists moved."""
         artists = stage.artists
-        inverse = state["mode"] == "inverse"
+        inverse = state["kinematics"] == "inverse"
         modes = (int(state["sigma1"]), int(state["sigma2"]))
-        if geometry_changed:  # the controls of the current mode; in inverse mode the singularity curve
+        if geometry_changed:  # the controls of the kinematics shown; in the inverse, the singularity curve
             for key in ("theta1_deg", "theta4_deg", "sigma", "x3", "y3", "sigma1", "sigma2"):
                 controls[key].disabled = inverse == (key in ("theta1_deg", "theta4_deg", "sigma"))
             if inverse and modes not in curves:  # where the parallel measure changes sign between neighbours
@@ -915,7 +917,7 @@ def fivebar_explorer(
             # the declaration's links but the base l5, drawn with the workspace
             "links": {name: ends for name, ends in robot.mechanism.links.named().items() if name != "l5"},
             "labels": {"P3": "P3"}, "label_offset": 0.03 * limit},
-        draw, ("mode", "sigma1", "sigma2"), ("singularity",)))
+        draw, ("kinematics", "sigma1", "sigma2"), ("singularity",)))
 
 
 def mechanism_explorer(

@@ -180,7 +180,7 @@ def test_fivebar_forward_mode_never_turns_red_for_the_course_robot():
 @pytest.mark.parametrize(("target", "word"),
                          [((0.25, 0.15), "fully stretched"), ((0.04, 0.02), "fully folded")])
 def test_fivebar_target_out_of_the_workspace_names_the_leg_and_how(target, word):
-    explorer = fivebar_explorer(**ROBOT, mode="inverse")
+    explorer = fivebar_explorer(**ROBOT, kinematics="inverse")
     assert explorer.update(x3=target[0], y3=target[1]).status == "unreachable"
     assert "leg 1 (l1, l2): distance" in explorer.message and word in explorer.message
 

@@ -389,3 +389,15 @@ def test_the_limit_position_is_the_core_rule_and_one_failure_keyword():
     new = saw.analytic([0.0, -np.pi / 2], saw=SHORT_ROD, on_failure="nan")
     assert np.isfinite(new[0]).all() and np.isnan(new[1]).all()
     assert SHORT_ROD.motion([0.0, -np.pi / 2], on_failure="nan").converged.tolist() == [True, False]
+
+
+def test_a_limit_position_error_carries_the_unknowns_there():
+    short = saw.Saw(0.045, 0.075, 0.12)
+    theta2 = np.arcsin((0.045 - 0.12) / 0.075)  # A lies r3 straight below the slider line: rod ⟂ line
+    with pytest.raises(SingularJacobianError) as caught:
+        saw.analytic(theta2, 1.0, saw=short)
+    r1, theta1, theta3 = caught.value.x
+    A = 0.075 * np.array([np.cos(theta2), np.sin(theta2)])
+    C = r1 * np.array([np.cos(theta1), np.sin(theta1)])
+    assert abs(C[1] - 0.045) < 1e-12 and abs(np.hypot(*(C - A)) - 0.12) < 1e-12   # C on the line, |AC| = r3
+    assert abs(np.cos(theta3)) < 1e-7                                             # the rod ⟂ the line

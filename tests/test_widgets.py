@@ -275,7 +275,7 @@ def test_fivebar_forward_matchescircle_intersections():
 def test_fivebar_inverse_working_modes_close_the_legs():
     from course_lib.widgets import fivebar_explorer
 
-    explorer = fivebar_explorer(mode="inverse")
+    explorer = fivebar_explorer(kinematics="inverse")
     assert explorer.controls["theta1_deg"].disabled and not explorer.controls["x3"].disabled
     target = np.array([0.05, 0.18])
     elbows1, elbows4 = set(), set()
@@ -315,7 +315,7 @@ def test_fivebar_workspace_shading_is_the_annulus_intersection():
 def test_fivebar_unreachable_states_explained():
     from course_lib.widgets import fivebar_explorer
 
-    explorer = fivebar_explorer(mode="inverse")
+    explorer = fivebar_explorer(kinematics="inverse")
     readout = explorer.update(x3=0.25, y3=0.25)
     assert readout.status == "unreachable"
     distance = np.hypot(0.25 - L5 / 2, 0.25)
@@ -337,7 +337,7 @@ def test_fivebar_reuses_one_figure_and_blits_exactly():
     alive = _figures_alive()
     for k in range(10):
         explorer.controls["theta1_deg"].value = 40.0 + 3 * k
-    explorer.update(mode="inverse")
+    explorer.update(kinematics="inverse")
     for k in range(10):
         explorer.controls["x3"].value = -0.05 + 0.01 * k
     assert len(plt.get_fignums()) == fignums and _figures_alive() == alive
@@ -361,7 +361,7 @@ def test_length_change_keeps_limits_while_the_picture_fits_and_refits_when_it_le
 
 
 def test_mode_and_working_mode_changes_draw_the_singularity_curve_of_that_mode():
-    explorer = fivebar_explorer(mode="inverse")
+    explorer = fivebar_explorer(kinematics="inverse")
     curves = {}
     for sigma1, sigma2 in ((1, 1), (-1, 1), (1, -1), (1, 1)):
         explorer.update(sigma1=sigma1, sigma2=sigma2)
@@ -370,7 +370,7 @@ def test_mode_and_working_mode_changes_draw_the_singularity_curve_of_that_mode()
         np.testing.assert_array_equal(x, curves[(sigma1, sigma2)][0])  # cached per mode, same curve
         assert explorer.render(full=True) == explorer.image.value
     assert len(curves[(1, 1)][0]) > 0 and not np.array_equal(curves[(1, 1)][0], curves[(-1, 1)][0])
-    explorer.update(mode="forward")
+    explorer.update(kinematics="forward")
     assert len(_xy(explorer.artists["singularity"])[0]) == 0
     assert explorer.render(full=True) == explorer.image.value
 
@@ -447,11 +447,11 @@ BAD_UPDATES = [
     (saw_explorer, {"t": "1"}, {"invalid"}, "not a number"),
     (saw_explorer, {"t": -1.0}, {"ok"}, "set to 0"),
     (saw_explorer, {"t": 1e9}, {"ok"}, "outside the slider's range"),
-    (fivebar_explorer, {"mode": "Forward"}, {"ok"}, "forward, σ = +1"),
-    (fivebar_explorer, {"mode": "INVERSE"}, {"ok"}, "inverse, modes"),
-    (fivebar_explorer, {"mode": "sideways"}, {"invalid"},
-     "mode: refused 'sideways', not one of 'forward', 'inverse'; kept 'forward'"),
-    (fivebar_explorer, {"mode": None}, {"invalid"}, "refused"),
+    (fivebar_explorer, {"kinematics": "Forward"}, {"ok"}, "forward, σ = +1"),
+    (fivebar_explorer, {"kinematics": "INVERSE"}, {"ok"}, "inverse, modes"),
+    (fivebar_explorer, {"kinematics": "sideways"}, {"invalid"},
+     "kinematics: refused 'sideways', not one of 'forward', 'inverse'; kept 'forward'"),
+    (fivebar_explorer, {"kinematics": None}, {"invalid"}, "refused"),
     (fivebar_explorer, {"sigma": 2}, {"invalid"}, "assembly σ: refused 2, not one of 1, -1; kept 1"),
     (fivebar_explorer, {"sigma": 0}, {"invalid"}, "refused"),
     (fivebar_explorer, {"sigma": True}, {"invalid"}, "refused"),
@@ -459,14 +459,14 @@ BAD_UPDATES = [
     (fivebar_explorer, {"sigma": -1.0}, {"ok"}, "σ = -1"),
     (fivebar_explorer, {"sigma": "-1"}, {"ok"}, "σ = -1"),
     (fivebar_explorer, {"sigma": "+1 (ARMS UP)"}, {"ok"}, "σ = +1"),
-    (fivebar_explorer, {"sigma1": 3, "mode": "inverse"}, {"invalid"},
+    (fivebar_explorer, {"sigma1": 3, "kinematics": "inverse"}, {"invalid"},
      "σ1 (θ1 root): refused 3, not one of 1, -1"),
-    (fivebar_explorer, {"sigma2": "down", "mode": "inverse"}, {"invalid"}, "refused"),
+    (fivebar_explorer, {"sigma2": "down", "kinematics": "inverse"}, {"invalid"}, "refused"),
     (fivebar_explorer, {"theta1_deg": NAN}, {"invalid"}, "θ1 (°): refused NaN"),
     (fivebar_explorer, {"theta4_deg": -INF}, {"invalid"}, "not a finite number"),
-    (fivebar_explorer, {"x3": NAN, "mode": "inverse"}, {"invalid"}, "X3 (m): refused NaN"),
-    (fivebar_explorer, {"y3": "0.1", "mode": "inverse"}, {"invalid"}, "not a number"),
-    (fivebar_explorer, {"x3": 10.0, "y3": 10.0, "mode": "inverse"}, {"unreachable"},
+    (fivebar_explorer, {"x3": NAN, "kinematics": "inverse"}, {"invalid"}, "X3 (m): refused NaN"),
+    (fivebar_explorer, {"y3": "0.1", "kinematics": "inverse"}, {"invalid"}, "not a number"),
+    (fivebar_explorer, {"x3": 10.0, "y3": 10.0, "kinematics": "inverse"}, {"unreachable"},
      "X3 (m) = 10 is outside the slider's range [-0.32, 0.32]: set to 0.32"),
     (fivebar_explorer, {"theta1_deg": 0.0, "theta4_deg": 180.0, "sigma": -1}, {"ok", "unreachable"}, None),
 ]
@@ -488,7 +488,7 @@ def test_update_never_raises_and_explains(build, state, statuses, text):
         assert "color:#b00020" in explorer.readout.value
     # and the explorer keeps working: a good value afterwards is drawn as usual
     main = {"four-bar": "theta2_deg", "power saw": "t", "five-bar": "theta1_deg"}[explorer.name]
-    explorer.update(**({"mode": "forward"} if explorer.name == "five-bar" else {}))
+    explorer.update(**({"kinematics": "forward"} if explorer.name == "five-bar" else {}))
     image = explorer.image.value
     good = explorer.update(**{main: 1.0, **({"ground": 0.2, "crank": 0.06, "coupler": 0.18, "rocker": 0.12}
                                              if explorer.name == "four-bar" else {})})
@@ -526,7 +526,7 @@ def test_no_state_of_the_fivebar_sliders_shows_nan():
                         state = dict(theta1_deg=a, theta4_deg=b, sigma=sigma)
                     else:
                         state = dict(x3=a / 180 * limit, y3=b / 180 * limit, sigma1=sigma, sigma2=-sigma)
-                    readout = explorer.update(mode=mode, **state)
+                    readout = explorer.update(kinematics=mode, **state)
                     assert readout.status in {"ok", "unreachable", "singular"}, readout.text
                     assert not NAN_SHOWN.search(readout.text), readout.text
 
@@ -571,6 +571,7 @@ BAD_BUILDERS = [
     (saw_explorer, {"interval_ms": 0}, "interval_ms"),
     (saw_explorer, {"interval_ms": NAN}, "interval_ms"),
     (fivebar_explorer, {"mode": "sideways"}, "mode"),
+    (fivebar_explorer, {"kinematics": "sideways"}, "kinematics"),
     (fivebar_explorer, {"sigma": 0}, "sigma"),
     (fivebar_explorer, {"sigma1": 2}, "sigma1"),
     (fivebar_explorer, {"sigma2": None}, "sigma2"),
@@ -599,7 +600,8 @@ def test_builder_refuses_out_of_range_arguments_by_name(build, arguments, name):
     (fourbar_explorer, {"assembly": "Crossed"}, "assembly", "crossed"),
     (fourbar_explorer, {"crank": 0.02, "p": 0.0}, "crank", 0.02),
     (saw_explorer, {"t": np.float64(1.5), "frames": 60.0}, "t", 1.5),
-    (fivebar_explorer, {"sigma": -1.0, "mode": "Inverse"}, "sigma", -1),
+    (fivebar_explorer, {"sigma": -1.0, "mode": "Inverse"}, "kinematics", "inverse"),
+    (fivebar_explorer, {"sigma": -1.0, "kinematics": "Inverse"}, "sigma", -1),
 ])
 def test_builder_accepts_equivalent_arguments(build, arguments, key, value):
     explorer = build(**arguments)

@@ -39,6 +39,19 @@ def test_fourbar_smallest_transmission_angle_is_where_crank_and_ground_line_up()
     assert shown[0.0] < shown[180.0] and abs(shown[0.0] - np.nanmin(mu)) < 5e-3
 
 
+def test_fourbar_explorer_draws_the_transmission_angle_acute_under_its_40_degree_line():
+    explorer = fourbar_explorer(**WIPER)
+    theta2, mu = explorer.artists["mu_curve"].get_data()
+    # |AO4| from triangle O2 A O4, then the joint angle at B from triangle A B O4 (law of cosines twice)
+    AO4 = np.sqrt(0.20**2 + 0.06**2 - 2 * 0.20 * 0.06 * np.cos(np.radians(theta2)))
+    joint = np.degrees(np.arccos((0.18**2 + 0.12**2 - AO4**2) / (2 * 0.18 * 0.12)))
+    assert joint.max() > 110  # the joint angle at B passes 90° over the turn …
+    np.testing.assert_allclose(mu, np.minimum(joint, 180 - joint), atol=1e-9)  # … and μ is drawn acute
+    panel = explorer.figure.axes[1]
+    assert mu.max() <= 90 and panel.get_ylim() == (0.0, 92.0)
+    assert any(list(line.get_ydata()) == [40, 40] for line in panel.lines)
+
+
 def test_fourbar_crossed_branch_changes_the_coupler_curve_not_the_grashof_class():
     explorer = fourbar_explorer(**WIPER)
     grashof = explorer.message.splitlines()[3]

@@ -528,7 +528,7 @@ def fourbar_explorer(
     named = {"ground": ground, "crank": crank, "coupler": coupler, "rocker": rocker}
     controls = {key: _metres(key, value, f"{key} l{k} (m)", 0.02, 0.40)
                 for k, (key, value) in enumerate(named.items(), 1)}
-    p = _metres("p", 0.5 * controls["coupler"].value if p is None else p, "point P: p (m)", 0.0, 0.40)
+    p = _metres("p", 0.5 * controls["coupler"].value if p is None else p, "point P: l_AP (m)", 0.0, 0.40)
     given = ("assembly", assembly) if branch is None else ("branch", branch)  # branch=: the older name
     toggle = _toggle("assembly", BRANCHES, *given)
     controls.update(theta2_deg=_degrees("theta2", theta2, "θ2 (°)"), assembly=toggle, p=p,

@@ -32,8 +32,7 @@ from ..planar import wrap_angle
 __all__ = ["ANGLE_TOL", "RELATIVE_TOL", "MOST_TYPED", "Precision", "FIGURES", "DECIMALS", "Feedback", "reads",
            "right", "wrong", "vector", "number", "integer", "word", "fields", "choice", "close", "near",
            "angles_close", "in_degrees", "diagnose", "first", "angle_verdict", "plain", "judge_expression",
-           "as_expressions", "same_equations", "task_argument", "task_possible", "procedure", "solver_code",
-           "allowing"]
+           "as_expressions", "same_equations", "task_argument", "task_possible", "procedure", "solver_code"]
 
 #: Absolute tolerance on angles (rad) and relative tolerance on other numbers, where a checker compares
 #: computed quantities (not a student's rounded numbers: those are judged by a :class:`Precision`).

@@ -6,6 +6,7 @@ import numpy as np
 from ..errors import InvalidArgumentError
 from ..fourbar import BRANCHES, FourBar
 from .engine import *  # the feedback engine's helpers (engine.__all__)
+from .engine import allowing  # a call the task gives the student, let through the watch on their function
 
 __all__ = ["check_fourbar_theta4", "check_omega4_expression", "check_fourbar_rates", "check_toggle_angle"]
 

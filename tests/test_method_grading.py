@@ -234,7 +234,7 @@ def test_the_pair_the_solve_gives_is_not_a_tick_for_the_jacobian_task():
         solved = BENCH.solve(theta2, omega2, alpha2)
         return solved.omega4, solved.alpha4
 
-    rejects(rates_task(by_the_solve), "FourBar.solve", "course_lib")
+    rejects(rates_task(by_the_solve), "FourBar.solve", "course_lib", "arguments theta3, theta4")
     rejects(rates_task(lambda t2, t3, t4, w2, a2: tuple(BENCH.motion(t2, w2, a2))[3::2]), "calls",
             "course_lib")
     rejects(rates_task(lambda t2, t3, t4, w2, a2: (

@@ -274,7 +274,9 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
                        given="(θ2, θ3, θ4, ω2, α2) as floats — the angles in rad, ω2 in rad/s, α2 in rad/s², "
                              "θ3 and θ4 of the solved position — one call per instant")
     if isinstance(values, Feedback):
-        return values
+        solving = "calls FourBar.solve" in values.message or "calls FourBar.motion" in values.message
+        return Feedback(False, values.message + (" The position comes in as its arguments theta3, theta4: "
+                                                 "the check solves it." if solving else ""))
     verdict = _rates_verdict(values[0], linkage, theta2, omega2, alpha2, branch)
     if not verdict.ok:
         return wrong(f"your {called} at the task's instant ({_instant(theta2, omega2, alpha2)}): "
@@ -320,7 +322,8 @@ def _toggle_verdict(answer, linkage: FourBar) -> Feedback:
 
 
 #: Linkages (l1 ground, l2 crank, l3 coupler, l4 rocker; m) whose crank stops before π, where a student's
-#: limit procedure is called besides the task's: two crank angles beyond π/2, two with a lower toggle too
+#: limit procedure is called besides the task's: three whose limit is beyond π/2, three with a folded (lower)
+#: toggle too
 FRESH_LINKAGES = ((0.30, 0.10, 0.12, 0.15), (0.10, 0.25, 0.12, 0.18), (0.25, 0.20, 0.30, 0.12),
                   (0.18, 0.16, 0.09, 0.14), (0.12, 0.20, 0.05, 0.22))
 

@@ -356,12 +356,14 @@ TABLE = {
         lambda: _rates_by_sympy(BENCH, np.radians(200.0), 15.0, -40.0, "open")[1::-1],
         [bad("linkage", None), bad("theta2", None), bad("omega2", "15"), bad("omega2", INF),
          bad("alpha2", NAN), bad("alpha2", 1j), bad("branch", "up"), bad("branch", True),
+         bad("method", "half-angle"), bad("method", "jacobian"),
          impossible("no assembly at θ2", "theta2", linkage=TRIPLE, theta2=np.pi),
          impossible("a toggle while moving", "theta2", linkage=TRIPLE,
                     theta2=max(TRIPLE.input_range().toggle_angles))]),
     "check_toggle_angle": Task(
         {"linkage": TRIPLE}, lambda: (toggle_limit(), "extended"), lambda: (toggle_limit(), "folded"),
         [bad("linkage", None), bad("linkage", (0.14, 0.12, 0.10, 0.20)), bad("linkage", "triple"),
+         bad("method", "triangle"), bad("method", True),
          impossible("a crank that turns fully", "linkage", linkage=BENCH)]),
     # ---- ex04
     "check_saw_omega3_expression": Task({}, saw_omega3, lambda: saw_omega3(-1)),
@@ -392,7 +394,7 @@ TABLE = {
         lambda: fivebar_inverse()[1],
         [bad("robot", None), bad("x3", None), bad("y3", INF), bad("x3", "0.02"), bad("modes", (1, 2)),
          bad("modes", "up"), bad("modes", (1,)), bad("modes", (True, 1)), bad("modes", None),
-         impossible("out of reach", "y3", y3=1.0)]),
+         bad("method", "quadratic"), bad("method", 1), impossible("out of reach", "y3", y3=1.0)]),
     "check_fivebar_g": Task({}, fivebar_g, lambda: fivebar_g(-1)),
     "check_fivebar_singularity": Task(
         dict(zip(("theta1", "theta4", "x3", "y3"), serial_pose(), strict=True), robot=ROBOT),

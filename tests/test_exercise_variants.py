@@ -3,8 +3,8 @@
 For every task of ex01–ex05, each variant below is a form of the right answer a student may give — rounded at
 the stated precision, a tuple, list, numpy array or sympy Matrix, sympy numbers, another order or sign where
 the check accepts it, ``sp.Eq`` rows, a solve's ``Motion`` or Newton run where a solve's answer is asked, the
-student's own Newton iterates, and where a task asks for a procedure (ex03 and ex05, Task 1) the student's
-function returning those forms, printing as it goes, or written with math and another rule for the root.
+student's own Newton iterates, and where a task asks for a procedure (ex03 Tasks 1, 3 and 4, ex05 Tasks 1 and
+2) the student's function returning those forms, printing as it goes, or written with math and another rule.
 The student copy (made from the solution by tools/make_exercises.py) gets the solution's answer in every
 answer cell, with the variant replacing the task's answer; then the whole copy runs
 top to bottom in a fresh namespace, as a kernel runs it (every displayed value formatted as IPython does,
@@ -131,15 +131,40 @@ VARIANTS: dict[str, dict[int, list[str]]] = {
             "omega4_formula = sp.Matrix([omega4_formula])",
             "omega4_formula = [omega4_formula]",
             "omega4_formula = matrix.LUsolve(rhs)[1]"],
-        3: ["rocker_rates = tuple(float(f'{v:.4g}') for v in rocker_rates)",
-            "rocker_rates = list(rocker_rates)",
-            "rocker_rates = np.array(rocker_rates)",
-            "rocker_rates = tuple(sp.Float(v) for v in rocker_rates)",
-            "rocker_rates = np.array(rocker_rates).reshape(2, 1)"],
-        4: ["toggle = (round(toggle[0], 4), 'extended')",
-            "toggle = [toggle[0], 'Extended']",
-            "toggle = (np.float64(toggle[0]), ' EXTENDED ')",
-            "toggle = (toggle[0] + 2 * np.pi, 'extended')"],
+        3: ["solution = rocker_rates_at\n"
+            "rocker_rates_at = lambda *instant: tuple(float(f'{v:.4g}') for v in solution(*instant))",
+            "solution = rocker_rates_at\nrocker_rates_at = lambda *instant: list(solution(*instant))",
+            "solution = rocker_rates_at\nrocker_rates_at = lambda *instant: np.array(solution(*instant))",
+            "solution = rocker_rates_at\n"
+            "rocker_rates_at = lambda *instant: tuple(sp.Float(v) for v in solution(*instant))",
+            "solution = rocker_rates_at\n"
+            "rocker_rates_at = lambda *instant: np.array(solution(*instant)).reshape(2, 1)",
+            "solution = rocker_rates_at\ndef rocker_rates_at(theta2, theta3, theta4, omega2, alpha2):\n"
+            "    print('θ2 =', theta2)\n    return solution(theta2, theta3, theta4, omega2, alpha2)",
+            # J typed by hand, −ω2·∂F/∂θ2 as the right-hand side, one inverse for both solves
+            "def rocker_rates_at(theta2, theta3, theta4, omega2, alpha2):\n"
+            "    J = np.array([[-l3 * np.sin(theta3), l4 * np.sin(theta4)],\n"
+            "                  [l3 * np.cos(theta3), -l4 * np.cos(theta4)]])\n"
+            "    dF_dtheta2 = np.array([-l2 * np.sin(theta2), l2 * np.cos(theta2)])\n"
+            "    inverse = np.linalg.inv(J)\n"
+            "    omega3, omega4 = inverse @ (-omega2 * dF_dtheta2)\n"
+            "    squares = (omega2**2 * l2 * np.array([-np.cos(theta2), -np.sin(theta2)])\n"
+            "               + omega3**2 * l3 * np.array([-np.cos(theta3), -np.sin(theta3)])\n"
+            "               - omega4**2 * l4 * np.array([-np.cos(theta4), -np.sin(theta4)]))\n"
+            "    alpha3, alpha4 = inverse @ (-alpha2 * dF_dtheta2 - squares)\n"
+            "    return float(omega4), float(alpha4)"],
+        4: ["solution = crank_limit\n"
+            "crank_limit = lambda *lengths: (round(solution(*lengths)[0], 4), 'extended')",
+            "solution = crank_limit\ncrank_limit = lambda *lengths: [solution(*lengths)[0], 'Extended']",
+            "solution = crank_limit\n"
+            "crank_limit = lambda *lengths: (np.float64(solution(*lengths)[0]), ' EXTENDED ')",
+            "solution = crank_limit\n"
+            "crank_limit = lambda *lengths: (solution(*lengths)[0] + 2 * np.pi, 'extended')",
+            # math, and the bound chosen by the linkage: |AO4| reaches l3 + l4 before θ2 = π
+            "import math\ndef crank_limit(l1, l2, l3, l4):\n"
+            "    reach = l3 + l4\n"
+            "    assert l1 + l2 > reach, 'this crank turns through π'\n"
+            "    return math.acos((l1 * l1 + l2 * l2 - reach * reach) / (2 * l1 * l2)), 'extended'"],
     },
     "ex04": {
         1: ["omega3_formula = (-sp.Symbol('omega2') * r2 * sp.cos(sp.Symbol('theta2'))"
@@ -189,11 +214,18 @@ VARIANTS: dict[str, dict[int, list[str]]] = {
             "solution = arms_down\narms_down = lambda t1, t4: np.array(solution(t1, t4)).reshape(2, 1)",
             "solution = arms_down\n"
             "def arms_down(theta1, theta4):\n    print(theta1, theta4)\n    return solution(theta1, theta4)"],
-        2: ["cranks = tuple(round(v, 4) for v in cranks)",
-            "cranks = (cranks[0] + 2 * np.pi, cranks[1])",
-            "cranks = robot.inverse(0.02, 0.21, modes=(-1, +1))",
-            "cranks = np.array(cranks)",
-            "cranks = list(cranks)"],
+        2: ["solution = cranks_at\ncranks_at = lambda x3, y3: tuple(round(v, 4) for v in solution(x3, y3))",
+            "solution = cranks_at\n"
+            "cranks_at = lambda x3, y3: (solution(x3, y3)[0] + 2 * np.pi, solution(x3, y3)[1])",
+            "solution = cranks_at\ncranks_at = lambda x3, y3: np.array(solution(x3, y3))",
+            "solution = cranks_at\ncranks_at = lambda x3, y3: list(solution(x3, y3))",
+            "solution = cranks_at\ndef cranks_at(x3, y3):\n    print(x3, y3)\n    return solution(x3, y3)",
+            # math, one root function for both legs
+            "import math\ndef cranks_at(x3, y3):\n"
+            "    k = robot.inverse_coefficients(x3, y3)\n"
+            "    def root(a, b, c, sigma):\n"
+            "        return 2 * math.atan((-b + sigma * math.sqrt(b * b - 4 * a * c)) / (2 * a))\n"
+            "    return root(k['a1'], k['b1'], k['c1'], -1), root(k['a2'], k['b2'], k['c2'], +1)"],
         3: ["g_formula = ((-2 * L1 * sp.sin(th1) + 2 * L4 * sp.sin(th4))"
             " / (2 * (L5 + L1 * sp.cos(th1) - L4 * sp.cos(th4))))",
             "g_formula = sp.Eq(sp.Symbol('g'), g_formula)",

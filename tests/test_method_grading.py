@@ -7,19 +7,36 @@ Newton run inside), a NewtonResult, or the student's own iterates, seed first �
 Newton step of the saw's equations at the student's own iterates, from the report's seed.  A right number from
 the closed form, or right numbers alone, is not ✔.  The student's own Newton below is written independently:
 the saw's equations typed out, a Jacobian by central differences, the nine equations by sympy.
+
+ex03 Tasks 3 and 4 and ex05 Task 2 grade the method in the way ex03 and ex05 Task 1 do
+(tests/test_checks_procedures.py): the student writes a function — ω4, α4 by the Jacobian solve from the
+position, θ2_max by the law of cosines from the lengths, (θ1, θ4) by the half-angle roots from the end
+effector — and the check calls it at fresh inputs the student has not seen, with course_lib's solves watched
+(all but the call the task gives: ``loop_jacobian``, ``inverse_coefficients``).  The pair ``bench.solve``,
+``input_range`` or ``robot.inverse`` gives is not ✔, nor a function that calls them; a wrong function is told
+its cause; one that never returns is answered, not waited for.  The students' functions below are written
+independently: the Jacobian and the quadratic velocity terms by central differences of the loop, the limits
+checked by circle intersections, the five-bar's angles from the course's coefficients typed out
+(tests/geometry.py).
 """
 
 from __future__ import annotations
 
 import functools
+import math
 import pathlib
+import time
 
 import nbformat
 import numpy as np
 import pytest
 import sympy as sp
+from geometry import course_inverse_angles
+from test_checks import BENCH, ROBOT, rejects
 
 from course_lib import checks
+from course_lib.checks import engine
+from course_lib.fourbar import FourBar
 from course_lib.saw import Saw, solve_consecutive, solve_simultaneous
 
 MY_SAW = Saw(r1y=0.030, r2=0.060, r3=0.150)
@@ -149,3 +166,243 @@ def test_without_a_method_a_solve_or_the_numbers_pass():
         assert checks.check_saw_position(answer, MY_SAW, THETA2).ok
     for answer in (closed, closed.a_r, solve_simultaneous(THETA2, OMEGA2, ALPHA2, saw=MY_SAW)):
         assert checks.check_saw_slider_acceleration(answer, MY_SAW, THETA2, OMEGA2, ALPHA2).ok
+
+
+# ---------------------------------------------------------------- ex03 Task 3: ω4, α4 by the Jacobian solve
+
+EX03 = EX04.parent / "ex03_fourbar.ipynb"
+EX05 = EX04.parent / "ex05_fivebar.ipynb"
+THETA2_T3, OMEGA2_T3, ALPHA2_T3 = np.radians(200.0), 15.0, -40.0
+TASK_POSITION = tuple(float(angle) for angle in tuple(BENCH.solve(THETA2_T3))[:2])  # the task's θ3, θ4
+
+
+def bench_loop(theta2, q):
+    """The bench's loop (l1 = 0.25, l2 = 0.07, l3 = 0.20, l4 = 0.15 m), typed from the course material."""
+    l1, l2, l3, l4 = 0.25, 0.07, 0.20, 0.15
+    return np.array([l2 * np.cos(theta2) + l3 * np.cos(q[0]) - l4 * np.cos(q[1]) - l1,
+                     l2 * np.sin(theta2) + l3 * np.sin(q[0]) - l4 * np.sin(q[1])])
+
+
+def rates_by_jacobian(theta2, theta3, theta4, omega2, alpha2, keep_squares=True, jacobian=None):
+    """(ω4, α4) by J·q̇ = −ω2·∂F/∂θ2 and J·q̈ = −α2·∂F/∂θ2 − γ: J and ∂F/∂θ2 by central differences of the
+    loop (or J by ``jacobian``, as the task gives it), γ (the ω² terms) as the second difference of F along
+    (θ2 + ω2·s, q + q̇·s)."""
+    q, h, s = np.array([theta3, theta4]), 1e-6, 1e-4
+    J = jacobian(theta3, theta4) if jacobian else np.column_stack(
+        [(bench_loop(theta2, q + h * e) - bench_loop(theta2, q - h * e)) / (2 * h) for e in np.eye(2)])
+    dF = (bench_loop(theta2 + h, q) - bench_loop(theta2 - h, q)) / (2 * h)
+    q_dot = np.linalg.solve(J, -omega2 * dF)
+
+    def along(step):
+        return bench_loop(theta2 + omega2 * step, q + q_dot * step)
+
+    gamma = (along(s) - 2 * along(0.0) + along(-s)) / s**2 if keep_squares else 0.0
+    q_ddot = np.linalg.solve(J, -alpha2 * dF - gamma)
+    return float(q_dot[1]), float(q_ddot[1])
+
+
+def rates_task(answer, method="Jacobian"):
+    return checks.check_fourbar_rates(answer, BENCH, THETA2_T3, OMEGA2_T3, ALPHA2_T3, "open", method=method)
+
+
+def test_the_notebooks_grade_the_method_of_ex03_tasks_3_and_4_and_ex05_task_2():
+    for path, call, method in ((EX03, "checks.check_fourbar_rates(", 'method="Jacobian"'),
+                               (EX03, "checks.check_toggle_angle(", 'method="law of cosines"'),
+                               (EX05, "checks.check_fivebar_inverse(", 'method="half-angle"')):
+        for folder in ("solutions", "exercises"):
+            cells = nbformat.read(path.parent.parent / folder / path.name, as_version=4).cells
+            assert any(cell.source.startswith(call) and method in cell.source
+                       for cell in cells if cell.cell_type == "code"), (path.name, folder, call)
+
+
+def test_the_rates_by_the_jacobian_pass_at_the_task_and_at_every_fresh_instant():
+    task = BENCH.solve(THETA2_T3)
+    ours = rates_by_jacobian(THETA2_T3, task.theta3, task.theta4, OMEGA2_T3, ALPHA2_T3)
+    assert checks.check_fourbar_rates(ours, BENCH, THETA2_T3, OMEGA2_T3, ALPHA2_T3, "open").ok  # the numbers
+    for answer in (rates_by_jacobian, lambda *args: rates_by_jacobian(*args, jacobian=BENCH.loop_jacobian),
+                   lambda *args: [float(f"{v:.4g}") for v in rates_by_jacobian(*args)],
+                   lambda *args: np.array(rates_by_jacobian(*args)).reshape(2, 1)):
+        feedback = rates_task(answer)
+        assert feedback.ok and "5 other instants" in feedback.message, feedback
+
+
+def test_the_pair_the_solve_gives_is_not_a_tick_for_the_jacobian_task():
+    solved = BENCH.solve(THETA2_T3, OMEGA2_T3, ALPHA2_T3)
+    pair = (solved.omega4, solved.alpha4)
+    assert checks.check_fourbar_rates(pair, BENCH, THETA2_T3, OMEGA2_T3, ALPHA2_T3, "open").ok  # no method
+    rejects(rates_task(pair), "numbers are right", "Jacobian solve")
+    rejects(rates_task(solved), "whole result")  # the Motion itself
+    def by_the_solve(theta2, theta3, theta4, omega2, alpha2):
+        solved = BENCH.solve(theta2, omega2, alpha2)
+        return solved.omega4, solved.alpha4
+
+    rejects(rates_task(by_the_solve), "FourBar.solve", "course_lib", "arguments theta3, theta4")
+    rejects(rates_task(lambda t2, t3, t4, w2, a2: tuple(BENCH.motion(t2, w2, a2))[3::2]), "calls",
+            "course_lib")
+    rejects(rates_task(lambda t2, t3, t4, w2, a2: (
+        (motion := BENCH.mechanism.solve({"theta2": t2}, {"theta2": w2}, {"theta2": a2},
+                                         guess={"theta3": t3, "theta4": t4})).velocity["theta4"],
+        motion.acceleration["theta4"])), "calls", "course_lib")
+
+
+@pytest.mark.parametrize(("answer", "says"), [
+    (lambda t2, t3, t4, w2, a2: rates_by_jacobian(t2, t3, t4, w2, a2, keep_squares=False),
+     "ω² (centripetal)"),
+    (lambda t2, t3, t4, w2, a2: rates_by_jacobian(t2, t3, t4, w2, 0.0), "constant speed"),
+    (lambda t2, t3, t4, w2, a2: rates_by_jacobian(t2, t3, t4, OMEGA2_T3, ALPHA2_T3), "task's ω2"),
+    (lambda t2, t3, t4, w2, a2: rates_by_jacobian(t2, *TASK_POSITION, w2, a2), "task's position"),
+    (lambda *args: rates_by_jacobian(THETA2_T3, *TASK_POSITION, OMEGA2_T3, ALPHA2_T3),
+     "same (ω4, α4) at every instant"),
+    (lambda *args: rates_by_jacobian(*args)[::-1], "swapped"),
+    (lambda t2, w2, a2: (0.0, 0.0), "TypeError"),
+    (lambda *args: None, "None"), (lambda *args: rates_by_jacobian(*args)[0], "a single number"),
+])
+def test_a_wrong_rates_procedure_is_told_its_cause(answer, says):
+    task = BENCH.solve(THETA2_T3)
+    rejects(rates_task(answer), says,
+            hidden=rates_by_jacobian(THETA2_T3, task.theta3, task.theta4, OMEGA2_T3, ALPHA2_T3))
+
+
+# ---------------------------------------------------------------- ex03 Task 4: the limit, law of cosines
+
+TRIPLE = FourBar(crank=0.14, coupler=0.12, rocker=0.10, ground=0.20)
+
+
+def law_of_cosines(l1, l2, l3, l4, reach=None):
+    """The crank angle where |AO4|² = l1² + l2² − 2·l1·l2·cos θ2 reaches l3 + l4 (or ``reach``)."""
+    reach = l3 + l4 if reach is None else reach
+    return math.acos((l1 * l1 + l2 * l2 - reach * reach) / (2 * l1 * l2)), "extended"
+
+
+def closes(l1, l2, l3, l4, theta2):
+    """Whether the circles of l3 about the crank pin A and l4 about O4 meet at crank angle θ2 (A and O4 by
+    their coordinates: |l3 − l4| ≤ |AO4| ≤ l3 + l4)."""
+    gap = float(np.hypot(l2 * np.cos(theta2) - l1, l2 * np.sin(theta2)))
+    return abs(l3 - l4) <= gap <= l3 + l4
+
+
+def limit_task(answer, method="law of cosines"):
+    return checks.check_toggle_angle(answer, TRIPLE, method=method)
+
+
+def test_the_law_of_cosines_is_the_largest_angle_of_every_linkage_the_check_calls_it_for():
+    for lengths in [(0.20, 0.14, 0.12, 0.10), *checks.ex03.FRESH_LINKAGES]:
+        limit = law_of_cosines(*lengths)[0]
+        assert 0 < limit < np.pi
+        assert closes(*lengths, limit - 1e-6), lengths
+        assert not any(closes(*lengths, theta2) for theta2 in np.linspace(limit + 1e-6, np.pi, 200)), lengths
+
+
+def test_the_limit_by_the_law_of_cosines_passes():
+    for answer in (law_of_cosines, lambda *lengths: (round(law_of_cosines(*lengths)[0], 4), " Extended"),
+                   lambda *lengths: [law_of_cosines(*lengths)[0] - 2 * np.pi, "extended"]):
+        feedback = limit_task(answer)
+        assert feedback.ok and "5 other linkages" in feedback.message, feedback
+
+
+def test_the_limit_the_library_gives_is_not_a_tick():
+    limit = max(TRIPLE.input_range().toggle_angles)
+    assert checks.check_toggle_angle((limit, "extended"), TRIPLE).ok  # no method: the pair is right
+    rejects(limit_task((limit, "extended")), "angle and the word are right", "law of cosines")
+    rejects(limit_task(lambda l1, l2, l3, l4: (max(FourBar(crank=l2, coupler=l3, rocker=l4, ground=l1)
+                                                    .input_range().toggle_angles), "extended")),
+            "FourBar.input_range", "course_lib")
+
+
+@pytest.mark.parametrize(("answer", "says"), [
+    (lambda *lengths: (law_of_cosines(*lengths)[0], "folded"), "how the links lie"),
+    (lambda *lengths: law_of_cosines(0.20, 0.14, 0.12, 0.10), "same θ2_max for every linkage"),
+    (lambda l1, l2, l3, l4: (law_of_cosines(l1, l2, l3, l4, abs(l3 - l4))[0]
+                             if l1 * l1 + l2 * l2 - (l3 - l4) ** 2 < 2 * l1 * l2
+                             else law_of_cosines(l1, l2, l3, l4)[0], "extended"), "|l3 − l4|"),
+    (lambda *lengths: (math.degrees(law_of_cosines(*lengths)[0]), "extended"), "degrees"),
+    (lambda *lengths: (-law_of_cosines(*lengths)[0], "extended"), "mirror"),
+    (lambda l1, l2, l3: (1.0, "extended"), "TypeError"),
+    (lambda *lengths: law_of_cosines(*lengths)[0], "a single value"),
+])
+def test_a_wrong_limit_procedure_is_told_its_cause(answer, says):
+    rejects(limit_task(answer), says, hidden=[law_of_cosines(0.20, 0.14, 0.12, 0.10)[0]])
+
+
+def test_crank_and_ground_read_in_fourbars_order_are_named():
+    """A function that reads (l1, l2, l3, l4) as FourBar's (crank, coupler, rocker, ground): for the task's
+    lengths that order is a linkage that stops too (at 2.026 rad), and the check names the order."""
+    def swapped_order(crank, coupler, rocker, ground):  # the cosine clipped: finite for every linkage
+        cosine = (ground**2 + crank**2 - (coupler + rocker) ** 2) / (2 * ground * crank)
+        return float(np.arccos(np.clip(cosine, -1.0, 1.0))), "extended"
+
+    rejects(limit_task(swapped_order), "task's linkage", "FourBar's order",
+            hidden=[law_of_cosines(0.20, 0.14, 0.12, 0.10)[0]])
+
+
+# ---------------------------------------------------------------- ex05 Task 2: θ1, θ4 by the half-angle roots
+
+LENGTHS = (0.11, 0.15, 0.16, 0.12, 0.09)
+
+
+def half_angle(x3, y3, sigma1=-1, sigma2=+1):
+    return course_inverse_angles(x3, y3, LENGTHS, sigma1, sigma2)
+
+
+def inverse_task(answer, method="half-angle"):
+    return checks.check_fivebar_inverse(answer, ROBOT, 0.02, 0.21, (-1, +1), method=method)
+
+
+def test_every_fresh_point_has_four_working_modes_apart():
+    for x3, y3 in checks.ex05.FRESH_POINTS:
+        for leg in (0, 1):
+            roots = [half_angle(x3, y3, *modes)[leg] for modes in ((1, 1), (-1, -1))]
+            assert np.all(np.isfinite(roots)) and abs(math.remainder(roots[0] - roots[1], 2 * math.pi)) > 0.1
+
+
+def test_the_angles_by_the_half_angle_roots_pass():
+    def from_the_given_coefficients(x3, y3):  # the coefficients the task gives, the roots by hand
+        k = ROBOT.inverse_coefficients(x3, y3)
+        return tuple(2 * math.atan((-b - s * math.sqrt(b * b - 4 * a * c)) / (2 * a)) for a, b, c, s in (
+            (k["a1"], k["b1"], k["c1"], +1), (k["a2"], k["b2"], k["c2"], -1)))
+
+    for answer in (half_angle, from_the_given_coefficients, lambda x3, y3: np.round(half_angle(x3, y3), 4)):
+        feedback = inverse_task(answer)
+        assert feedback.ok and "6 other points" in feedback.message, feedback
+
+
+def test_the_angles_the_library_solves_are_not_a_tick():
+    solved = ROBOT.inverse(0.02, 0.21, modes=(-1, +1))
+    assert checks.check_fivebar_inverse(solved, ROBOT, 0.02, 0.21, (-1, +1)).ok  # no method
+    rejects(inverse_task(solved), "angles are right", "half-angle")
+    rejects(inverse_task(tuple(solved)), "angles are right")
+    rejects(inverse_task(lambda x3, y3: tuple(ROBOT.inverse(x3, y3, modes=(-1, 1)))), "FiveBar.inverse",
+            "course_lib")
+    rejects(inverse_task(lambda x3, y3: tuple(ROBOT.inverse(x3, y3, assembly={"theta1": 1, "theta4": -1}))),
+            "FiveBar.inverse")
+
+
+@pytest.mark.parametrize(("answer", "says"), [
+    (lambda x3, y3: half_angle(x3, y3, +1, +1), "working mode (+1, +1)"),
+    (lambda x3, y3: half_angle(x3, y3, -1, -1), "working mode (-1, -1)"),
+    (lambda x3, y3: half_angle(0.02, 0.21), "same angles at every point"),
+    (lambda x3, y3: half_angle(x3, y3) if (x3, y3) == (0.02, 0.21) else half_angle(x3, y3, 1, -1),
+     "not at (x3, y3) = (0, 0.18) m"),
+    (lambda x3, y3: half_angle(x3, y3)[::-1], "swapped"),
+    (lambda x3, y3: tuple(np.degrees(half_angle(x3, y3))), "degrees"),
+    (lambda x3: (0.0, 0.0), "TypeError"), (lambda x3, y3: (np.nan, 0.0), "NaN"),
+])
+def test_a_wrong_inverse_procedure_is_told_its_cause(answer, says):
+    rejects(inverse_task(answer), says, hidden=half_angle(0.02, 0.21))
+
+
+# ---------------------------------------------------------------- no check waits for a function that hangs
+
+
+def forever(*arguments):
+    while True:
+        pass
+
+
+@pytest.mark.parametrize("check", [rates_task, limit_task, inverse_task], ids=["rates", "limit", "inverse"])
+def test_a_function_that_never_returns_is_reported_not_waited_for(check, monkeypatch):
+    monkeypatch.setattr(engine, "PROCEDURE_SECONDS", 0.3)
+    start = time.perf_counter()
+    feedback = check(forever)
+    assert time.perf_counter() - start < 3.0
+    rejects(feedback, "did not return within 0.3 s", "endless loop")

@@ -428,16 +428,47 @@ def solver_code(*machines: type) -> Callable[[types.CodeType], bool]:
     return solves
 
 
+def allowing(solves: Callable[[types.CodeType], bool], *uses: Callable[[], Any]
+             ) -> Callable[[types.CodeType], bool]:
+    """``solves`` (a :func:`solver_code`) with the code that each of ``uses`` runs no longer counted as a
+    solve: a call the task gives the student to use inside the procedure (``bench.loop_jacobian(θ3, θ4)``: J
+    is given, the rates are asked), run once here with every function it enters recorded.  A solve the task
+    asks the student not to use is still one: its own code is entered first, and it is not among those.
+
+    >>> from course_lib.fourbar import FourBar
+    >>> bar = FourBar(0.07, 0.20, 0.15, 0.25)
+    >>> given = allowing(solver_code(FourBar), lambda: bar.loop_jacobian(0.3, 1.2))
+    >>> given(FourBar.loop_jacobian.__code__), given(inspect.unwrap(FourBar.solve).__code__)
+    (False, True)
+    """
+    ran: set[types.CodeType] = set()
+
+    def record(frame, event, _):
+        if event == "call":
+            ran.add(frame.f_code)
+
+    previous = sys.getprofile()
+    sys.setprofile(record)
+    try:
+        for use in uses:
+            use()
+    finally:
+        sys.setprofile(previous)
+    return lambda code: code not in ran and solves(code)
+
+
 #: Seconds one call of a student's function may take in :func:`procedure` before it is reported as a hang.
 PROCEDURE_SECONDS = 5.0
 
 
 def procedure(function: Any, calls: Sequence[tuple], solves: Callable[[types.CodeType], bool], called: str,
-              parse: Callable[[Any], Any]) -> list | Feedback:
+              parse: Callable[[Any], Any], given: str = "floats in radians, one call per instant"
+              ) -> list | Feedback:
     """The results of the student's ``function`` at each argument tuple of ``calls``, each read by
     ``parse`` — or the feedback on the first call that raises, returns what ``parse`` refuses, or calls one
     of course_lib's solves (``solves`` of its code: the task asks for the work the solve would do).  What
-    the function prints is not shown; ``called`` is how the student calls it, e.g. "theta4_at(theta2)".
+    the function prints is not shown; ``called`` is how the student calls it, e.g. "theta4_at(theta2)", and
+    ``given`` what it is called with (said when it raises).
     Each call may take PROCEDURE_SECONDS; one that takes longer is reported as an endless loop.
 
     >>> from course_lib.fourbar import FourBar
@@ -475,8 +506,8 @@ def procedure(function: Any, calls: Sequence[tuple], solves: Callable[[types.Cod
             sys.setprofile(previous)
             text = str(error).splitlines()[0][:160] if str(error) else ""
             said = f"{type(error).__name__}: {text}" if text else type(error).__name__
-            return wrong(f"your {called} raised {said} when called with ({shown}); it is called with floats "
-                         "in radians, one call per instant.")
+            return wrong(f"your {called} raised {said} when called with ({shown}); it is called with "
+                         f"{given}.")
         finally:
             sys.setprofile(previous)
         if solver:

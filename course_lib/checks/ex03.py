@@ -6,6 +6,7 @@ import numpy as np
 from ..errors import InvalidArgumentError
 from ..fourbar import BRANCHES, FourBar
 from .engine import *  # the feedback engine's helpers (engine.__all__)
+from .engine import allowing  # a call the task gives the student, let through the watch on their function
 
 __all__ = ["check_fourbar_theta4", "check_omega4_expression", "check_fourbar_rates", "check_toggle_angle"]
 
@@ -18,7 +19,7 @@ def _assembles(linkage: FourBar, theta2: float, omega2: float = 0.0, alpha2: flo
                      "toggle)" if omega2 or alpha2 else ""))
 
 
-def _has_toggle(linkage: FourBar) -> None:
+def _has_toggle(linkage: FourBar, **_) -> None:
     """The crank of ``linkage`` stops at a toggle angle (the task asks for the largest one)."""
     if not linkage.input_range().toggle_angles:
         raise InvalidArgumentError(f"linkage must be a four-bar whose crank stops at a toggle angle (a "
@@ -167,16 +168,9 @@ def check_omega4_expression(answer) -> Feedback:
     ], "differentiate the two loop components, then solve the linear 2×2 system for ω3, ω4.")
 
 
-@reads(vector(2, "(ω4, α4)"), task={"linkage": FourBar, "theta2": "rad", "omega2": "rad/s",
-                                   "alpha2": "rad/s²", "branch": BRANCHES}, possible=_assembles)
-def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, alpha2: float, branch: str
-                        ) -> Feedback:
-    """Exercise 03, task 3: (ω4, α4) of the rocker (rad/s, rad/s², to 4 significant figures) at ``theta2`` on
-    ``branch``.
-
-    >>> check_fourbar_rates((0.0, 0.0), FourBar(0.07, 0.20, 0.15, 0.25), 3.5, 15.0, -40.0, "open").ok
-    False
-    """
+def _rates_verdict(answer, linkage: FourBar, theta2: float, omega2: float, alpha2: float, branch: str
+                   ) -> Feedback:
+    """(ω4, α4) at one instant judged against ``branch``'s, with the known slips named."""
     other_branch = "crossed" if branch == "open" else "open"
     this, other = (linkage.solve(theta2, omega2, alpha2, branch=b) for b in (branch, other_branch))
     omega4, alpha4 = this.omega4, this.alpha4
@@ -204,16 +198,113 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
     ], "ω4 is off: solve J·(ω3, ω4) = −ω2·∂F/∂θ2 at the solved position.")
 
 
-@reads(fields('a pair (theta2_max, "extended" or "folded")', number("θ2_max"),
-              word(("extended", "folded"), 'the second entry is the string "extended" or "folded".')),
-       task={"linkage": FourBar}, possible=_has_toggle)
-def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
-    """Exercise 03, task 4: the largest crank angle (rad, to 4 decimals) of a non-Grashof ``linkage`` and
-    whether coupler and rocker lie "extended" or "folded" there.
+def _function_or(read):
+    """A parser: the student's function as it is (a procedure to call), else what ``read`` reads."""
+    return lambda answer: answer if callable(answer) and not isinstance(answer, type) else read(answer)
 
-    >>> check_toggle_angle((float(np.arccos(0.235)), "extended"), FourBar(0.15, 0.10, 0.12, 0.20)).ok
-    True
+
+#: Instants (θ2 rad, ω2 rad/s, α2 rad/s²) where a student's rates procedure is called besides the task's: the
+#: crank spread over the turn, turning either way, speeding up, slowing down or at constant speed
+FRESH_INSTANTS = tuple((float(np.radians(degrees)), omega2, alpha2) for degrees, omega2, alpha2 in (
+    (75.0, 8.0, 30.0), (160.0, -12.0, 25.0), (250.0, 20.0, 0.0), (300.0, -5.0, -60.0), (345.0, 10.0, -15.0)))
+
+
+def _jacobian_rates(linkage: FourBar, theta2: float, theta3: float, theta4: float, omega2: float,
+                    alpha2: float) -> tuple[float, float]:
+    """(ω4, α4) by J·(ω3, ω4) = b and J·(α3, α4) = b′ at the given θ3, θ4 (which need not close the loop:
+    a slip that keeps the task's position)."""
+    l2, l3, l4 = linkage.l2, linkage.l3, linkage.l4
+    s2, c2, s3, c3, s4, c4 = (f(angle) for angle in (theta2, theta3, theta4) for f in (np.sin, np.cos))
+    jacobian = np.array([[-l3 * s3, l4 * s4], [l3 * c3, -l4 * c4]])
+    omega3, omega4 = np.linalg.solve(jacobian, [omega2 * l2 * s2, -omega2 * l2 * c2])
+    b_prime = [alpha2 * l2 * s2 + omega2**2 * l2 * c2 + omega3**2 * l3 * c3 - omega4**2 * l4 * c4,
+               -alpha2 * l2 * c2 + omega2**2 * l2 * s2 + omega3**2 * l3 * s3 - omega4**2 * l4 * s4]
+    return float(omega4), float(np.linalg.solve(jacobian, b_prime)[1])
+
+
+def _instant(theta2: float, omega2: float, alpha2: float) -> str:
+    return f"{_where(theta2)}, ω2 = {omega2:g} rad/s, α2 = {alpha2:g} rad/s²"
+
+
+def _rates_at(linkage: FourBar, theta2: float, omega2: float, alpha2: float, branch: str):
+    """The solve of ``branch`` at one instant; None where it does not close or its rates are undefined."""
+    try:
+        motion = linkage.solve(theta2, omega2, alpha2, branch=branch)
+    except Exception:
+        return None
+    return motion if np.all(np.isfinite(tuple(motion))) else None
+
+
+@reads(_function_or(vector(2, "(ω4, α4)")), task={"linkage": FourBar, "theta2": "rad", "omega2": "rad/s",
+                                                  "alpha2": "rad/s²", "branch": BRANCHES,
+                                                  "method": (None, "Jacobian")}, possible=_assembles)
+def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, alpha2: float, branch: str,
+                        method: str | None = None) -> Feedback:
+    """Exercise 03, task 3: (ω4, α4) of the rocker (rad/s, rad/s², to 4 significant figures) at ``theta2`` on
+    ``branch`` — two numbers, or the student's function of (θ2, θ3, θ4, ω2, α2) that computes them, called
+    here with the position of ``branch`` at the task's instant and at the instants :data:`FRESH_INSTANTS`
+    where the linkage closes.  With ``method="Jacobian"`` (exercise 03) only such a function passes, and only
+    one that calls none of course_lib's solves but ``linkage.loop_jacobian`` (J is given; ``linkage.solve``
+    gives the rates without b and b′).
+
+    >>> check_fourbar_rates((0.0, 0.0), FourBar(0.07, 0.20, 0.15, 0.25), 3.5, 15.0, -40.0, "open").ok
+    False
     """
+    if not callable(answer):
+        verdict = _rates_verdict(answer, linkage, theta2, omega2, alpha2, branch)
+        if verdict.ok and method is not None:
+            return wrong("the numbers are right, but the task asks for the Jacobian solve itself: give your "
+                         "function of (θ2, θ3, θ4, ω2, α2) that writes b and b′ and solves J·(ω3, ω4) = b "
+                         "and J·(α3, α4) = b′ (the check calls it at other instants too). Numbers alone do "
+                         "not show how they were found — linkage.solve(θ2, ω2, α2) gives them without J.")
+        return verdict
+    position = linkage.solve(theta2, branch=branch)
+    theta3, theta4 = float(position.theta3), float(position.theta4)
+    instants = [(theta2, omega2, alpha2)] + [
+        (t2, w2, a2) for t2, w2, a2 in FRESH_INSTANTS
+        if not angles_close(t2, theta2) and _rates_at(linkage, t2, w2, a2, branch) is not None]
+    motions = [linkage.solve(t2, w2, a2, branch=branch) for t2, w2, a2 in instants]
+    calls = [(t2, float(m.theta3), float(m.theta4), w2, a2) for (t2, w2, a2), m in zip(instants, motions,
+                                                                                        strict=True)]
+    name = getattr(answer, "__name__", "")
+    called = (f"function {name}(theta2, theta3, theta4, omega2, alpha2)" if name.isidentifier()
+              else "function")
+    solves = allowing(solver_code(FourBar), lambda: linkage.loop_jacobian(theta3, theta4))
+    values = procedure(answer, calls, solves, called, vector(2, "(ω4, α4)"),
+                       given="(θ2, θ3, θ4, ω2, α2) as floats — the angles in rad, ω2 in rad/s, α2 in rad/s², "
+                             "θ3 and θ4 of the solved position — one call per instant")
+    if isinstance(values, Feedback):
+        solving = "calls FourBar.solve" in values.message or "calls FourBar.motion" in values.message
+        return Feedback(False, values.message + (" The position comes in as its arguments theta3, theta4: "
+                                                 "the check solves it." if solving else ""))
+    verdict = _rates_verdict(values[0], linkage, theta2, omega2, alpha2, branch)
+    if not verdict.ok:
+        return wrong(f"your {called} at the task's instant ({_instant(theta2, omega2, alpha2)}): "
+                     + verdict.message.removeprefix("Not yet: "))
+    for (t2, w2, a2), motion, value in zip(instants[1:], motions[1:], values[1:], strict=True):
+        if FIGURES.agrees(value, (motion.omega4, motion.alpha4)):
+            continue
+        where = _instant(t2, w2, a2)
+        if all(FIGURES.agrees(other, values[0]) for other in values[1:]):
+            return wrong(f"your {called} returns the same (ω4, α4) at every instant: compute b, b′ and J "
+                         "from its arguments, not from the task's numbers.")
+        given_rates = _rates_at(linkage, t2, omega2, alpha2, branch)
+        if given_rates is not None and FIGURES.agrees(value, (given_rates.omega4, given_rates.alpha4)):
+            return wrong(f"at {where} your {called} gives the rates for the task's ω2 = {omega2:g} rad/s and "
+                         f"α2 = {alpha2:g} rad/s²: use its arguments omega2 and alpha2.")
+        if FIGURES.agrees(value, _jacobian_rates(linkage, t2, theta3, theta4, w2, a2)):  # J at the task's
+            return wrong(f"at {where} your {called} uses θ3, θ4 of the task's position (or a J built from "
+                         "them): build J and b′ from its arguments theta3 and theta4.")
+        there = _rates_verdict(value, linkage, t2, w2, a2, branch)
+        return wrong(f"your {called} is right at the task's instant but not at {where}: "
+                     + there.message.removeprefix("Not yet: "))
+    return right(f"Correct (to {FIGURES}): your {called} gives ω4 and α4 of the {branch} assembly at the "
+                 f"task's instant and at {len(calls) - 1} other instants — the same Jacobian J solves both "
+                 "the velocity and the acceleration equations.")
+
+
+def _toggle_verdict(answer, linkage: FourBar) -> Feedback:
+    """(θ2_max, "extended" or "folded") of ``linkage`` judged, with the known slips named."""
     value, how = answer
     limit = max(linkage.input_range().toggle_angles)
     state = "extended" if limit < np.pi else "folded"  # |AO4| = l3 + l4 below π
@@ -228,3 +319,97 @@ def check_toggle_angle(answer, linkage: FourBar) -> Feedback:
                        "angle (draw(linkage, linkage.solve(θ2))) — which of l3 + l4 and |l3 − l4| does |AO4| "
                        "equal?"),
     ], "Correct: coupler and rocker are collinear there (a toggle), det J = 0, and the crank must turn back.")
+
+
+#: Linkages (l1 ground, l2 crank, l3 coupler, l4 rocker; m) whose crank stops before π, where a student's
+#: limit procedure is called besides the task's: three whose limit is beyond π/2, three with a folded (lower)
+#: toggle too
+FRESH_LINKAGES = ((0.30, 0.10, 0.12, 0.15), (0.10, 0.25, 0.12, 0.18), (0.25, 0.20, 0.30, 0.12),
+                  (0.18, 0.16, 0.09, 0.14), (0.12, 0.20, 0.05, 0.22))
+
+
+def _lengths(linkage: FourBar) -> tuple[float, float, float, float]:
+    return float(linkage.l1), float(linkage.l2), float(linkage.l3), float(linkage.l4)
+
+
+def _largest_toggle(l1: float, l2: float, l3: float, l4: float) -> float | None:
+    """The largest toggle angle of the four-bar of these lengths, if it stops before π; else None."""
+    try:
+        toggles = FourBar(crank=l2, coupler=l3, rocker=l4, ground=l1).input_range().toggle_angles
+    except Exception:
+        return None
+    return max(toggles) if toggles and max(toggles) < np.pi else None
+
+
+def _reach(l1: float, l2: float, reach: float) -> float:
+    """θ2 in [0, π] where |AO4| = ``reach`` by the law of cosines; NaN where |AO4| never equals it."""
+    with np.errstate(invalid="ignore"):
+        return float(np.arccos((l1**2 + l2**2 - reach**2) / (2 * l1 * l2)))
+
+
+def _linkage(lengths) -> str:
+    return "the linkage l1, l2, l3, l4 = " + ", ".join(f"{length:g}" for length in lengths) + " m"
+
+
+#: The answer of exercise 03, task 4: the limit and how the links lie there
+_TOGGLE_PAIR = fields('a pair (theta2_max, "extended" or "folded")', number("θ2_max"),
+                      word(("extended", "folded"), 'the second entry is the string "extended" or "folded".'))
+
+
+@reads(_function_or(_TOGGLE_PAIR), task={"linkage": FourBar, "method": (None, "law of cosines")},
+       possible=_has_toggle)
+def check_toggle_angle(answer, linkage: FourBar, method: str | None = None) -> Feedback:
+    """Exercise 03, task 4: the largest crank angle (rad, to 4 decimals) of a non-Grashof ``linkage`` and
+    whether coupler and rocker lie "extended" or "folded" there — that pair, or the student's function of the
+    lengths (l1, l2, l3, l4) (m) that returns it, called here with the task's linkage and the linkages
+    :data:`FRESH_LINKAGES`.  With ``method="law of cosines"`` (exercise 03) only such a function passes, and
+    only one that calls none of course_lib's four-bar methods (``linkage.input_range()`` gives the limit
+    without the triangle O2–A–O4).
+
+    >>> check_toggle_angle((float(np.arccos(0.235)), "extended"), FourBar(0.15, 0.10, 0.12, 0.20)).ok
+    True
+    """
+    if not callable(answer):
+        verdict = _toggle_verdict(answer, linkage)
+        if verdict.ok and method is not None:
+            return wrong('the angle and the word are right, but the task asks for the law of cosines itself: '
+                         "give your function of the lengths (l1, l2, l3, l4) that returns (θ2_max, "
+                         '"extended" or "folded") from the triangle O2–A–O4 (the check calls it for other '
+                         "linkages too). A pair alone does not show how it was found — linkage.input_range() "
+                         "gives the limit without the triangle.")
+        return verdict
+    task = _lengths(linkage)
+    linkages = [task] + [lengths for lengths in FRESH_LINKAGES if not np.allclose(lengths, task, rtol=1e-9)
+                         and _largest_toggle(*lengths) is not None]
+    name = getattr(answer, "__name__", "")
+    called = f"function {name}(l1, l2, l3, l4)" if name.isidentifier() else "function"
+    values = procedure(answer, linkages, solver_code(FourBar), called, _TOGGLE_PAIR,
+                       given="the lengths (l1, l2, l3, l4) in m as floats — ground, crank, coupler, rocker — "
+                             "one call per linkage")
+    if isinstance(values, Feedback):
+        return values
+    for index, (lengths, (value, how)) in enumerate(zip(linkages, values, strict=True)):
+        limit = _largest_toggle(*lengths)
+        if DECIMALS.agrees(value, limit, angles=True) and how == "extended":
+            continue
+        which = "the task's linkage" if index == 0 else _linkage(lengths)
+        if index and all(DECIMALS.agrees(other[0], values[0][0], angles=True) for other in values[1:]):
+            return wrong(f"your {called} returns the same θ2_max for every linkage: compute it from its "
+                         "arguments l1, l2, l3, l4, not from the task's numbers.")
+        l1, l2, l3, l4 = lengths
+        if DECIMALS.agrees(value, _reach(l1, l2, abs(l3 - l4)), angles=True):
+            return wrong(f"for {which} your {called} gives the crank angle where |AO4| = |l3 − l4| (coupler "
+                         "and rocker folded), the smallest one there: the largest is where |AO4| = l3 + l4.")
+        in_order = _largest_toggle(l4, l1, l2, l3)  # the arguments read as FourBar's (crank, …, ground)
+        if in_order is not None and DECIMALS.agrees(value, in_order, angles=True):
+            return wrong(f"for {which} your {called} gives the limit of the linkage whose crank, coupler, "
+                         "rocker and ground are l1, l2, l3, l4 (FourBar's order): it is called with l1 the "
+                         "ground, l2 the crank, l3 the coupler and l4 the rocker.")
+        there = _toggle_verdict((value, how), FourBar(crank=l2, coupler=l3, rocker=l4, ground=l1))
+        return wrong((f"what your {called} returns for the task's linkage: " if index == 0 else
+                      f"your {called} is right for the task's linkage but not for {which}: ")
+                     + there.message.removeprefix("Not yet: "))
+    return right(f"Correct (to {DECIMALS}, angles modulo 2π): your {called} gives the largest crank angle, "
+                 f"and how coupler and rocker lie there, for the task's linkage and {len(linkages) - 1} "
+                 "other linkages: coupler and rocker are collinear there (a toggle), det J = 0, and the "
+                 "crank must turn back.")

@@ -7,7 +7,9 @@ import numpy as np
 
 from ..errors import InvalidArgumentError
 from ..fivebar import WORKING_MODES, FiveBar
+from ..planar import wrap_angle
 from .engine import *  # the feedback engine's helpers (engine.__all__)
+from .engine import allowing  # a call the task gives the student, let through the watch on their function
 
 #: Positions of the end effector: to 6 decimals in metres.
 MICROMETRES = Precision(6, decimals=True)
@@ -151,16 +153,9 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
                  f"and at {len(probes) - 1} other pairs of crank angles.")
 
 
-@reads(vector(2, "(θ1, θ4)"), task={"robot": FiveBar, "x3": "m", "y3": "m", "modes": WORKING_MODES},
-       possible=_reaches)
-def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: tuple[int, int]) -> Feedback:
-    """Exercise 05, task 2: crank angles (θ1, θ4) in rad, to 4 decimals, putting the end effector at (x3, y3)
-    in working mode ``modes``.
-
-    >>> check_fivebar_inverse((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 0.01, 0.2, (1, -1)).ok
-    False
-    """
-    modes = tuple(modes)
+def _inverse_verdict(answer, robot: FiveBar, x3: float, y3: float, modes: tuple[int, int]) -> Feedback:
+    """(θ1, θ4) at the end effector (``x3``, ``y3``) judged against working mode ``modes``'s, with the known
+    slips named."""
     solutions = {m: np.array(tuple(robot.inverse(x3, y3, modes=m))) for m in WORKING_MODES}
     theta1, theta4 = reference = solutions[modes]
 
@@ -181,6 +176,76 @@ def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: t
         ((theta1, None), "θ1 is right; recheck θ4 with the coefficients a2, b2, c2 of leg 4."),
         ((None, theta4), "θ4 is right; recheck θ1 with the coefficients a1, b1, c1 of leg 1."),
     ], "use θ = 2·atan((−b + σ√(b² − 4ac))/2a) with the half-angle coefficients of each leg.", angles=True)
+
+
+#: End effector points (x3, y3), m, where a student's inverse procedure is called besides the task's: spread
+#: over the workspace, each leg's two roots apart
+FRESH_POINTS = ((0.0, 0.18), (-0.05, 0.22), (0.06, 0.15), (-0.03, 0.12), (0.10, 0.12), (-0.10, 0.10))
+
+
+def _modes_apart(robot: FiveBar, x3: float, y3: float) -> bool:
+    """Whether every working mode reaches (x3, y3), each leg's two roots more than 0.1 rad apart (away from
+    a serial singularity, where the modes merge)."""
+    try:
+        solutions = {m: np.array(tuple(robot.inverse(x3, y3, modes=m))) for m in WORKING_MODES}
+    except Exception:
+        return False
+    leg1 = abs(float(wrap_angle(solutions[(1, 1)][0] - solutions[(-1, 1)][0])))
+    leg4 = abs(float(wrap_angle(solutions[(1, 1)][1] - solutions[(1, -1)][1])))
+    return min(leg1, leg4) > 0.1
+
+
+def _point(x3: float, y3: float) -> str:
+    return f"(x3, y3) = ({x3:.6g}, {y3:.6g}) m"
+
+
+@reads(_number_pair_or_function("(θ1, θ4)"), task={"robot": FiveBar, "x3": "m", "y3": "m",
+                                                   "modes": WORKING_MODES, "method": (None, "half-angle")},
+       possible=_reaches)
+def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: tuple[int, int],
+                          method: str | None = None) -> Feedback:
+    """Exercise 05, task 2: crank angles (θ1, θ4) in rad, to 4 decimals, putting the end effector at (x3, y3)
+    in working mode ``modes`` — two numbers, or the student's function of (x3, y3) (m) that computes them,
+    called here at the task's point and at the points :data:`FRESH_POINTS` where the modes are apart.  With
+    ``method="half-angle"`` (exercise 05) only such a function passes, and only one that calls none of
+    course_lib's solves but ``robot.inverse_coefficients`` (the task gives the coefficients;
+    ``robot.inverse`` gives the angles without the half-angle roots).
+
+    >>> check_fivebar_inverse((0.0, 0.0), FiveBar(0.11, 0.16, 0.17, 0.12, 0.09), 0.01, 0.2, (1, -1)).ok
+    False
+    """
+    modes = tuple(modes)
+    if not callable(answer):
+        verdict = _inverse_verdict(answer, robot, x3, y3, modes)
+        if verdict.ok and method is not None:
+            return wrong("the angles are right, but the task asks for the half-angle roots themselves: give "
+                         "your function of (x3, y3) that takes each leg's a, b, c and computes θ = "
+                         "2·atan((−b + σ√(b² − 4ac))/2a) with the working mode's σ (the check calls it at "
+                         "other points too). Numbers alone do not show how they were found — robot.inverse "
+                         "gives them without the roots.")
+        return verdict
+    points = [(x3, y3)] + [point for point in FRESH_POINTS if not np.allclose(point, (x3, y3), atol=1e-9)
+                           and _modes_apart(robot, *point)]
+    name = getattr(answer, "__name__", "")
+    called = f"function {name}(x3, y3)" if name.isidentifier() else "function"
+    solves = allowing(solver_code(FiveBar), lambda: robot.inverse_coefficients(x3, y3))
+    values = procedure(answer, points, solves, called, vector(2, "(θ1, θ4)"),
+                       given="the end effector (x3, y3) in m as floats, one call per point")
+    if isinstance(values, Feedback):
+        return values
+    for index, (point, value) in enumerate(zip(points, values, strict=True)):
+        if DECIMALS.agrees(value, tuple(robot.inverse(*point, modes=modes)), angles=True):
+            continue
+        if index and all(DECIMALS.agrees(other, values[0], angles=True) for other in values[1:]):
+            return wrong(f"your {called} returns the same angles at every point: compute the coefficients "
+                         "from its arguments x3, y3, not from the task's point.")
+        there = _inverse_verdict(value, robot, *point, modes)
+        return wrong((f"your {called} at the task's {_point(*point)}: " if index == 0 else
+                      f"your {called} is right at the task's point but not at {_point(*point)}: ")
+                     + there.message.removeprefix("Not yet: "))
+    return right(f"Correct (to {DECIMALS}, angles modulo 2π): your {called} gives the crank angles of "
+                 f"working mode (σ1, σ2) = ({modes[0]:+d}, {modes[1]:+d}) at the task's point and at "
+                 f"{len(points) - 1} other points.")
 
 
 @reads()

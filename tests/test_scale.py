@@ -235,6 +235,25 @@ def test_the_newton_route_declared_at_any_scale_moves_as_at_1_m(scale):
     assert np.abs(gap).max() < 1e-9
 
 
+@pytest.mark.parametrize("scale", SCALES)
+def test_a_change_point_on_newtons_route_is_met_where_it_is_at_any_scale(scale):
+    # the parallelogram c2 = c4 = 0.1, c3 = g = 0.2 by B's coordinates: at θ2 = π the four pins line up, the
+    # anti-parallelogram meets it, and the motion goes on as a parallelogram (θ3 = 0)
+    lengths = {c2: 0.1, c3: 0.2, g: 0.2, c4: 0.1}
+    theta = np.linspace(2.0, 4.5, 6)
+
+    def solved(size):
+        linkage = BY_B.with_parameters({k: v * size for k, v in lengths.items()})
+        guess = {theta3: 0.0, x_B: (0.2 + 0.1 * math.cos(2.0)) * size, y_B: 0.1 * math.sin(2.0) * size}
+        return linkage.solve({theta2: theta}, {theta2: 1.0}, guess=guess, on_failure="nan")
+
+    motion, reference = solved(scale), solved(1.0)
+    assert turn_gap(reference.position["theta3"], 0.0).max() < 1e-9
+    assert np.abs(reference.position["x_B"] - (0.2 + 0.1 * np.cos(theta))).max() < 1e-9
+    assert "change point" in reference.message and "between theta2=3.0 and theta2=3.5" in reference.message
+    assert_same_motion(motion, reference, scale, lengths=("x_B", "y_B"), angles_tol=1e-11)
+
+
 @pytest.mark.parametrize("scale", (1e-90, 1e90))
 def test_a_newton_run_that_fails_is_told_in_the_declarations_units(scale):
     linkage = scaled(BY_B, scale, (c2, c3, g, c4))

@@ -9,7 +9,7 @@ True
 """
 
 __all__ = ["APPROACH", "CHANGE_LEVEL", "COINCIDENT", "FLIP_NEAR", "FLIP_SMOOTH", "LEVEL", "MAX_CONDITION",
-           "NEAR_SINGULAR", "RESIDUAL", "SINGULAR", "TRANSMISSION_MIN_DEG"]
+           "NEAR_SINGULAR", "RESIDUAL", "SINGULAR", "TRANSMISSION_MIN_DEG", "UNIT_RANGE"]
 
 #: J is singular where σ_min(J̃) < SINGULAR (J̃: J with rows and columns scaled by their typical sizes).
 SINGULAR = 1e-6
@@ -43,3 +43,9 @@ MAX_CONDITION = 1e12
 #: The course's design value for a four-bar's transmission angle μ (acute, Norton's): below it (degrees) the
 #: force transmission is poor, and the four-bar explorer says so and draws the line.
 TRANSMISSION_MIN_DEG = 40.0
+#: A declaration whose loops are homogeneous in its lengths is solved with its lengths in units of a power of
+#: two near their typical size where that typical size (the median of its nonzero length parameters) lies
+#: outside [1 / UNIT_RANGE, UNIT_RANGE] (m): there Newton's absolute ``tol`` would be below the rounding of
+#: the lengths (or above the lengths themselves) and the closed forms' fourth powers of the lengths would
+#: overflow or underflow (see :mod:`course_lib.mechanism.scaling`).
+UNIT_RANGE = 1024.0

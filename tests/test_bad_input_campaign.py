@@ -577,10 +577,7 @@ def outcome(call, expect) -> tuple[str, str]:
 
 
 #: Rows the core still fails, each with why (strict: once fixed, such a row fails until it leaves this list)
-LEFT = {label: "the derived half-angle quadratic's coefficients (lengths to the fourth power) underflow "
-               "or overflow: 'no assembly' for an assembled linkage (closed_forms.py)"
-        for label in ROWS if label.startswith("the wiper declared at ") and label.split()[4] in
-        ("1e-90:", "1e+78:", "1e+85:", "1e+90:")}
+LEFT: dict[str, str] = {}
 
 
 @pytest.mark.parametrize("label", [

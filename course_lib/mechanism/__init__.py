@@ -21,6 +21,8 @@ The core is a package of rooms, one per job; :class:`Mechanism` is all of them t
 ``routes``          the course's consecutive and simultaneous Newton routes
 ``solving``         ``solve`` → :class:`~course_lib.motion.Motion`, the one result
 ``points``          the declared points along a motion: ``joints`` and ``point_motion``
+``scaling``         a declaration homogeneous in its lengths, declared far from unit size (1e-90 … 1e90 m),
+                    solved with its lengths in units of a power of two near their typical size
 ==================  =========================================================================================
 
 The singularity rule: J is singular where the smallest singular value of J̃ — J with each row and column
@@ -52,13 +54,14 @@ from .declaration import Declaration, Links
 from .points import Points
 from .rates import Rates
 from .routes import Routes
+from .scaling import Scaling
 from .singular import NEAR_SINGULAR, SINGULAR, Singularity
 from .solving import Solving
 
 __all__ = ["Mechanism", "Motion", "Links", "SINGULAR", "NEAR_SINGULAR"]
 
 
-class Mechanism(Solving, Points, Routes, Rates, Continuation, ClosedForms, Singularity, Compiled,
+class Mechanism(Solving, Points, Routes, Rates, Continuation, ClosedForms, Singularity, Compiled, Scaling,
                 Declaration):
     """A planar mechanism declared by its loop equations (each expression = 0, or an ``Eq``).
 

@@ -232,12 +232,13 @@ class ClosedForms:
         if self._closed_fns is None:
             return None
         q, u, found = self._flat(position, inputs, shape)
+        on, q, u = self._in_twin(q, u)  # lengths far from unit size: det J_b in the twin's units (.scaling)
         out = {}
         with np.errstate(all="ignore"):
             for form, fns in zip(self._forms, self._closed_fns, strict=True):
                 if fns[2]:  # a linear block: one solution, no σ
                     continue
-                det = fns[3](self._values, q, u)[0]
+                det = fns[3](on._values, q, u)[0]
                 sigma = np.where(found, -np.sign(det), 0).astype(int).reshape(shape)
                 out.update({s.name: scalar_or_array(sigma) for s in form.unknowns})
         return {s.name: out[s.name] for s in self.unknowns if s.name in out}
@@ -616,10 +617,13 @@ class ClosedForms:
         symbol, value = self.inputs[0], float(point[0])
         given = outer[:, 0]
         close = np.abs(given - value) <= 1e-9 * max(1.0, abs(value))
+        unit = 1.0 if self._units is None else float(self._units.u[0])  # a twin's: said in the declaration's
+        if unit != 1.0:
+            value, given = value * unit, given * unit
         if close.any():
             return f"{symbol.name}={given[np.argmax(close)]!r}, an instant of the sweep"
         below, above = given[given < value], given[given > value]
-        text = f"{symbol.name}≈{value:.6f}"
+        text = f"{symbol.name}≈{value:.6f}" if unit == 1.0 else f"{symbol.name}≈{value:.6g}"
         if len(below) and len(above):
             text += (f", between the instants {symbol.name}={float(below.max())!r} and "
                      f"{symbol.name}={float(above.min())!r}")

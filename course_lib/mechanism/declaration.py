@@ -491,6 +491,8 @@ class Declaration:
 
     def _where(self, u, index) -> str:
         row = np.atleast_2d(u)[index]
+        if self._units is not None:  # a twin's inputs (see .scaling): said in the declaration's units
+            row = row * self._units.u
         return ", ".join(f"{s.name}={float(value)!r}" for s, value in zip(self.inputs, row, strict=True))
 
     def _by_name(self, values: np.ndarray, shape) -> Mapping[str, float | np.ndarray]:

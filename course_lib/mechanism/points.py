@@ -77,6 +77,8 @@ class Points:
                 bad = np.abs(rate) > 1e-7 * (speeds + sizes)
                 if bad.any():
                     k = int(np.argmax(bad))
+                    if self._units is not None:  # a twin's lengths (see .scaling): in the declaration's units
+                        gap, rate = gap * self._units.length, rate * self._units.length / self._units.u[j]
                     raise InvalidGeometryError(
                         f"links: {link} ({a}–{b}) changes length as the mechanism moves: |{a}{b}| = "
                         f"{gap[k]:.6g} at {self._where(u, k)}, changing at {rate[k]:.3g} per unit of "
@@ -116,8 +118,16 @@ class Points:
         stages = {"rates": rates is None}
         if motion.acceleration is not None:  # else q̈ is taken as 0 with the given (or zero) accelerations
             stages["accelerations"] = accelerations is None
-        inputs[1], inputs[2] = self._input_rates(arrays, inputs, stages)
-        terms = self._point_rate_fn(self._values, *arrays, *inputs)
+        form = self._twin()
+        if form is None:
+            form = self
+        else:  # lengths far from unit size: evaluated in the twin's units (see .scaling)
+            arrays = [values / form._units.q for values in arrays]
+            inputs = [values / form._units.u for values in inputs]
+        inputs[1], inputs[2] = form._input_rates(arrays, inputs, stages)
+        terms = form._point_rate_fn(form._values, *arrays, *inputs)
+        if form is not self:
+            terms = terms * form._units.length
         return {name: (positions[name], _vector(terms, 4 * k, 2), _vector(terms, 4 * k + 2, 2))
                 for k, name in enumerate(self.points)}
 
@@ -147,6 +157,8 @@ class Points:
             if bad.any():
                 k = int(np.flatnonzero(bad)[0])
                 value = np.linalg.pinv(F_u[k]) @ carried[k]
+                if self._units is not None:  # a twin's (see .scaling): in the declaration's units
+                    value = value * self._units.u
                 names = ", ".join(f"{s.name}: {v:.6g}" for s, v in zip(self.inputs, value, strict=True))
                 raise InvalidArgumentError(
                     f"{stage} are not the ones this motion was solved with (at {self._where(u, k)} its "
@@ -186,7 +198,10 @@ class Points:
         q = np.stack(np.broadcast_arrays(*(values[s.name] for s in self.unknowns)), axis=-1)
         u = np.stack(np.broadcast_arrays(*(values[s.name] for s in self.inputs)), axis=-1)
         self._check_closes(motion, q, u)
-        xy = self._point_fn(self._values, q, u)
+        form, q, u = self._in_twin(q, u)  # lengths far from unit size: in the twin's units (see .scaling)
+        xy = form._point_fn(form._values, q, u)
+        if form is not self:
+            xy = xy * form._units.length
         return {name: _vector(xy, 2 * k, 2) for k, name in enumerate(self.points)}
 
     def _check_closes(self, motion: Motion, q: np.ndarray, u: np.ndarray) -> None:
@@ -200,8 +215,9 @@ class Points:
         said = said & np.isfinite(q).all(axis=-1) & np.isfinite(u).all(axis=-1)
         if not said.any():
             return
+        form, q_said, u_said = self._in_twin(q[said], u[said])  # far from unit size: the twin's (.scaling)
         with np.errstate(all="ignore"):
-            residual = (np.abs(self._F(q[said], u[said])) / self._scales[0]).max(axis=-1)
+            residual = (np.abs(form._F(q_said, u_said)) / form._scales[0]).max(axis=-1)
         if not (residual <= RESIDUAL).all():
             k = int(np.flatnonzero(~(residual <= RESIDUAL))[0])
             where = self._where(u[said], k)

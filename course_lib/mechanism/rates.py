@@ -93,6 +93,12 @@ class Rates:
         if u_acceleration is not None:
             names["u_acceleration"] = u_acceleration
         arrays = self._checked(**names)
+        twin = self._twin()
+        if twin is not None:  # lengths far from unit size: solved in the twin's units (see .scaling)
+            units = twin._units
+            scaled = [a / (units.q if k == 0 else units.u) for k, a in enumerate(arrays)]
+            q_rate, q_acc, singular = twin.rates(*scaled[:3], *scaled[3:], trig=trig, singular=singular)
+            return q_rate * units.q, None if q_acc is None else q_acc * units.q, singular
         shape, arrays = _rows(*arrays)
         q, u, u_rate = arrays[:3]
         if trig is not None and not isinstance(trig, Mapping):

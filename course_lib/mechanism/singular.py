@@ -95,7 +95,8 @@ class Singularity:
         [0.798, 0.0]
         """
         q, u = self._checked(q=q, u=u)
-        return self._smallest(self.jacobian(q, u))
+        form, q, u = self._in_twin(q, u)  # lengths far from unit size: J in the twin's units (see .scaling)
+        return form._smallest(form.jacobian(q, u))
 
     def is_singular(self, q, u) -> np.ndarray:
         """The one singularity rule: True where σ_min(J̃) < ``SINGULAR`` (see
@@ -142,5 +143,6 @@ class Singularity:
     def _smallest_where(self, position, inputs, shape) -> np.ndarray:
         """σ_min(J̃) (shape ``shape``) at the declared values by name (unknowns not finite taken as 0)."""
         q, u, _ = self._flat(position, inputs, shape)
+        form, q, u = self._in_twin(q, u)  # lengths far from unit size: J in the twin's units (see .scaling)
         with np.errstate(all="ignore"):
-            return self._smallest(self._J(q, u)).reshape(shape)
+            return form._smallest(form._J(q, u)).reshape(shape)

@@ -64,7 +64,9 @@ class Solving:
         Angles: the first instant's in [−π, π] (within π of the guess, given one), each next within a turn
         of its neighbour (with several inputs, which have no order of neighbours, each instant's like the
         first's); a closed form that every angle solves (the position not determined) counts as
-        singular, not found.  Raises, unless
+        singular, not found.  A declaration homogeneous in its lengths and declared far from unit size
+        (beyond ``UNIT_RANGE``) is solved with its lengths in units of a power of two near their typical
+        size (:mod:`~course_lib.mechanism.scaling`), ``tol`` applying in those units.  Raises, unless
         ``on_failure="nan"``: ``SingularJacobianError`` (rates asked where J is singular, or a singular
         seed), ``ConvergenceError`` (no root from the guess), ``UnreachableError`` (no assembly).
 
@@ -125,7 +127,26 @@ class Solving:
                           inputs=MappingProxyType(dict(zip((s.name for s in self.inputs), arrays[:m],
                                                            strict=True))),
                           near_singular=np.empty(shape, bool))
-        paths, notes, result, assembly = self._paths(u), [], None, None
+        want_rates = rates is not None or accelerations is not None
+        twin = self._twin()
+        if twin is not None:  # lengths far from unit size: solved in units of 2^k (see .scaling)
+            units = twin._units
+            u, seed = u / units.u, None if seed is None else seed / units.q
+            if want_rates:
+                u_rate, u_acc = u_rate / units.u, u_acc / units.u
+            return twin._solved(u, u_rate, u_acc, seed, chosen, shape, arrays[:m], want_rates, tol, max_iter,
+                                on_failure)
+        return self._solved(u, u_rate, u_acc, seed, chosen, shape, arrays[:m], want_rates, tol, max_iter,
+                            on_failure)
+
+    def _solved(self, u, u_rate, u_acc, seed, chosen, shape, inputs, want_rates, tol, max_iter, on_failure
+                ) -> Motion:
+        """:meth:`solve` of checked arrays: inputs ``u`` (N, m), their rates ``u_rate``, ``u_acc`` (N, m;
+        None unless ``want_rates``), ``seed`` (n,) or None, σ ``chosen`` per block, the inputs' ``shape``
+        and the ``inputs`` as given (for ``Motion.inputs``).  On a twin (see :mod:`.scaling`) the arrays are
+        in its units and the motion comes out in the declaration's."""
+        closed = self._closed_fns is not None
+        paths, notes, result, shown, assembly = self._paths(u), [], None, None, None
         undetermined = np.zeros(len(u), bool)
         known, at_q = {}, None  # the cos and sin of the inputs, computed once; of q, where q is final
         stuck = np.zeros(len(u), bool)
@@ -133,18 +154,18 @@ class Solving:
             if seed is not None:
                 result = newton(lambda q: self._F(q, u[0]), seed, jac=lambda q: self._J(q, u[0]),
                                 tol=tol, max_iter=max_iter, on_failure="report")
+                shown = self._shown(result, u[0])  # in the declaration's units (a twin's: converted)
             swept = closed and self._sweepable(u, paths, chosen, seed)
             if swept:  # every block a kernel, σ named, instants in order: block by block, rates alongside
-                want = rates is not None or accelerations is not None
-                q, undetermined, sigma, swept = self._swept(u, chosen, notes, u_rate if want else None,
-                                                            u_acc if want else None)
+                q, undetermined, sigma, swept = self._swept(u, chosen, notes, u_rate if want_rates else None,
+                                                            u_acc if want_rates else None)
                 stuck |= undetermined
                 iterations = np.zeros(len(u), int)
             elif closed:
                 target = None if result is None else result.x if result.converged else seed
                 if result is not None and not result.converged:
                     notes.append(f"Newton from the guess did not converge at {self._where(u, 0)} "
-                                 f"({result.message}); the closed form gave the assembly nearest the guess")
+                                 f"({shown.message}); the closed form gave the assembly nearest the guess")
                 q, iterations, sigma, at_q, undetermined = self._closed(u, paths, target, tol, max_iter,
                                                                         notes, chosen, known)
                 stuck |= undetermined
@@ -172,9 +193,9 @@ class Solving:
                 if not fixed and np.isfinite(result.x).all():
                     found, fixed, count = self._correct(result.x, u[0], tol, max_iter)
                 if on_failure == "raise" and result.singular and not fixed:
-                    raise SingularJacobianError(f"at {where}: {result.message}", result.x.tolist())
+                    raise SingularJacobianError(f"at {where}: {shown.message}", shown.x.tolist())
                 if on_failure == "raise" and not fixed:
-                    raise ConvergenceError(f"at {where}, from the guess: {result.message}", result=result)
+                    raise ConvergenceError(f"at {where}, from the guess: {shown.message}", result=shown)
                 q = found[None, :].copy() if fixed else np.full((1, len(seed)), np.nan)
                 iterations, stuck[0] = np.array([count]), result.singular and not fixed
             else:
@@ -186,10 +207,10 @@ class Solving:
                     if start is None and on_failure == "raise":
                         where = self._where(u, 0)
                         if result.singular:
-                            raise SingularJacobianError(f"at {where}, the first instant: {result.message}",
-                                                        result.x.tolist())
+                            raise SingularJacobianError(f"at {where}, the first instant: {shown.message}",
+                                                        shown.x.tolist())
                         raise ConvergenceError(f"at {where}, the first instant, from the guess: "
-                                               f"{result.message}", result=result)
+                                               f"{shown.message}", result=shown)
                 q, iterations = self._march(u, paths, start, tol, max_iter, notes)
             converged = _finite_rows(q)
             if "rigid" not in self._numeric and self.links and converged.any():
@@ -197,7 +218,6 @@ class Solving:
                 sample = found[np.linspace(0, len(found) - 1, min(len(found), 257)).astype(int)]
                 self._check_rigid(q[sample], u[sample])
             safe = q if converged.all() else np.where(converged[:, None], q, 0.0)
-            want_rates = rates is not None or accelerations is not None
             at_q = at_q if at_q is not None and safe is q else dict(known)
             masks = {}
 
@@ -229,6 +249,10 @@ class Solving:
             self._report(~converged, singular if want_rates else undetermined, u, closed, q, undetermined)
         if not converged.all():  # an instant is solved whole or not at all: NaN in every unknown
             q[~converged] = np.nan
+        if self._units is not None:  # a twin's lengths and their rates in the declaration's units
+            q = q * self._units.q
+            if want_rates:
+                q_rate, q_acc = q_rate * self._units.q, q_acc * self._units.q
         velocity = acceleration = None
         if want_rates:
             velocity, acceleration = self._by_name(q_rate, shape), self._by_name(q_acc, shape)
@@ -239,12 +263,12 @@ class Solving:
         def later(value):  # computed now where the rates needed it, else when first read
             return value() if masks else Deferred(value)
 
-        inputs_used = {s.name: scalar_or_array(a) for s, a in zip(self.inputs, arrays[:m], strict=True)}
+        inputs_used = {s.name: scalar_or_array(a) for s, a in zip(self.inputs, inputs, strict=True)}
         return Motion(position=self._by_name(q, shape), velocity=velocity, acceleration=acceleration,
                       converged=shaped(converged), iterations=shaped(iterations),
                       singular=later(lambda: shaped(singular_and_near()["singular"])),
                       near_singular=later(lambda: shaped(singular_and_near()["near"])),
-                      inputs=MappingProxyType(inputs_used), newton=result if shape == () else None,
+                      inputs=MappingProxyType(inputs_used), newton=shown if shape == () else None,
                       message=later(lambda: singular_and_near() and "; ".join(notes)),
                       assembly=None if assembly is None else MappingProxyType(assembly))
 
@@ -461,8 +485,9 @@ class Solving:
             shape = np.shape(next(iter(arrays.values())))  # broadcast together above
             q, u, found = self._flat(part("position", unknowns, position),
                                      part("inputs", inputs_named, inputs), shape)
+            form, q, u = self._in_twin(q, u)  # lengths far from unit size: the twin's units (see .scaling)
             with np.errstate(all="ignore"):
-                residual = np.abs(self._F(q, u)) / self._scales[0]
+                residual = np.abs(form._F(q, u)) / form._scales[0]
             converged = (found & (residual.max(axis=1) <= RESIDUAL)).reshape(shape)
         return self._motion(
             part("position", unknowns, position), part("inputs", inputs_named, inputs),

@@ -26,7 +26,8 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import Motion, machine_joints, recast
+from .motion import Motion, recast
+from .motion import machine_joints as _machine_joints
 from .newton import linear_solver
 from .planar import Unpacks, scalar_or_array
 from .thresholds import COINCIDENT, LEVEL, RESIDUAL
@@ -328,7 +329,7 @@ class FiveBar:
         >>> np.round(robot.joints(0.0, np.pi, 0.0, 0.1), 3).tolist()
         [[0.04, 0.0], [0.14, 0.0], [0.0, 0.1], [-0.14, 0.0], [-0.04, 0.0]]
         """
-        return machine_joints(self, motion, lambda: self.mechanism.joints(
+        return _machine_joints(self, motion, lambda: self.mechanism.joints(
             self._configuration(motion, theta4, x3, y3)))
 
     def _configuration(self, theta1, theta4, x3, y3) -> ForwardResult:

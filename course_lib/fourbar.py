@@ -24,7 +24,8 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import Deferred, Motion, machine_joints, recast
+from .motion import Deferred, Motion, recast
+from .motion import machine_joints as _machine_joints
 from .planar import Unpacks, scalar_or_array, wrap_angle
 from .thresholds import COINCIDENT, LEVEL
 
@@ -312,7 +313,7 @@ class FourBar:
         >>> {name: point.round(12).tolist() for name, point in bar.joints(bar.solve(np.pi / 2)).items()}
         {'O2': [0.0, 0.0], 'A': [0.0, 1.0], 'B': [1.0, 1.0], 'O4': [1.0, 0.0]}
         """
-        return machine_joints(self, motion, lambda: self.mechanism.joints(
+        return _machine_joints(self, motion, lambda: self.mechanism.joints(
             self.solve(motion, branch=branch, on_failure=failure_policy(on_failure))))
 
     @older_failure_keywords

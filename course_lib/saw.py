@@ -41,7 +41,8 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import Motion, machine_joints, recast
+from .motion import Motion, recast
+from .motion import machine_joints as _machine_joints
 from .newton import NewtonResult
 from .planar import Unpacks
 from .profile import first_turn_time, motor_profile
@@ -133,7 +134,7 @@ class Saw:
         >>> np.round(saw.joints(saw.motion(0.0))["C"], 4).tolist(), saw.joints(0.0).shape
         ([-0.0889, 0.045], (3, 2))
         """
-        return machine_joints(self, motion, lambda: self.mechanism.joints(self.motion(motion)))
+        return _machine_joints(self, motion, lambda: self.mechanism.joints(self.motion(motion)))
 
 
 #: The saw of the course (r1y = 0.045 m, r2 = 0.075 m, r3 = 0.170 m).

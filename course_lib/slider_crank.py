@@ -24,7 +24,8 @@ from .errors import (
     require_finite,
     require_positive,
 )
-from .motion import Motion, machine_joints, recast
+from .motion import Motion, recast
+from .motion import machine_joints as _machine_joints
 from .planar import Unpacks
 from .thresholds import LEVEL
 
@@ -135,7 +136,7 @@ class OffsetSliderCrank:
         >>> slider.joints(slider.solve(np.pi / 2))["C"].round(6).tolist(), slider.joints(np.pi / 2).shape
         ([0.193649, 0.0], (3, 2))
         """
-        return machine_joints(self, motion, lambda: self.mechanism.joints(self.solve(motion, branch=branch)))
+        return _machine_joints(self, motion, lambda: self.mechanism.joints(self.solve(motion, branch=branch)))
 
     def solve(self, theta2, omega2=0.0, alpha2=0.0, branch: str = "right", *, assembly=None,
               on_failure: str | None = None) -> SliderCrankMotion:

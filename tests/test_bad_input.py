@@ -196,10 +196,10 @@ def test_a_checker_answers_anything_with_feedback(checker, answer):
 
 
 EXPLORER_STATES = {
-    fourbar_explorer: [{"branch": "Open"}, {"branch": None}, {"theta2_deg": math.nan}, {"crank": -1.0},
+    fourbar_explorer: [{"assembly": "Open"}, {"assembly": None}, {"theta2_deg": math.nan}, {"crank": -1.0},
                        {"crank": 0.02, "coupler": 0.02, "rocker": 0.02, "ground": 0.02, "theta2_deg": 0.0}],
     saw_explorer: [{"t": math.nan}, {"t": -5.0}, {"t": "1"}],
-    fivebar_explorer: [{"mode": "Forward"}, {"sigma": 2}, {"theta1_deg": math.nan}, {"x3": 10.0}],
+    fivebar_explorer: [{"kinematics": "Forward"}, {"sigma": 2}, {"theta1_deg": math.nan}, {"x3": 10.0}],
 }
 
 

@@ -226,10 +226,10 @@ def test_draw_fades_only_what_it_drew():
 #: for their inputs return a Motion (RESULTS above, and the core's own solve); the others are named here with
 #: what they return instead, so a new solve-like name cannot escape the table.
 NOT_SOLVES = {
-    "FourBar.joints": "the declared points of a solve, an array (..., 4, 2)",
-    "OffsetSliderCrank.joints": "the declared points of a solve, an array",
-    "Saw.joints": "the declared points of a solve, an array",
-    "FiveBar.joints": "the declared points of a given configuration, an array",
+    "FourBar.joints": "the declared points of a Motion by name (older: of θ2, an array (..., 4, 2))",
+    "OffsetSliderCrank.joints": "the declared points of a Motion by name (older: of θ2, an array)",
+    "Saw.joints": "the declared points of a Motion by name (older: of θ2, an array)",
+    "FiveBar.joints": "the declared points of a Motion by name (older: of a given configuration, an array)",
     "FourBar.with_coupler_point": "a FourBar with the coupler point declared",
     "FourBar.coupler_point": "one point's position and rates from a solve, as Mechanism.point_motion",
     "saw.analytic": "the course's eqs. 20–28 as written, an array (lesson 06's derivation, asserted "

@@ -20,10 +20,11 @@ instant solved at once by Newton from the path's tangent).  The assembly: the on
 The hand closed form (:func:`by_hand`, numpy only) reduces the loops to one equation in the floating
 ternary's angle θ5: C where the circles about A (radius l3) and about B − p e5 (radius l4: D's circle
 moved by −CD) meet, to the right of the line from A to B − p e5 (the two couplers never line up here, so
-C never changes side), E = C + q e(θ5 + δ), and f(θ5) = |E − O6|² − l6² = 0, bracketed in ``WINDOW`` (f
-changes sign once there, on this assembly) and solved at every instant at once by regula falsi (Illinois);
-then θ3, θ4, θ6 from the points, and the rates by projecting the differentiated loops on e4 and e6 (a 2×2
-system in ω3, ω5 by Cramer's rule, then ω4 and ω6 one at a time), the accelerations alike.
+C never changes side), E = C + q e(θ5 + δ), and f(θ5) = |E − O6|² − l6² = 0.  Its root is bracketed in
+``WINDOW`` (f changes sign once there on this assembly; checked at every instant) and found at every
+instant at once by the secant method from two angles amid θ5's range, each root checked to lie in the
+window.  Then θ3, θ4, θ6 from the points, and the rates by projecting the differentiated loops on e4 and
+e6 (a 2×2 system in ω3, ω5 by Cramer's rule, then ω4 and ω6 one at a time), the accelerations alike.
 
 Prints both times (best of several runs taken in turn in this process), the ratio (goal: at most 10) and
 the largest differences of positions and rates, then one JSON line.
@@ -45,6 +46,7 @@ L2, B2, BETA, L3, L4, P, Q, DELTA, L6 = 0.04, 0.04, np.pi / 2, 0.26, 0.39, 0.30,
 GX, GY = 0.15, 0.52
 GUESS = {"theta3": 1.07, "theta4": -0.03, "theta5": -0.73, "theta6": -0.38}  # the assembly at θ2 = 0
 WINDOW = (-1.5, -0.2)  # θ5 (rad): f changes sign once there, at every crank angle, on this assembly
+START = (-0.8, -0.6)  # θ5 (rad): the secant method's two first angles, amid θ5's range
 RIGHT = -1.0  # C lies to the right of the line from A to B − p e5 on this assembly
 COS_DELTA, SIN_DELTA = np.cos(DELTA), np.sin(DELTA)
 OMEGA2, ALPHA2 = 10.0, 5.0
@@ -86,32 +88,31 @@ def _closure(theta5, ax, ay, bx, by, side=RIGHT):
     return (cx, cy), (c5, s5), (ex, ey), ex * ex + ey * ey - L6 * L6
 
 
-def positions(theta2, tol=1e-14, max_iter=60):
-    """θ3, θ4, θ5, θ6 at every crank angle: f(θ5) = 0 by regula falsi (Illinois) in ``WINDOW``, until no
-    estimate moves by ``tol`` (rad)."""
+def positions(theta2, tol=1e-14, max_iter=50):
+    """θ3, θ4, θ5, θ6 at every crank angle: f(θ5) = 0, its root bracketed in ``WINDOW`` (checked at every
+    crank angle), by the secant method from ``START`` until no step exceeds ``tol`` (rad); every root is
+    then checked to lie in the window, where f has no other."""
     theta2 = np.asarray(theta2, dtype=float)
     ax, ay = L2 * np.cos(theta2), L2 * np.sin(theta2)
     bx, by = B2 * np.cos(theta2 + BETA), B2 * np.sin(theta2 + BETA)
-    lo, hi = np.full(theta2.shape, WINDOW[0]), np.full(theta2.shape, WINDOW[1])
-    f_lo, f_hi = _closure(lo, ax, ay, bx, by)[3], _closure(hi, ax, ay, bx, by)[3]
-    if not (f_lo * f_hi < 0).all():
+    ends = [_closure(np.full(theta2.shape, end), ax, ay, bx, by)[3] for end in WINDOW]
+    if not (ends[0] * ends[1] < 0).all():
         raise ValueError("θ5's window does not bracket the root at every crank angle")
-    side, theta5 = np.zeros(theta2.shape), lo  # side: the end kept the last time (Illinois halves its f)
+    x0, x1 = np.full(theta2.shape, START[0]), np.full(theta2.shape, START[1])
+    f0, last = _closure(x0, ax, ay, bx, by)[3], _closure(x1, ax, ay, bx, by)
     for _ in range(max_iter):
-        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
-        fx = _closure(x, ax, ay, bx, by)[3]
-        low = fx * f_lo > 0  # the root lies between x and hi
-        lo, f_lo = np.where(low, x, lo), np.where(low, fx, f_lo)
-        hi, f_hi = np.where(low, hi, x), np.where(low, f_hi, fx)
-        f_hi = np.where(low & (side > 0), 0.5 * f_hi, f_hi)  # hi kept twice running
-        f_lo = np.where(~low & (side < 0), 0.5 * f_lo, f_lo)
-        side = np.where(low, 1.0, -1.0)
-        moved, theta5 = np.abs(x - theta5).max(), x
-        if moved < tol:
+        f1 = last[3]
+        with np.errstate(divide="ignore", invalid="ignore"):  # f1 = f0: that instant has converged
+            step = np.where(f1 != f0, f1 * (x1 - x0) / (f1 - f0), 0.0)
+        x0, f0, x1 = x1, f1, x1 - step
+        last = _closure(x1, ax, ay, bx, by)
+        if np.abs(step).max() < tol:
             break
     else:
-        raise ValueError(f"regula falsi did not settle in {max_iter} steps")
-    (cx, cy), (c5, s5), (ex, ey), _ = _closure(theta5, ax, ay, bx, by)
+        raise ValueError(f"the secant method did not settle in {max_iter} steps")
+    if not ((WINDOW[0] < x1) & (x1 < WINDOW[1])).all():
+        raise ValueError("the secant method left θ5's window (another root) at some crank angle")
+    theta5, ((cx, cy), (c5, s5), (ex, ey), _) = x1, last
     theta3 = np.arctan2(cy - ay, cx - ax)
     theta4 = np.arctan2(cy + P * s5 - by, cx + P * c5 - bx)
     theta6 = np.arctan2(ey, ex)
@@ -198,7 +199,7 @@ def main(count: int = 100_000, runs: int = 5) -> dict:
           float(np.abs(acceleration_fd - results["hand"][2][:, sample]).max()))
     print(f"Stephenson II six-bar, {count:,} crank angles, positions, velocities, accelerations")
     print(f"core, Newton's route (4x4 block, continued, batched)  {core_s:8.3f} s")
-    print(f"hand closed form (regula falsi in θ5, Cramer)         {hand_s:8.3f} s")
+    print(f"hand closed form (secant in θ5, Cramer)               {hand_s:8.3f} s")
     print(f"ratio {core_s / hand_s:.1f} (goal ≤ 10); largest differences core − hand {position:.1e} rad, "
           f"{velocity:.1e} rad/s, {acceleration:.1e} rad/s²; hand − central differences {fd[0]:.1e} rad/s, "
           f"{fd[1]:.1e} rad/s²")

@@ -65,8 +65,9 @@ def test_no_block_has_a_closed_form(mechanism):
     assert mechanism.closed_forms == [None]
 
 
-def test_the_hand_positions_close_both_loops(theta2, hand):
+def test_the_hand_and_the_core_positions_close_both_loops(theta2, hand, motion):
     assert loop_residuals(theta2, hand[0]) < 1e-12
+    assert loop_residuals(theta2, np.stack([motion.position[name] for name in NAMES])) < 1e-12
 
 
 def test_the_hand_bracket_holds_one_root_at_every_sampled_crank_angle():

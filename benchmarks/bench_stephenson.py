@@ -2,8 +2,9 @@
 
 The linkage: Stephenson's chain (two ternary links kept apart by binary links: two single binaries and a
 path of two) grounded on a binary link of the path of two, the Stephenson II inversion (Stephenson III,
-benchmarks/bench_sixbar.py, grounds a ternary; Stephenson I, a single binary).  The dimensions are this
-benchmark's own, chosen so that the crank turns fully with J far from singular all the way round:
+benchmarks/bench_sixbar.py, grounds a ternary; Stephenson I, one of the single binaries).  The
+dimensions are this benchmark's own, chosen so that the crank turns fully with J far from singular all the
+way round:
 
 * ground (link 1): pivots O2 = (0, 0) and O6 = (gx, gy) = (0.15, 0.52) m;
 * ternary crank (link 2), the input θ2: O2A = l2 = 0.04 m, O2B = b2 = 0.04 m, angle A-O2-B β = π/2;
@@ -139,8 +140,7 @@ def by_hand(theta2, omega2, alpha2):
         ra, rb = gx_a * c4 + gy_a * s4, gx_b * c6 + gy_b * s6
         w3, w5 = (ra * m22 - m12 * rb) / det, (m11 * rb - m21 * ra) / det
         # the n4 and n6 components: −l4 w4 = g_a·n4 − l3 w3 n3·n4 − p w5 n5·n4, alike for w6
-        n33 = c3 * c4 + s3 * s4
-        w4 = (L3 * w3 * n33 + P * w5 * (c5 * c4 + s5 * s4) - (-gx_a * s4 + gy_a * c4)) / L4
+        w4 = (L3 * w3 * (c3 * c4 + s3 * s4) + P * w5 * (c5 * c4 + s5 * s4) - (-gx_a * s4 + gy_a * c4)) / L4
         w6 = (L3 * w3 * (c3 * c6 + s3 * s6) + Q * w5 * (c5d * c6 + s5d * s6) - (-gx_b * s6 + gy_b * c6)) / L6
         return w3, w4, w5, w6
 
@@ -172,7 +172,8 @@ def by_differences(theta2, omega2, alpha2, h=1e-5):
     """Velocities and accelerations of the hand solution by central differences in θ2 (q̇ = q′ω2,
     q̈ = q″ω2² + q′α2, q″ from the differences of q′ taken from the hand velocities)."""
     ahead, behind = by_hand(theta2 + h, omega2, alpha2), by_hand(theta2 - h, omega2, alpha2)
-    slope = (np.stack(positions(theta2 + h)) - np.stack(positions(theta2 - h))) / (2 * h)
+    step = np.stack(positions(theta2 + h)) - np.stack(positions(theta2 - h))
+    slope = np.angle(np.exp(1j * step)) / (2 * h)  # angles compared modulo a turn
     return slope * omega2, (ahead[1] - behind[1]) / (2 * h) * omega2 + slope * alpha2
 
 

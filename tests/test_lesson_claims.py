@@ -279,3 +279,43 @@ def test_lesson02_both_crank_angles_for_a_rocker_at_100_degrees_are_on_the_open_
     np.testing.assert_allclose(roots, [1.419225, -0.253024], atol=5e-7)
     A, pin = fourbar_pins(l1, l2, l3, l4, roots, "open")
     np.testing.assert_allclose(pin, [B, B], atol=1e-12)
+
+
+# ---------------------------------------------------- statements a fresh reading found false, read back
+def _notebook_text(name: str) -> str:
+    import json
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "notebooks" / name
+    return "\n".join("".join(cell["source"]) for cell in json.loads(path.read_text())["cells"])
+
+
+def test_no_lesson_says_the_saws_loop_has_no_closed_form():
+    """Lessons 00, 05–07 use the saw's closed form (``saw.analytic``, eqs. 20–28): it has one."""
+    from pathlib import Path
+
+    for path in sorted((Path(__file__).parents[1] / "notebooks").glob("*.ipynb")):
+        text = _notebook_text(path.name)
+        assert not re.search(r"saw, whose loop has no closed form", text), path.name
+
+
+def test_arrow_scales_are_lengths_per_rate():
+    """A drawn arrow of scale × vector is a length: 0.1 m per m/s, never '0.1 s per m/s'."""
+    text = _notebook_text("04_fourbar_velocity_acceleration.ipynb")
+    assert "0.1 m per m/s" in text and "0.01 m per m/s²" in text
+    assert not re.search(r"\d s²? per m/s", text)
+
+
+def test_the_block_slides_fastest_at_the_levers_stops_and_the_six_bars_second_loop_never_toggles():
+    """Lesson 12: at the stops (θ2 = 210°, 330°) ω4 = 0 and |v_r4| = r2·ω2 = 0.5 m/s, from the block on the
+    ray O4 → A (r4 = |O4A|, differentiated by central differences here); the six-bar's arm O4C and coupler CD
+    never line up, by circle intersections of its second four-bar."""
+    r2, d, omega2 = 0.05, 0.10, 10.0
+    for degrees, v_expected in ((210.0, -0.5), (330.0, 0.5)):
+        theta, h = np.radians(degrees), 1e-6
+        r4 = [np.hypot(r2 * np.cos(t), d + r2 * np.sin(t)) for t in (theta - h, theta + h)]
+        angle = [np.arctan2(d + r2 * np.sin(t), r2 * np.cos(t)) for t in (theta - h, theta + h)]
+        assert abs((r4[1] - r4[0]) / (2 * h) * omega2 - v_expected) < 1e-6
+        assert abs((angle[1] - angle[0]) / (2 * h) * omega2) < 1e-6
+    text = _notebook_text("12_your_own_mechanism.ipynb")
+    assert "passes no toggle of its own" not in text and "never lines up with its coupler $CD$" in text

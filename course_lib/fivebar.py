@@ -587,7 +587,7 @@ class FiveBar:
         policy = failure_policy(on_failure)
         singular = self._singular("parallel", policy, theta1, theta4, x3, y3)
         p = _stacked(x3, y3, theta1, theta4, *omega)
-        return self._cores["forward"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
+        return self._cores["forward"].unknown_rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     @older_failure_keywords
     def crank_rates(self, theta1, theta4, x3, y3, vx, vy, *, on_failure: str | None = None):
@@ -602,7 +602,7 @@ class FiveBar:
         policy = failure_policy(on_failure)
         singular = self._singular("serial", policy, theta1, theta4, x3, y3)
         p = _stacked(theta1, theta4, x3, y3, *velocity)
-        return self._cores["inverse"].rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
+        return self._cores["inverse"].unknown_rates(p[..., :2], p[..., 2:4], p[..., 4:], singular=singular)[0]
 
     def workspace(self, x, y, modes: tuple[int, int] = (1, 1)) -> WorkspaceMap:
         """:class:`WorkspaceMap` of working mode ``modes`` over the grid of the 1-D vectors ``x``, ``y`` (m)

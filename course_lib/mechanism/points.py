@@ -62,7 +62,7 @@ class Points:
         for j, input_ in enumerate(self.inputs):
             u_rate = np.zeros((len(u), m))
             u_rate[:, j] = 1.0
-            q_rate, _, _ = self.rates(q, u, u_rate)
+            q_rate, _, _ = self.unknown_rates(q, u, u_rate)
             zeros_n, zeros_m = np.zeros((len(u), n)), np.zeros((len(u), m))
             terms = self._point_rate_fn(self._values, q, q_rate, zeros_n, u, u_rate, zeros_m)
             xy = self._point_fn(self._values, q, u)

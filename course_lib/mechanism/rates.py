@@ -79,14 +79,14 @@ class Rates:
             x[:, columns] = stack.solve(rhs)
         return x
 
-    def rates(self, q, u, u_rate, u_acceleration=None, *, trig: Mapping | None = None, singular=None):
+    def unknown_rates(self, q, u, u_rate, u_acceleration=None, *, trig: Mapping | None = None, singular=None):
         """q̇, q̈ (None without ``u_acceleration``) and the singular mask at known positions, by J·q̇ =
         −F_u·u̇, J·q̈ = −(the rest of d²F/dt²); NaN where singular (σ_min(J̃) < SINGULAR, see
         :meth:`smallest_singular_value`).  ``q`` (..., n), the others (..., m); ``trig``: {name: (cos, sin)}
         already computed; ``singular``: the caller's own mask.
 
         >>> th, x = sp.symbols("theta x")
-        >>> [a.tolist() for a in Mechanism([x**2 - th], [x], [th]).rates([2.0], [4.0], [1.0], [0.0])]
+        >>> [a.tolist() for a in Mechanism([x**2 - th], [x], [th]).unknown_rates([2.0], [4.0], [1.0], [0.0])]
         [[0.25], [-0.03125], False]
         """
         names = dict(q=q, u=u, u_rate=u_rate)
@@ -97,7 +97,7 @@ class Rates:
         if twin is not None:  # lengths far from unit size: solved in the twin's units (see .scaling)
             units = twin._units
             scaled = [a / (units.q if k == 0 else units.u) for k, a in enumerate(arrays)]
-            q_rate, q_acc, singular = twin.rates(*scaled[:3], *scaled[3:], trig=trig, singular=singular)
+            q_rate, q_acc, singular = twin.unknown_rates(*scaled[:3], *scaled[3:], trig=trig, singular=singular)
             return q_rate * units.q, None if q_acc is None else q_acc * units.q, singular
         shape, arrays = _rows(*arrays)
         q, u, u_rate = arrays[:3]
@@ -114,6 +114,10 @@ class Rates:
                                        singular, (J, F_u), known)
         q_acc = None if q_acc is None else q_acc.reshape(shape + q_acc.shape[-1:])
         return q_rate.reshape(shape + q_rate.shape[-1:]), q_acc, singular.reshape(shape)
+
+    def rates(self, q, u, u_rate, u_acceleration=None, *, trig: Mapping | None = None, singular=None):
+        """The older name of :meth:`unknown_rates` (``rates`` is the inputs' rates given to ``solve``)."""
+        return self.unknown_rates(q, u, u_rate, u_acceleration, trig=trig, singular=singular)
 
     def _rates(self, q, u, u_rate, u_acc, singular, terms, known=None
                ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:

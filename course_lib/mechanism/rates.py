@@ -97,7 +97,8 @@ class Rates:
         if twin is not None:  # lengths far from unit size: solved in the twin's units (see .scaling)
             units = twin._units
             scaled = [a / (units.q if k == 0 else units.u) for k, a in enumerate(arrays)]
-            q_rate, q_acc, singular = twin.unknown_rates(*scaled[:3], *scaled[3:], trig=trig, singular=singular)
+            q_rate, q_acc, singular = twin.unknown_rates(*scaled[:3], *scaled[3:], trig=trig,
+                                                         singular=singular)
             return q_rate * units.q, None if q_acc is None else q_acc * units.q, singular
         shape, arrays = _rows(*arrays)
         q, u, u_rate = arrays[:3]

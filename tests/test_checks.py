@@ -252,6 +252,9 @@ def test_omega4_expression():
         rejects(feedback, named, "as symbols")
         assert "differentiate" not in feedback.message, feedback
     assert checks.check_omega4_expression(rates[w4].subs(l3, 0.20)).ok  # l3 cancels out of ω4
+    # l3 written where l4 belongs: named as the missing l4, without claiming a number was put in
+    swapped = checks.check_omega4_expression(rates[w4].subs(l4, l3))
+    rejects(swapped, "no l4", "another link's length in its place")
 
 
 def _rates_by_sympy(linkage, theta2, omega2, alpha2, branch):
@@ -441,7 +444,10 @@ def test_fivebar_singularity():
     rejects(check("parallel", ROBOT, theta1, theta4, *P3), "not aligned")
     rejects(check("none", ROBOT, theta1, theta4, *P3), "one of them is zero")
     rejects(check("serial4", ROBOT, theta1, theta4, *P3), "other leg")
-    rejects(check("type 2", ROBOT, theta1, theta4, *P3), "serial1")
+    rejects(check("type 2", ROBOT, theta1, theta4, *P3), "not aligned")          # type II: parallel
+    assert check("Serial singularity of leg 1", ROBOT, theta1, theta4, *P3).ok
+    assert check("type I, leg 1", ROBOT, theta1, theta4, *P3).ok
+    rejects(check("sideways", ROBOT, theta1, theta4, *P3), "serial1")
 
 
 def test_fivebar_parallel_singularity():
@@ -451,6 +457,8 @@ def test_fivebar_parallel_singularity():
     P3 = P2 + 0.15 * (P4 - P2) / np.linalg.norm(P4 - P2)  # distal links in line
     check = checks.check_fivebar_singularity
     assert check("parallel", ROBOT, theta1, theta4, *P3).ok
+    assert check("parallel singularity", ROBOT, theta1, theta4, *P3).ok and check("type II", ROBOT, theta1,
+                                                                                     theta4, *P3).ok
     rejects(check("serial1", ROBOT, theta1, theta4, *P3), "not zero")
     rejects(check("none", ROBOT, theta1, theta4, *P3), "one of them is zero")
 

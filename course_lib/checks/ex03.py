@@ -162,9 +162,9 @@ def check_omega4_expression(answer) -> Feedback:
         ([omega3, -omega3], "that is ω3, the coupler's angular velocity; the task asks for the rocker's ω4."),
         (omega4 / w2, "the factor ω2 is missing: the velocity equations are proportional to the input "
                       "speed."),
-        (lambda expr: bool(numbered), f"your ω4 has no {numbered}: keep {numbered} (and the other lengths) "
-                                      "as symbols — the task asks for ω4 in l2, l3, l4, θ2, θ3, θ4, ω2, "
-                                      "not at the linkage's numbers."),
+        (lambda expr: bool(numbered), f"your ω4 has no {numbered}: keep {numbered} as symbols (a length put "
+                                      "in as its number, or another link's length in its place, both give "
+                                      "this) — ω4 in l2, l3, l4, θ2, θ3, θ4, ω2."),
     ], "differentiate the two loop components, then solve the linear 2×2 system for ω3, ω4.")
 
 
@@ -175,8 +175,8 @@ def _rates_verdict(answer, linkage: FourBar, theta2: float, omega2: float, alpha
     this, other = (linkage.solve(theta2, omega2, alpha2, branch=b) for b in (branch, other_branch))
     omega4, alpha4 = this.omega4, this.alpha4
     return diagnose(answer, FIGURES, [
-        ((omega4, alpha4), "Correct: the same Jacobian J solves both the velocity and the acceleration "
-                           "equations."),
+        ((omega4, alpha4), "Correct (on the Jacobian route, one J solves both the velocity and the "
+                           "acceleration equations)."),
         ((alpha4, omega4), "the two are swapped: give (ω4, α4)."),
         ((other.omega4, other.alpha4), f"those are the rates of the {other_branch} assembly; the task is "
                                        f"on the {branch} assembly."),
@@ -299,8 +299,8 @@ def check_fourbar_rates(answer, linkage: FourBar, theta2: float, omega2: float, 
         return wrong(f"your {called} is right at the task's instant but not at {where}: "
                      + there.message.removeprefix("Not yet: "))
     return right(f"Correct (to {FIGURES}): your {called} gives ω4 and α4 of the {branch} assembly at the "
-                 f"task's instant and at {len(calls) - 1} other instants — the same Jacobian J solves both "
-                 "the velocity and the acceleration equations.")
+                 f"task's instant and at {len(calls) - 1} other instants (on the Jacobian route, one J "
+                 "solves both the velocity and the acceleration equations).")
 
 
 def _toggle_verdict(answer, linkage: FourBar) -> Feedback:

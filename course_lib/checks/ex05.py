@@ -280,8 +280,20 @@ _SINGULARITIES = {
 }
 
 
+def _singularity_word(text: str) -> str:
+    """A student's name of a singularity, read as one of _SINGULARITIES: "serial singularity of leg 1",
+    "type I, leg 4", "type II", "parallel singularity", "no singularity" … (type I is serial, type II
+    parallel)."""
+    read = re.sub(r"[^a-z0-9]", "", text.lower())
+    for filler in ("singularity", "singular", "leg", "ofthe", "of", "at"):
+        read = read.replace(filler, "")
+    read = re.sub(r"^type(ii|2)$", "parallel", read)
+    read = re.sub(r"^type(i|1)(?=[14]$)", "serial", read)
+    return "none" if read in ("no", "none", "nothing") else read
+
+
 @reads(word(tuple(_SINGULARITIES), 'answer one of "serial1", "serial4", "parallel" or "none" (a string).',
-            clean=lambda text: re.sub(r"[\s_\-,()]|leg", "", text.lower())),
+            clean=_singularity_word),
        task={"robot": FiveBar, "theta1": "rad", "theta4": "rad", "x3": "m", "y3": "m"}, possible=_posed)
 def check_fivebar_singularity(answer, robot: FiveBar, theta1: float, theta4: float, x3: float, y3: float
                               ) -> Feedback:

@@ -50,15 +50,16 @@ def draw_linkage(points: Sequence[Sequence[float]], links: Sequence[tuple[int, i
                  ax: Axes | None = None, *, joint_labels: Sequence[str] | None = None,
                  ground: Sequence[int] = (), title: str | None = None, grid: bool = True,
                  linestyle: str = "-", alpha: float = 1.0) -> Axes:
-    """Draw a planar linkage in equal aspect on ``ax`` (default: a new figure's), returned: the joints'
-    ``points`` (x, y) (m) with ``joint_labels`` (default "1", "2", …), ``links`` (i, j, label) as bars
-    labelled at their middle, the ``ground`` joints with the hatched fixed-pivot symbol.
+    """The older, index-based spelling of :func:`draw`: the joints' ``points`` (x, y) (m) with
+    ``joint_labels`` (default "1", "2", …), ``links`` (i, j, label), the ``ground`` joints by index — drawn
+    by :func:`draw` as the links "link 1", "link 2", … between the joints "P1", "P2", …, each written with
+    its label (the link's line carries its name as ``gid``).
 
     >>> import matplotlib; matplotlib.use("Agg")
     >>> ax = draw_linkage([(0, 0), (0.03, 0.04), (0.1, 0.05), (0.1, 0)],
     ...                   [(0, 1, "l2"), (1, 2, "l3"), (2, 3, "l4"), (3, 0, "l1")], ground=[0, 3], title="4")
-    >>> ax.get_title(), [text.get_text() for text in ax.texts][:5]
-    ('4', ['l2', 'l3', 'l4', 'l1', '1'])
+    >>> ax.get_title(), sorted(text.get_text() for text in ax.texts)
+    ('4', ['1', '2', '3', '4', 'l1', 'l2', 'l3', 'l4'])
     """
     xy = require_finite("points", points, unit="metres")
     if xy.ndim != 2 or xy.shape[1] != 2 or not len(xy):
@@ -68,35 +69,15 @@ def draw_linkage(points: Sequence[Sequence[float]], links: Sequence[tuple[int, i
     labels = joint_labels if joint_labels is not None else [str(k + 1) for k in range(len(xy))]
     _one_each("joint_labels", labels, len(xy), "text per joint")
     require_choice("linestyle", linestyle, ("-", "--", "-.", ":"))
-    number = _numbers("alpha", alpha, "a number from 0 to 1")
-    if number.ndim or not 0 <= number <= 1:
-        raise InvalidArgumentError(f"alpha must be a number from 0 to 1; got {alpha!r}")
-    alpha = float(number)
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        ax = plt.figure(figsize=(5, 4)).add_subplot()
-    _axes(ax)
-    span = float(np.ptp(xy, axis=0).max()) or 1.0
-    for k, (i, j, label) in enumerate(links):
-        color = LINK_COLORS[k % len(LINK_COLORS)]
-        segment = xy[[i, j]]
-        ax.plot(*segment.T, linestyle, color=color, lw=3, alpha=alpha, solid_capstyle="round")
-        direction = segment[1] - segment[0]
-        normal = np.array([-direction[1], direction[0]]) / (np.hypot(*direction) or 1.0)
-        ax.text(*(segment.mean(axis=0) + 0.04 * span * normal), label, color=color, ha="center", va="center",
-                fontsize=10, fontweight="bold", alpha=alpha)
-    for index in ground:
-        _ground_symbol(ax, xy[index], 0.03 * span)
-    ax.plot(xy[:, 0], xy[:, 1], "o", ms=7, mfc="white", mec="black", zorder=3, alpha=alpha)
-    for (x, y), label in zip(xy, labels, strict=True):
-        ax.annotate(label, (x, y), xytext=(6, 6), textcoords="offset points", fontsize=9, alpha=alpha)
-    ax.set(aspect="equal", adjustable="datalim", xlabel="x (m)", ylabel="y (m)")
-    ax.margins(0.08)
-    if grid:
-        ax.grid(True, linestyle="--", alpha=0.5)
-    if title is not None:
-        ax.set_title(title)
+    keys = [f"P{k + 1}" for k in range(len(xy))]
+    names = [f"link {k + 1}" for k in range(len(links))]
+    ax = draw({name: (keys[i], keys[j]) for name, (i, j, _) in zip(names, links, strict=True)},
+              dict(zip(keys, xy, strict=True)), ax, ground=[keys[index] for index in ground],
+              labels={key: str(label) for key, label in zip(keys, labels, strict=True)},
+              link_labels={name: label for name, (_, _, label) in zip(names, links, strict=True)},
+              styles={name: {"linestyle": linestyle} for name in names}, title=title, alpha=alpha)
+    if not grid:
+        ax.grid(False)
     return ax
 
 

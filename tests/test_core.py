@@ -186,10 +186,13 @@ def test_draw_linkage_draws_each_link_through_its_joints():
     points = np.array([[0.0, 0.0], [0.03, 0.05], [0.19, 0.10], [0.20, 0.0]])
     links = [(0, 1, "l2"), (1, 2, "l3"), (2, 3, "l4"), (3, 0, "l1")]
     ax = draw_linkage(points, links, ground=[0, 3], title="four-bar")
-    for line, (i, j, _) in zip(ax.lines[: len(links)], links, strict=True):
-        np.testing.assert_array_equal(np.column_stack(line.get_data()), points[[i, j]])
-    texts = [t.get_text() for t in ax.texts]
-    assert texts[:4] == ["l2", "l3", "l4", "l1"] and texts[4:] == ["1", "2", "3", "4"]
+    lines = {line.get_gid(): line for line in ax.lines}
+    for k, (i, j, label) in enumerate(links, 1):  # drawn by draw, as "link k" between the joints
+        np.testing.assert_array_equal(np.column_stack(lines[f"link {k}"].get_data()), points[[i, j]])
+        label_text = next(t for t in ax.texts if t.get_gid() == f"label link {k}")
+        assert label_text.get_text() == label
+    texts = sorted(t.get_text() for t in ax.texts)
+    assert texts == ["1", "2", "3", "4", "l1", "l2", "l3", "l4"] and ax.get_title() == "four-bar"
     plt.close(ax.figure)
 
 

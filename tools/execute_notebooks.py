@@ -110,17 +110,35 @@ def write(notebook: nbformat.NotebookNode, path: pathlib.Path) -> None:
     nbformat.write(notebook, path)
 
 
+def _kernel_manager():
+    """A kernel manager that hands the kernel CurveZMQ keys where pyzmq has them (as `make lab` does,
+    tools/lab-settings/jupyter_server_config.py), so ipykernel does not warn "running over TCP without
+    encryption" at every notebook; else the plain one."""
+    import zmq
+    from jupyter_client.manager import KernelManager
+
+    if zmq.has("curve"):
+        return KernelManager(kernel_name="python3", transport_encryption="auto")
+    return KernelManager(kernel_name="python3")
+
+
 def execute(path: pathlib.Path) -> float:
     notebook = read(path)
     start = time.perf_counter()
+    manager = _kernel_manager()
     client = NotebookClient(
         notebook,
+        km=manager,
         timeout=600,
         kernel_name="python3",
         resources={"metadata": {"path": str(path.parent)}},
         record_timing=False,
     )
-    client.execute()
+    try:
+        client.execute()
+    finally:  # a manager handed to the client is not shut down by it
+        if manager.has_kernel:
+            manager.shutdown_kernel(now=True)
     write(notebook, path)
     return time.perf_counter() - start
 

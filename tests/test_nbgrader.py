@@ -4,8 +4,8 @@ Points: every set's graded checks are worth what the kinds in its task headings 
 kind 2, a sum added), read here from the solution notebooks independently of the exporter.
 
 Grading: in one temporary course directory (a copy of the shipped nbgrader/ configuration and the source
-exported by tools/export_nbgrader.py), ``nbgrader generate_assignment`` makes the student versions of ex03
-and ex06, and ``release_assignment`` puts ex03 into a temporary exchange under the configured course id.
+exported by tools/export_nbgrader.py), ``nbgrader generate_assignment`` makes the student versions of every
+set (ex01–ex06), and ``release_assignment`` puts ex03 into a temporary exchange under the configured course id.
 For each set two students hand in: one with every answer right, one with one task answered wrongly and
 another left unanswered.  ``nbgrader autograde`` must give full marks to the first, and to the second all
 the points but those two tasks'; ``nbgrader generate_feedback`` must show the second the checker's own
@@ -43,8 +43,17 @@ RAM_IN_M = 'ram = (motion.velocity["x"], motion.acceleration["x"])'  # ex06 Task
 RAM_IN_MM = 'ram = (1000 * motion.velocity["x"], 1000 * motion.acceleration["x"])'
 #: per set: the solution, the task answered wrongly (grade id, text replaced, replacement), the task left
 #: unanswered (as released: nbgrader's stub raises NotImplementedError)
+SOLUTIONS_DIR = ROOT / "notebooks" / "solutions"
 SETS = {
+    "ex01": (SOLUTIONS_DIR / "ex01_vector_loops_and_mobility.ipynb",
+             (4, 'why_it_moves = "b"', 'why_it_moves = "a"'), 2),
+    "ex02": (SOLUTIONS_DIR / "ex02_newton_raphson.ipynb",
+             (3, 'failure_reason = "a"', 'failure_reason = "b"'), 1),
     "ex03": (EX03, (1, RIGHT_BRANCH, WRONG_BRANCH), 4),
+    "ex04": (SOLUTIONS_DIR / "ex04_power_saw.ipynb", (4, 'why_two = "a"', 'why_two = "b"'), 1),
+    # ex05 Task 2: θ1 on the other root, the working mode (+1, +1) instead of (−1, +1)
+    "ex05": (SOLUTIONS_DIR / "ex05_fivebar.ipynb", (2, 'theta1 = 2 * np.arctan((-k["b1"] - np.sqrt(',
+                                                     'theta1 = 2 * np.arctan((-k["b1"] + np.sqrt('), 4),
     "ex06": (EX06, (3, RAM_IN_M, RAM_IN_MM), 4),
 }
 
@@ -162,12 +171,13 @@ def test_the_shipped_configuration_names_the_course():
     assert all(pathlib.Path(folder).is_dir() for folder in config.HTMLExporter.extra_template_basedirs)
 
 
-# ---------------------------------------------------------------- nbgrader itself, on ex03 and ex06
+# ---------------------------------------------------------------- nbgrader itself, on every set
 
 
 @pytest.fixture(scope="module")
 def course(tmp_path_factory):
-    """A course directory where ex03 and ex06 were generated, released, handed in, graded and fed back."""
+    """A course directory where every set was generated, released, handed in (a full submission, and one
+    with a task wrong and one left unanswered), autograded and fed back."""
     course = tmp_path_factory.mktemp("nbgrader") / "course"
     course.mkdir()
     shutil.copyfile(SHIPPED / "nbgrader_config.py", course / "nbgrader_config.py")

@@ -319,3 +319,19 @@ def test_the_block_slides_fastest_at_the_levers_stops_and_the_six_bars_second_lo
         assert abs((angle[1] - angle[0]) / (2 * h) * omega2) < 1e-6
     text = _notebook_text("12_your_own_mechanism.ipynb")
     assert "passes no toggle of its own" not in text and "never lines up with its coupler $CD$" in text
+
+
+def test_lesson_12_counts_joints_as_lesson_01_and_says_which_loops_reduce():
+    """A pin joining k links is k − 1 joints (lesson 01): on ex01's six-bar with a triple pin, counting each
+    pin once would give one loop instead of two; and not every loop reads as lesson 03's quadratic (the
+    saw's block is Newton's, `closed_forms == [None]`)."""
+    from course_lib.saw import Saw
+
+    bodies = [{"O2", "A"}, {"A", "B"}, {"B", "O4"}, {"B", "C"}, {"C", "O6"},  # B joins three links
+              {"O2", "O4", "O6"}]
+    pins = set().union(*bodies)
+    by_pin = sum(sum(pin in body for body in bodies) - 1 for pin in pins)
+    assert (len(pins) - len(bodies) + 1, by_pin - len(bodies) + 1) == (1, 2)
+    text = _notebook_text("12_your_own_mechanism.ipynb")
+    assert "each counted once" not in text and "a pin joining $k$ links is $k - 1$ joints" in text
+    assert "reads every loop" not in text and Saw().mechanism.closed_forms == [None]

@@ -5,7 +5,8 @@ kind 2, a sum added), read here from the solution notebooks independently of the
 
 Grading: in one temporary course directory (a copy of the shipped nbgrader/ configuration and the source
 exported by tools/export_nbgrader.py), ``nbgrader generate_assignment`` makes the student versions of every
-set (ex01–ex06), and ``release_assignment`` puts ex03 into a temporary exchange under the configured course id.
+set (ex01–ex06), and ``release_assignment`` puts ex03 into a temporary exchange under the configured course
+id.
 For each set two students hand in: one with every answer right, one with one task answered wrongly and
 another left unanswered.  ``nbgrader autograde`` must give full marks to the first, and to the second all
 the points but those two tasks'; ``nbgrader generate_feedback`` must show the second the checker's own

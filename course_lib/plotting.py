@@ -255,6 +255,16 @@ def _paths(points) -> dict:
     return paths
 
 
+def _sliders(sliders, blocks) -> list:
+    """The points drawn as slider blocks: ``sliders=`` (the declaration's word), or ``blocks=``, its older
+    name; not two different lists."""
+    sliders, blocks = _sequence("sliders", sliders), _sequence("blocks", blocks)
+    if sliders and blocks and sliders != blocks:
+        raise InvalidArgumentError(f"give sliders= (blocks= is its older name), not both; got "
+                                   f"sliders={sliders!r} and blocks={blocks!r}")
+    return sliders or blocks
+
+
 def _declared(links, points, options: dict):
     """``links``, ``points`` and the drawing ``options`` (ground, blocks, plates, styles) as drawn: a
     declaration (a ``Mechanism``, or a machine with one as its ``.mechanism``) with a ``Motion`` of it
@@ -271,8 +281,9 @@ def _declared(links, points, options: dict):
     return links, points, options
 
 
-def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (), blocks: Sequence = (),
-                    labels: Mapping | bool | None = None, styles: Mapping[str, Mapping] | None = None,
+def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (), sliders: Sequence = (),
+                    blocks: Sequence = (), labels: Mapping | bool | None = None,
+                    styles: Mapping[str, Mapping] | None = None,
                     plates: Mapping[str, Sequence] | None = None,
                     caption: Callable[[int], str] | None = None,
                     background: Callable[[Axes], object] | None = None, title: str | None = None,
@@ -281,17 +292,18 @@ def animate_linkage(links, points, *, ground: Sequence = (), trace: Sequence = (
     """A linkage (as :class:`LinkageArtist`) moving through the frames of ``points`` (key → (frames, 2),
     as ``Mechanism.joints(motion)``, or (frames, P, 2); one instant is one frame), as an
     :func:`animation_html` player; ``trace`` points get their dotted path, ``caption(frame)`` a corner
-    line, ``background(ax)`` draws what stays.  ``links`` may be a declaration (a ``Mechanism``, or a
-    machine such as ``FourBar``) and ``points`` a ``Motion`` of it: ``animate_linkage(wiper,
-    wiper.motion(theta2))`` draws its named links at its declared points.
+    line, ``background(ax)`` draws what stays; ``sliders`` points get a slider block (``blocks=``, its
+    older name).  ``links`` may be a declaration (a ``Mechanism``, or a machine such as ``FourBar``) and
+    ``points`` a ``Motion`` of it: ``animate_linkage(wiper, wiper.motion(theta2))`` draws its named links
+    at its declared points.
 
     >>> html = animate_linkage({"crank": ("O", "A")},
     ...                        {"O": np.zeros((3, 2)), "A": [[1, 0], [0, 1], [-1, 0]]}, ground=["O"])
     >>> html.frame_count
     3
     """
-    links, points, options = _declared(links, points, {"ground": ground, "blocks": blocks, "plates": plates,
-                                                       "styles": styles})
+    links, points, options = _declared(links, points, {"ground": ground, "blocks": _sliders(sliders, blocks),
+                                                       "plates": plates, "styles": styles})
     paths = _paths(points)
     for argument, function in (("caption", caption), ("background", background)):
         if function is not None and not callable(function):
@@ -339,7 +351,8 @@ def _stage(ax, links, paths, trace, labels, *, ground, blocks, plates, styles) -
 
 
 def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Sequence = (),
-         trace: Sequence = (), blocks: Sequence = (), labels: Mapping | bool | None = None,
+         trace: Sequence = (), sliders: Sequence = (), blocks: Sequence = (),
+         labels: Mapping | bool | None = None,
          link_labels: Mapping | bool | None = None,
          styles: Mapping[str, Mapping] | None = None, plates: Mapping[str, Sequence] | None = None,
          title: str | None = None, alpha: float = 1.0,
@@ -349,7 +362,8 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
     or a sweep (key → (frames, 2), or (frames, P, 2)) at its ``frame``, whose ``trace`` points get their
     dotted path.  ``links`` may be a declaration (a ``Mechanism``, or a machine such as ``FourBar``) and
     ``points`` a ``Motion`` of it: ``draw(wiper, wiper.solve(0.7))``, with the declaration's ground
-    pivots, sliders, plates and styles unless given.  ``labels``: point key → text, or True for every
+    pivots, sliders, plates and styles unless given; ``sliders``: the points drawn as slider blocks
+    (``blocks=`` is its older name).  ``labels``: point key → text, or True for every
     point's own name; ``link_labels``: link name → text, or True for every link's own name, written beside
     the link's middle (its ``gid`` is "label " + the link's name); ``alpha`` (0 to 1) fades the whole
     drawing, e.g. a seed drawn under a solution.  Each link's line carries its name as ``gid``.
@@ -360,8 +374,8 @@ def draw(links, points, ax: Axes | None = None, *, frame: int = 0, ground: Seque
     >>> ax.lines[0].get_xydata().tolist(), ax.get_title(), [t.get_text() for t in ax.texts]
     ([[0.0, 0.0], [0.03, 0.04]], 'one', ['crank'])
     """
-    links, points, options = _declared(links, points, {"ground": ground, "blocks": blocks, "plates": plates,
-                                                       "styles": styles})
+    links, points, options = _declared(links, points, {"ground": ground, "blocks": _sliders(sliders, blocks),
+                                                       "plates": plates, "styles": styles})
     paths = _paths(points)
     count = len(next(iter(paths.values())))
     whole = isinstance(frame, int | np.integer) and not isinstance(frame, bool | np.bool_)

@@ -36,7 +36,15 @@ from PIL import Image as PILImage
 from .errors import CourseLibError, InvalidArgumentError, InvalidGeometryError
 from .fourbar import BRANCHES, FourBar
 from .planar import wrap_angle
-from .plotting import LINK_COLORS, LinkageArtist, _figure_size, _ground_symbol, _motion_background, _Quantizer
+from .plotting import (
+    LINK_COLORS,
+    LinkageArtist,
+    _figure_size,
+    _ground_symbol,
+    _motion_background,
+    _Quantizer,
+    _sliders,
+)
 from .thresholds import APPROACH, COINCIDENT, TRANSMISSION_MIN_DEG
 
 __all__ = ["Explorer", "ExplorerSpec", "ExplorerStage", "Readout", "build_explorer", "fourbar_explorer",
@@ -921,7 +929,7 @@ def fivebar_explorer(
 
 
 def mechanism_explorer(
-    mechanism, motion, *, ground=(), trace=(), blocks=(), styles: Mapping | None = None,
+    mechanism, motion, *, ground=(), trace=(), sliders=(), blocks=(), styles: Mapping | None = None,
     rates: Mapping | None = None, readout: Callable[[object], Sequence[str]] | None = None,
     title: str = "mechanism", size: tuple[float, float] = (4.0, 3.6),
 ) -> Explorer:
@@ -933,8 +941,9 @@ def mechanism_explorer(
     a grid of the five-bar's two cranks), sets each slider's range (degrees for an input named "theta…",
     all round the turn; else the values the motion covers), the limits and the ``trace`` paths, and seeds
     each solve from its nearest solved instant (the motion's assembly).  ``ground`` points get the
-    fixed-pivot symbol, ``blocks`` a slider block, ``styles`` go by link name ("link 1", …): each, when not
-    given, the declaration's own (its ``ground``, ``sliders``, ``styles``, and its ``plates``); ``rates``
+    fixed-pivot symbol, ``sliders`` a slider block (``blocks=`` its older name), ``styles`` go by link name
+    ("link 1", …): each, when not given, the declaration's own (its ``ground``, ``sliders``, ``styles``, and
+    its ``plates``); ``rates``
     (input → rate) go to each solve, so ``readout(instant) -> lines`` can show velocities; by default each
     unknown is listed.
 
@@ -945,7 +954,7 @@ def mechanism_explorer(
     ...                   "A": sp.Matrix([sp.cos(th), sp.sin(th)]), "B": sp.Matrix([x, 0])},
     ...                   links=[("O", "A")])  # a Scotch yoke: A slides in B's vertical slot, no link
     >>> turn = crank.solve({th: np.radians(np.arange(0, 360, 10))}, guess={x: 1.0})
-    >>> mechanism_explorer(crank, turn, ground=["O"], blocks=["B"]).update(theta_deg=60.0).lines[0]
+    >>> mechanism_explorer(crank, turn, ground=["O"], sliders=["B"]).update(theta_deg=60.0).lines[0]
     'x = 0.5'
     >>> from course_lib.fourbar import FourBar
     >>> linkage = FourBar(0.06, 0.18, 0.12, 0.20)
@@ -968,7 +977,7 @@ def mechanism_explorer(
     if not isinstance(mechanism, Mechanism):
         raise InvalidGeometryError(f"mechanism must be a course_lib Mechanism or a machine with one "
                                    f"(its .mechanism); got {mechanism!r}")
-    ground, blocks = ground or mechanism.ground, blocks or mechanism.sliders
+    ground, blocks = ground or mechanism.ground, _sliders(sliders, blocks) or mechanism.sliders
     styles = styles or mechanism.styles
     if not isinstance(motion, Motion) or np.ndim(next(iter(motion.inputs.values()))) < 1:
         raise InvalidGeometryError(f"motion must be solved by mechanism.solve at several instants (an "

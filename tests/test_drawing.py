@@ -12,7 +12,7 @@ import pytest
 import sympy as sp
 from matplotlib.figure import Figure
 
-from course_lib.errors import CourseLibError
+from course_lib.errors import CourseLibError, InvalidArgumentError
 from course_lib.fivebar import FiveBar
 from course_lib.fourbar import FourBar
 from course_lib.mechanism import Mechanism
@@ -224,3 +224,14 @@ def shown(value) -> list[str]:
     if isinstance(value, list | tuple):
         texts += [text for entry in value for text in shown(entry)]
     return texts
+
+
+def test_sliders_is_the_declarations_word_and_blocks_its_older_name():
+    links, points = {"rod": ("A", "C")}, {"A": (0.0, 0.0), "C": (0.2, 0.05)}
+    for given in ({"sliders": ["C"]}, {"blocks": ["C"]}, {"sliders": ["C"], "blocks": ["C"]}):
+        ax = draw(links, points, **given)
+        block = next(line for line in ax.lines if line.get_marker() == "s")   # the slider block, a square
+        assert block.get_xydata().tolist() == [[0.2, 0.05]], given
+        matplotlib.pyplot.close(ax.figure)
+    with pytest.raises(InvalidArgumentError, match=r"sliders=\['C'\] and blocks=\['A'\]"):
+        draw(links, points, sliders=["C"], blocks=["A"])

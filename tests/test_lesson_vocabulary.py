@@ -16,6 +16,7 @@ OLDER = {
     r"\bon_unreachable\b|\bon_singular\b": "on_failure=",
     r"\.mask\b": ".unreachable",
     r"\bdraw_linkage\b": "draw",
+    r"\bblocks\s*=": "sliders= (the declaration's word)",
     r"\bjoint_positions\b": "mechanism.joints(motion)",
     r"\bnewton\.is_singular\b|\bfrom course_lib\.newton import[^\n]*\bis_singular\b":
         "newton.ill_conditioned",
@@ -75,7 +76,7 @@ def test_the_glossary_lists_every_older_spelling_this_test_counts():
     glossary = (ROOT / "docs" / "glossary.md").read_text()
     older = glossary.split("### Older spellings", 1)[1].split("\n## ", 1)[0]
     for word in ("branch=", "on_unreachable=", "on_singular=", "mask", "draw_linkage", "joint_positions",
-                 "is_singular", "reachable"):
+                 "blocks=", "is_singular", "reachable"):
         assert word in older, word
 
 

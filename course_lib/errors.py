@@ -141,8 +141,9 @@ def require_broadcast(**arrays: Any) -> list[np.ndarray]:
         raise InvalidGeometryError(f"the inputs must broadcast to one shape; got {shapes}") from None
 
 
-def require_choice(name: str, value: Any, choices: Iterable[Any]) -> Any:
-    """Return ``value`` if it is one of ``choices``, else raise naming the valid ones.
+def require_choice(name: str, value: Any, choices: Iterable[Any], error: type | None = None) -> Any:
+    """Return ``value`` if it is one of ``choices``, else raise ``error`` naming the valid ones
+    (``InvalidGeometryError`` by default: a branch or mode label; ``InvalidArgumentError`` for a policy).
 
     >>> require_choice("branch", "open", ("open", "crossed"))
     'open'
@@ -150,7 +151,7 @@ def require_choice(name: str, value: Any, choices: Iterable[Any]) -> Any:
     choices = tuple(choices)
     if not any(value == choice and type(value) is not bool for choice in choices):
         listed = ", ".join(repr(choice) for choice in choices)
-        raise InvalidGeometryError(f"{name} must be one of {listed}; got {value!r}")
+        raise (error or InvalidGeometryError)(f"{name} must be one of {listed}; got {value!r}")
     return value
 
 
@@ -165,7 +166,8 @@ def failure_policy(on_failure: str | None = None) -> str:
     >>> failure_policy(), failure_policy("nan")
     ('raise', 'nan')
     """
-    return "raise" if on_failure is None else require_choice("on_failure", on_failure, FAILURE_POLICIES)
+    return "raise" if on_failure is None else require_choice("on_failure", on_failure, FAILURE_POLICIES,
+                                                             InvalidArgumentError)
 
 
 def older_failure_keywords(function):

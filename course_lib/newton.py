@@ -274,7 +274,7 @@ def _settings(tol, max_iter, residual_tol, on_failure) -> tuple[float, int, floa
     if (type(tol) is float and 0 < tol < np.inf and residual_tol is None and type(max_iter) is int
             and 1 <= max_iter <= MAX_ITERATIONS and on_failure in ON_FAILURE):
         return tol, max_iter, tol  # the common case, at once
-    require_choice("on_failure", on_failure, ON_FAILURE)
+    require_choice("on_failure", on_failure, ON_FAILURE, InvalidArgumentError)
 
     def number(name, value, allow_inf=False):
         real = isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)

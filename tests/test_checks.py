@@ -594,3 +594,29 @@ def test_reach_height_against_bisection():
     rejects(check(low * 1000, ROBOT, x3), "millimetres")
     rejects(check(leg4, ROBOT, x3), "leg 4 stretches", hidden=[low])
     rejects(check(low + 0.01, ROBOT, x3), "farther from the line", hidden=[low])
+
+
+def test_the_newton_update_read_as_a_teacher_reads_it():
+    """Either side of sp.Eq may hold the new iterate's own symbol; x on the left is the old iterate; the
+    cubic's roots (what sp.solve gives) are not the update — each named, never sent to the wrong hint."""
+    x = sp.Symbol("x")
+    update = (2 * x**3 + 5) / (3 * x**2 - 2)  # x − f/f′ for f = x³ − 2x − 5, simplified by hand
+    assert checks.check_newton_update(sp.Eq(sp.Symbol("x_next"), update)).ok
+    assert checks.check_newton_update(sp.Eq(update, sp.Symbol("x_new"))).ok
+    rejects(checks.check_newton_update(sp.Eq(x, update)), "x on the left", "current iterate")
+    rejects(checks.check_newton_update(sp.solve(x**3 - 2 * x - 5, x)), "the cubic's roots")
+
+
+def test_a_right_step_formed_with_an_inverse_is_not_told_it_was_not():
+    bench = FourBar(0.07, 0.20, 0.15, 0.25)
+    seed, theta2 = np.array([0.5, 1.6]), np.radians(40.0)
+    F, J = bench.loop_residual(theta2, *seed), bench.loop_jacobian(*seed)
+    feedback = checks.check_fourbar_newton_step(-np.linalg.inv(J) @ F, bench, theta2, seed)
+    assert feedback.ok and "solved without forming" not in feedback.message
+
+
+def test_the_saws_omega3_with_theta3_eliminated_is_named():
+    r1y, r2, r3, t2, w2 = sp.symbols("r1y r2 r3 theta2 omega2")
+    eliminated = -w2 * r2 * sp.cos(t2) / (-r3 * sp.sqrt(1 - ((r1y - r2 * sp.sin(t2)) / r3) ** 2))
+    rejects(checks.check_saw_omega3_expression(eliminated), "θ3 eliminated", "keep θ3")
+    rejects(checks.check_saw_omega3_expression(-r2 * sp.cos(t2) / r3), "proportional to ω2")

@@ -943,8 +943,13 @@ def plain(answer: Any, names: Sequence[str]):
         problem = f"an object of type {type(answer).__name__}"
     if problem:
         return wrong(f"that is not a sympy expression but {problem}; build one from sp.symbols(...).")
-    if isinstance(expr, sp.Equality):
-        expr = expr.rhs if expr.lhs.is_Symbol and expr.lhs.name not in names else expr.lhs - expr.rhs
+    if isinstance(expr, sp.Equality):  # "new = formula", either way round: the formula; else lhs − rhs
+        if expr.lhs.is_Symbol and expr.lhs.name not in names:
+            expr = expr.rhs
+        elif expr.rhs.is_Symbol and expr.rhs.name not in names:
+            expr = expr.lhs
+        else:
+            expr = expr.lhs - expr.rhs
     if not isinstance(expr, sp.Expr) or getattr(expr, "is_Matrix", False):
         what = _container(expr) or f"a sympy {type(expr).__name__}"
         return wrong(f"that is {what}, not one sympy expression (a formula such as l2*sp.cos(theta2)).")

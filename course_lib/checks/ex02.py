@@ -28,6 +28,14 @@ def check_newton_update(answer) -> Feedback:
     import sympy as sp
     x = sp.Symbol("x", real=True)
     f, df = _wallis(x)
+    if isinstance(answer, sp.Equality) and getattr(answer.lhs, "name", None) == "x":
+        return wrong("an equation with x on the left: x is the current iterate, not the next one. Give the "
+                     "update itself (an expression in x), or sp.Eq(x_new, …) with a new symbol on the left.")
+    if isinstance(answer, list | tuple) and 0 < len(answer) <= 10 and all(
+            getattr(root, "free_symbols", None) == set() and abs(complex(_wallis(root)[0])) < 1e-9
+            for root in answer):
+        return wrong("those are the cubic's roots (what sp.solve(f, x) gives); the task asks for the update "
+                     "formula x_{n+1} in x, the step from any x.")
     return judge_expression(answer, (x,), [
         (x - f / df, "Correct: x − f/f' (for this cubic it simplifies to (2x³ + 5)/(3x² − 2))."),
         (x + f / df, "a sign error: the tangent reaches zero at x − f/f', not x + f/f'."),
@@ -127,7 +135,7 @@ def check_fourbar_newton_step(answer, linkage: FourBar, theta2: float, seed) -> 
     F, J = linkage.loop_residual(theta2, *seed), linkage.loop_jacobian(*seed)
     step = np.linalg.solve(J, -F)
     return diagnose(answer, FIGURES, [
-        (step, "Correct: J·Δx = −F, solved without forming J⁻¹."),
+        (step, "Correct: Δx solves J·Δx = −F (np.linalg.solve finds it without forming J⁻¹)."),
         (seed + step, "that is the new iterate x1 = x0 + Δx; the task asks for the step Δx itself."),
         (-step, "a sign error: the step solves J·Δx = −F (minus the residual)."),
         (step[::-1], "the entries are swapped: order them (Δθ3, Δθ4) like the unknowns."),

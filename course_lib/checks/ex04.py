@@ -36,15 +36,23 @@ def check_saw_omega3_expression(answer) -> Feedback:
     True
     """
     import sympy as sp
-    _, r2, r3, _, t2, t3, w2 = symbols = sp.symbols("r1y r2 r3 theta1 theta2 theta3 omega2", real=True)
+    r1y, r2, r3, _, t2, t3, w2 = symbols = sp.symbols("r1y r2 r3 theta1 theta2 theta3 omega2", real=True)
     reference = -w2 * r2 * sp.cos(t2) / (r3 * sp.cos(t3))
     swapped = -w2 * r2 * sp.sin(t2) / (r3 * sp.sin(t3))
     return judge_expression(answer, symbols, [
         (reference, "Correct: ω3 = −ω2·r2·cos θ2 / (r3·cos θ3), from the derivative of Fy − Fc."),
+        (lambda expr: expr.has(r1y) and not expr.has(t3),
+         "your ω3 has θ3 eliminated (through r1y): the task asks for ω3 in r2, r3, θ2, θ3, ω2 — keep θ3, as "
+         "the velocity equation gives it (cos θ3 in the denominator)."),
         (-reference, "a sign error: differentiate r2 sin θ2 + r3 sin θ3 = r1y (constant) and solve for ω3."),
         ([swapped, -swapped], "sin and cos are swapped: d(sin θ)/dt = ω cos θ."),
-        (lambda expr: not expr.has(w2), "ω3 must be proportional to ω2 (the report's eq. 23 is labelled ω3 "
-                                        "but repeats θ1's formula — don't copy that slip)."),
+        (lambda expr: not expr.has(w2) and expr.has(r1y),
+         "ω3 must be proportional to ω2; this looks like θ1's formula (the report's eq. 23 is labelled ω3 "
+         "but repeats θ1's formula — don't copy that slip)."),
+        (lambda expr: not expr.has(w2), "ω3 must be proportional to ω2: the velocity equations are."),
+        (lambda expr: not expr.has(r2) or not expr.has(r3),
+         "keep r2 and r3 as symbols (a length put in as its number, or left out, gives this): ω3 in r2, r3, "
+         "θ2, θ3, ω2."),
     ], "use the y-equation without r1: r2 sin θ2 + r3 sin θ3 = r1y, differentiate in time.")
 
 

@@ -67,6 +67,12 @@ def _closes(robot: FiveBar, theta1: float, theta4: float) -> bool:
     return bool(abs(robot.forward_coefficients(theta1, theta4)["D"]) > 0.05 * size)
 
 
+
+def _numbers_alone(verdict: Feedback, method: str | None, why: str) -> Feedback:
+    """The verdict on plain numbers; where the task asks for a method (``method`` given), right numbers are
+    told ``why`` they are not the task (they do not show how they were found)."""
+    return wrong(why) if verdict.ok and method is not None else verdict
+
 def _forward_verdict(answer, robot: FiveBar, theta1: float, theta4: float, mode: int, function: bool = False
                      ) -> Feedback:
     """(x3, y3) at (``theta1``, ``theta4``) judged against assembly ``mode``'s, with the known slips named;
@@ -123,13 +129,11 @@ def check_fivebar_forward(answer, robot: FiveBar, theta1: float, theta4: float, 
     False
     """
     if not callable(answer):
-        verdict = _forward_verdict(answer, robot, theta1, theta4, mode)
-        if verdict.ok and method is not None:
-            return wrong("the numbers are right, but the task asks for the derivation's work: give your "
-                         "function of (θ1, θ4) that computes D, f, g, a, b, c and the root (the check calls "
-                         "it at other crank angles too). Numbers alone do not show how they were found — "
-                         "robot.forward gives them without the quadratic.")
-        return verdict
+        return _numbers_alone(_forward_verdict(answer, robot, theta1, theta4, mode), method,
+                              "the numbers are right, but the task asks for the derivation's work: give your "
+                              "function of (θ1, θ4) that computes D, f, g, a, b, c and the root (the check "
+                              "calls it at other crank angles too). Numbers alone do not show how they were "
+                              "found — robot.forward gives them without the quadratic.")
     probes = [(theta1, theta4)] + [(t1, t4) for t1, t4 in FRESH_CRANKS if _closes(robot, t1, t4)
                                    and not angles_close((t1, t4), (theta1, theta4))]
     name = getattr(answer, "__name__", "")
@@ -216,14 +220,12 @@ def check_fivebar_inverse(answer, robot: FiveBar, x3: float, y3: float, modes: t
     """
     modes = tuple(modes)
     if not callable(answer):
-        verdict = _inverse_verdict(answer, robot, x3, y3, modes)
-        if verdict.ok and method is not None:
-            return wrong("the angles are right, but the task asks for the half-angle roots themselves: give "
-                         "your function of (x3, y3) that takes each leg's a, b, c and computes θ = "
-                         "2·atan((−b + σ√(b² − 4ac))/2a) with the working mode's σ (the check calls it at "
-                         "other points too). Numbers alone do not show how they were found — robot.inverse "
-                         "gives them without the roots.")
-        return verdict
+        return _numbers_alone(_inverse_verdict(answer, robot, x3, y3, modes), method,
+                              "the angles are right, but the task asks for the half-angle roots themselves: "
+                              "give your function of (x3, y3) that takes each leg's a, b, c and computes θ = "
+                              "2·atan((−b + σ√(b² − 4ac))/2a) with the working mode's σ (the check calls it "
+                              "at other points too). Numbers alone do not show how they were found — "
+                              "robot.inverse gives them without the roots.")
     points = [(x3, y3)] + [point for point in FRESH_POINTS if not np.allclose(point, (x3, y3), atol=1e-9)
                            and _modes_apart(robot, *point)]
     name = getattr(answer, "__name__", "")

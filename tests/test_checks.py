@@ -603,7 +603,8 @@ def test_the_newton_update_read_as_a_teacher_reads_it():
     update = (2 * x**3 + 5) / (3 * x**2 - 2)  # x − f/f′ for f = x³ − 2x − 5, simplified by hand
     assert checks.check_newton_update(sp.Eq(sp.Symbol("x_next"), update)).ok
     assert checks.check_newton_update(sp.Eq(update, sp.Symbol("x_new"))).ok
-    rejects(checks.check_newton_update(sp.Eq(x, update)), "x on the left", "current iterate")
+    rejects(checks.check_newton_update(sp.Eq(x, update)), "x alone on one side", "current iterate")
+    rejects(checks.check_newton_update(sp.Eq(update, x)), "x alone on one side", "current iterate")
     rejects(checks.check_newton_update(sp.solve(x**3 - 2 * x - 5, x)), "the cubic's roots")
 
 
@@ -620,3 +621,13 @@ def test_the_saws_omega3_with_theta3_eliminated_is_named():
     eliminated = -w2 * r2 * sp.cos(t2) / (-r3 * sp.sqrt(1 - ((r1y - r2 * sp.sin(t2)) / r3) ** 2))
     rejects(checks.check_saw_omega3_expression(eliminated), "θ3 eliminated", "keep θ3")
     rejects(checks.check_saw_omega3_expression(-r2 * sp.cos(t2) / r3), "proportional to ω2")
+
+
+@pytest.mark.parametrize(("said", "read"), [
+    ("serial1", "serial1"), ("Serial singularity of leg 1", "serial1"), ("serial (type I) leg 1", "serial1"),
+    ("type I, leg 4", "serial4"), ("type II", "parallel"), ("parallel (type-2)", "parallel"),
+    ("parallel singularity", "parallel"), ("no singularity", "none"), ("type I", "serial")])
+def test_a_singularity_named_as_a_student_names_it(said, read):
+    from course_lib.checks.ex05 import _singularity_word
+
+    assert _singularity_word(said) == read

@@ -28,9 +28,10 @@ def check_newton_update(answer) -> Feedback:
     import sympy as sp
     x = sp.Symbol("x", real=True)
     f, df = _wallis(x)
-    if isinstance(answer, sp.Equality) and getattr(answer.lhs, "name", None) == "x":
-        return wrong("an equation with x on the left: x is the current iterate, not the next one. Give the "
-                     "update itself (an expression in x), or sp.Eq(x_new, …) with a new symbol on the left.")
+    if isinstance(answer, sp.Equality) and "x" in (getattr(answer.lhs, "name", None),
+                                                   getattr(answer.rhs, "name", None)):
+        return wrong("an equation with x alone on one side: x is the current iterate, not the next one. Give "
+                     "the update itself (an expression in x), or sp.Eq(x_new, …) with a new symbol.")
     if isinstance(answer, list | tuple) and 0 < len(answer) <= 10 and all(
             getattr(root, "free_symbols", None) == set() and abs(complex(_wallis(root)[0])) < 1e-9
             for root in answer):

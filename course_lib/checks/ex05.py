@@ -289,8 +289,12 @@ def _singularity_word(text: str) -> str:
     read = re.sub(r"[^a-z0-9]", "", text.lower())
     for filler in ("singularity", "singular", "leg", "ofthe", "of", "at"):
         read = read.replace(filler, "")
+    if "parallel" in read:  # "parallel (type II)": the type is the same word
+        read = re.sub(r"type(ii|2)", "", read)
+    if "serial" in read:
+        read = re.sub(r"type(?:i|1)(?!i)", "", read)
     read = re.sub(r"^type(ii|2)$", "parallel", read)
-    read = re.sub(r"^type(i|1)(?=[14]$)", "serial", read)
+    read = re.sub(r"^type(i|1)(?=[14]?$)", "serial", read)
     return "none" if read in ("no", "none", "nothing") else read
 
 

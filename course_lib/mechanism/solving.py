@@ -291,7 +291,7 @@ class Solving:
         several, inputs = u.shape[1] > 1, {s.name for s in self.inputs}
         q, undetermined = np.empty((N, n)), np.zeros(N, bool)
         sigma = {name: np.empty(N, np.int8) for name in chosen}
-        rates = None if u_rate is None else (np.empty((N, n)), np.empty((N, n)), np.empty(N))
+        rates = None if u_rate is None else (np.empty((n, N)), np.empty((n, N)), np.empty(N))  # q̇, q̈ by row
         followed = previous = turns = None  # the angles followed from instant 0, their last value, turns
         for start in range(0, N, _SWEPT):
             part = slice(start, start + _SWEPT)
@@ -332,14 +332,17 @@ class Solving:
                                                                                      same_point=True)
                 rates[2][part] = smallest = self._smallest(J)
                 bad = ~found | ~(smallest >= SINGULAR) | undetermined[part]
+                velocity, acceleration = rates[0][:, part], rates[1][:, part]
                 if fused is not None:
-                    rates[0][part], rates[1][part] = fused[1:]
+                    velocity[:], acceleration[:] = fused[1:]
                     if bad.any():
-                        rates[0][part][bad] = rates[1][part][bad] = np.nan
+                        velocity[:, bad] = acceleration[:, bad] = np.nan
                 else:
-                    rates[0][part], rates[1][part], _ = self._rates(safe, u_part, u_rate[part], u_acc[part],
-                                                                    bad, (J, F_u), known)
-        return q, undetermined, sigma, rates
+                    q_rate, q_acc, _ = self._rates(safe, u_part, u_rate[part], u_acc[part], bad, (J, F_u),
+                                                   known)
+                    velocity[:], acceleration[:] = q_rate.T, q_acc.T
+        # q̇ and q̈ (N, n) as views of their rows: each unknown's rates one contiguous array
+        return q, undetermined, sigma, None if rates is None else (rates[0].T, rates[1].T, rates[2])
 
     @staticmethod
     def _turned(q_part, columns, previous, turns):

@@ -39,6 +39,14 @@ from .singular import NEAR_SINGULAR, SINGULAR
 _SWEPT = 16_384
 
 
+def _stacked(arrays, N: int) -> np.ndarray:
+    """Arrays of one shape (the inputs' rates or accelerations) side by side, (N, m); numbers given
+    (broadcast, every stride 0) as a read-only view of their one row, the same at every instant."""
+    if N and not any(stride for a in arrays for stride in a.strides):
+        return np.broadcast_to(np.array([a[(0,) * a.ndim] for a in arrays], float), (N, len(arrays)))
+    return np.stack(arrays, axis=-1).reshape(-1, len(arrays))
+
+
 class Solving:
     """``solve``: a motion from the inputs, and the one result it returns."""
 
@@ -116,7 +124,7 @@ class Solving:
                     raise InvalidGeometryError(f"assembly's σ per instant must broadcast to the inputs' "
                                                f"shape {shape}; got shape {np.shape(sigma)}") from None
         u = np.stack(arrays[:m], axis=-1).reshape(-1, m)
-        u_rate, u_acc = ((np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in (1, 2))
+        u_rate, u_acc = ((_stacked(arrays[k * m:(k + 1) * m], len(u)) for k in (1, 2))
                          if rates is not None or accelerations is not None else (None, None))
         if not len(u):  # an empty sweep: an empty motion
             nothing = MappingProxyType({s.name: np.empty(shape) for s in self.unknowns})
@@ -212,7 +220,7 @@ class Solving:
                         raise ConvergenceError(f"at {where}, the first instant, from the guess: "
                                                f"{shown.message}", result=shown)
                 q, iterations = self._march(u, paths, start, tol, max_iter, notes)
-            converged = _finite_rows(q)
+            converged = found if closed else _finite_rows(q)  # (q as it was when found)
             if "rigid" not in self._numeric and self.links and converged.any():
                 found = np.flatnonzero(converged)  # a sample spread over the motion shows a stretch
                 sample = found[np.linspace(0, len(found) - 1, min(len(found), 257)).astype(int)]
@@ -327,7 +335,10 @@ class Solving:
                 if not found.all():  # the unknowns' cos and sin taken at 0 where not found, as their values
                     safe = np.where(found[:, None], q_part, 0.0)
                     known = {key: value for key, value in known.items() if key[0] in inputs}
-                fused = self._fused(safe, u_part, u_rate[part], u_acc[part], known)  # J, q̇, q̈ in one pass
+                # J, q̇, q̈ in one pass; rates the same at every instant given once (their products with
+                # the parameters then computed once)
+                given = [a[:1] if a.strides[0] == 0 else a[part] for a in (u_rate, u_acc)]
+                fused = self._fused(safe, u_part, *given, known)
                 J, F_u = (fused[0], None) if fused is not None else self._rate_terms(safe, u_part, known,
                                                                                      same_point=True)
                 rates[2][part] = smallest = self._smallest(J)
@@ -356,8 +367,11 @@ class Solving:
             values = values[rows]
         if not len(values):
             return previous, turns
-        steps = np.diff(values, axis=0, prepend=previous[None, :])  # (the first block's first step is 0)
-        wraps = np.round(steps / (2 * np.pi))
+        steps = np.empty(values.shape)  # the steps from ``previous`` on (the first block's first step is 0)
+        np.subtract(values[:1], previous, out=steps[:1])
+        np.subtract(values[1:], values[:-1], out=steps[1:])
+        steps /= 2 * np.pi
+        wraps = np.round(steps, out=steps)
         if wraps.any() or turns.any():
             counted = turns + np.cumsum(wraps, axis=0)
             kept = values - 2 * np.pi * counted

@@ -56,6 +56,39 @@ def _smallest_two(J: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.nd
     return smallest.reshape(shape)
 
 
+def _below_two(J: np.ndarray, rows: np.ndarray, columns: np.ndarray, singular: np.ndarray,
+               near: np.ndarray) -> None:
+    """The rule's two decisions at a stack of 2×2 J (N, 2, 2), into ``singular`` and ``near`` (N,):
+    σ_min(J̃) < SINGULAR and σ_min(J̃) < NEAR_SINGULAR, σ_min computed (:func:`_smallest_two`, the same
+    bits as everywhere) only where the lower bound |det J̃| / ‖J̃‖_F cannot settle both.  The bound settles
+    them where it is above 2·NEAR_SINGULAR: det J² > (2·NEAR_SINGULAR·r0·r1·c0·c1)²·Σ J_ij² / (r_i c_j)²
+    (+ 1e-280, so nothing underflowed settles; the strict > leaves overflow and NaN unsettled), where
+    σ_min ≥ 2·NEAR_SINGULAR up to rounding far below a factor of two."""
+    scale = (1.0 / np.outer(rows, columns) ** 2).ravel()  # 1 / (r_i c_j)², row by row
+    product = float(rows[0] * rows[1] * columns[0] * columns[1])
+    with np.errstate(all="ignore"):
+        entries = [J[:, 0, 0], J[:, 0, 1], J[:, 1, 0], J[:, 1, 1]]
+        size, work = np.multiply(entries[0], entries[0]), np.empty(len(J))
+        size *= scale[0]
+        for entry, weight in zip(entries[1:], scale[1:], strict=True):
+            np.multiply(entry, entry, out=work)
+            work *= weight
+            size += work
+        size *= (2 * NEAR_SINGULAR * product) ** 2
+        size += 1e-280
+        det = np.multiply(entries[0], entries[3])
+        det -= np.multiply(entries[1], entries[2], out=work)
+        det *= det
+        settled = np.greater(det, size, out=np.empty(len(J), bool))
+        singular[:] = False
+        near[:] = False
+        if not settled.all():
+            where = np.flatnonzero(~settled)
+            smallest = _smallest_two(J[where], rows, columns)
+            singular[where] = ~(smallest >= SINGULAR)
+            near[where] = ~(smallest >= NEAR_SINGULAR)
+
+
 class Singularity:
     """The one singularity rule: typical sizes at the generic point and σ_min(J̃)."""
 
@@ -142,6 +175,18 @@ class Singularity:
         [False, True]
         """
         return ~(self.smallest_singular_value(q, u) >= SINGULAR)
+
+    def _below(self, J: np.ndarray, singular: np.ndarray, near: np.ndarray) -> None:
+        """The rule at a stack J (N, n, n), into ``singular`` and ``near`` (N,): σ_min(J̃) < SINGULAR and
+        σ_min(J̃) < NEAR_SINGULAR (for n = 2, σ_min computed only where a bound cannot settle them, see
+        :func:`_below_two`)."""
+        if J.shape[-1] == 2:
+            rows, columns = self._scales
+            _below_two(J, rows, columns, singular, near)
+            return
+        smallest = self._smallest(J)
+        singular[:] = ~(smallest >= SINGULAR)
+        near[:] = ~(smallest >= NEAR_SINGULAR)
 
     def _smallest(self, J: np.ndarray) -> np.ndarray:
         """σ_min(J̃) of a stack J (..., n, n): exact for n ≤ 2, else exact where a bound cannot settle it."""

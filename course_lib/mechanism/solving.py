@@ -229,30 +229,32 @@ class Solving:
             at_q = at_q if at_q is not None and safe is q else dict(known)
             masks = {}
 
-            def singular_and_near(smallest=None):  # the core's rule, once: with the rates, else when read
-                if not masks:
-                    if smallest is None:
+            def singular_and_near(below=None):  # the core's rule, once: with the rates, else when read
+                if not masks:  # below: σ_min(J̃) < SINGULAR and < NEAR_SINGULAR, where found already
+                    if below is None:
+                        below = np.empty(len(u), bool), np.empty(len(u), bool)
                         with np.errstate(all="ignore"):
-                            smallest = self._smallest(self._J(safe, u, at_q))
-                    masks["singular"] = converged & ~(smallest >= SINGULAR) | stuck
-                    masks["near"] = converged & ~(smallest >= NEAR_SINGULAR)
+                            self._below(self._J(safe, u, at_q), *below)
+                    masks["singular"] = converged & below[0] | stuck
+                    masks["near"] = converged & below[1]
                     self._notes(notes, converged, masks["singular"], masks["near"], u, undetermined)
                 return masks
 
             if want_rates and swept:  # found with the positions, block by block
-                q_rate, q_acc, smallest = swept
-                singular = singular_and_near(smallest)["singular"]
+                q_rate, q_acc, below = swept
+                singular = singular_and_near(below)["singular"]
             elif want_rates:  # _BLOCK instants at a time: the temporaries stay in the cache, the memory flat
-                q_rate, q_acc, smallest = np.empty(q.shape), np.empty(q.shape), np.empty(len(u))
+                q_rate, q_acc = np.empty(q.shape), np.empty(q.shape)
+                below = np.empty(len(u), bool), np.empty(len(u), bool)
                 for start in range(0, len(u), _BLOCK):
                     part = slice(start, start + _BLOCK)
                     known_part = {key: value[part] for key, value in at_q.items()}
                     J, F_u = self._rate_terms(safe[part], u[part], known_part, same_point=True)
-                    smallest[part] = self._smallest(J)
-                    bad = ~converged[part] | ~(smallest[part] >= SINGULAR) | stuck[part]
+                    self._below(J, below[0][part], below[1][part])
+                    bad = ~converged[part] | below[0][part] | stuck[part]
                     q_rate[part], q_acc[part], _ = self._rates(safe[part], u[part], u_rate[part], u_acc[part],
                                                                bad, (J, F_u), known_part)
-                singular = singular_and_near(smallest)["singular"]
+                singular = singular_and_near(below)["singular"]
         if on_failure == "raise":
             self._report(~converged, singular if want_rates else undetermined, u, closed, q, undetermined)
         if not converged.all():  # an instant is solved whole or not at all: NaN in every unknown
@@ -290,16 +292,19 @@ class Solving:
                      and bool((np.diff(paths[0]) == 1).all())))
 
     def _swept(self, u, chosen, notes, u_rate=None, u_acc=None):
-        """Positions (N, n), the instants not determined, σ per block and, with ``u_rate``, (q̇, q̈,
-        σ_min(J̃)): _SWEPT instants at a time, each block's kernel, the angles continued from the block
-        before (the same bits as :meth:`_continuous` on the whole) and the rates of the block while its
-        values are in the cache (the kernel route of :meth:`solve`, see :meth:`_sweepable`)."""
+        """Positions (N, n), the instants not determined, σ per block and, with ``u_rate``, (q̇, q̈, (where
+        σ_min(J̃) < SINGULAR, where < NEAR_SINGULAR)): _SWEPT instants at a time, each block's kernel, the
+        angles continued from the block before (the same bits as :meth:`_continuous` on the whole) and the
+        rates of the block while its values are in the cache (the kernel route of :meth:`solve`, see
+        :meth:`_sweepable`)."""
         N, n = u.shape[0], len(self.unknowns)
         angles = [j for j, s in enumerate(self.unknowns) if s in self._structure["angles"]]
         several, inputs = u.shape[1] > 1, {s.name for s in self.inputs}
         q, undetermined = np.empty((N, n)), np.zeros(N, bool)
         sigma = {name: np.empty(N, np.int8) for name in chosen}
-        rates = None if u_rate is None else (np.empty((n, N)), np.empty((n, N)), np.empty(N))  # q̇, q̈ by row
+        # q̇, q̈ by row, and where σ_min(J̃) < SINGULAR and < NEAR_SINGULAR
+        rates = None if u_rate is None else (np.empty((n, N)), np.empty((n, N)), np.empty(N, bool),
+                                             np.empty(N, bool))
         followed = previous = turns = None  # the angles followed from instant 0, their last value, turns
         for start in range(0, N, _SWEPT):
             part = slice(start, start + _SWEPT)
@@ -341,8 +346,8 @@ class Solving:
                 fused = self._fused(safe, u_part, *given, known)
                 J, F_u = (fused[0], None) if fused is not None else self._rate_terms(safe, u_part, known,
                                                                                      same_point=True)
-                rates[2][part] = smallest = self._smallest(J)
-                bad = ~found | ~(smallest >= SINGULAR) | undetermined[part]
+                self._below(J, rates[2][part], rates[3][part])
+                bad = ~found | rates[2][part] | undetermined[part]
                 velocity, acceleration = rates[0][:, part], rates[1][:, part]
                 if fused is not None:
                     velocity[:], acceleration[:] = fused[1:]
@@ -353,7 +358,7 @@ class Solving:
                                                    known)
                     velocity[:], acceleration[:] = q_rate.T, q_acc.T
         # q̇ and q̈ (N, n) as views of their rows: each unknown's rates one contiguous array
-        return q, undetermined, sigma, None if rates is None else (rates[0].T, rates[1].T, rates[2])
+        return q, undetermined, sigma, None if rates is None else (rates[0].T, rates[1].T, rates[2:])
 
     @staticmethod
     def _turned(q_part, columns, previous, turns):

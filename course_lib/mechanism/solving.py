@@ -288,8 +288,8 @@ class Solving:
         increasing from the first, or several inputs, which have no order of neighbours)."""
         blocks = self._forms
         return (seed is None and len(self._kernels) == len(blocks) and len(chosen) == len(blocks)
-                and (u.shape[1] > 1 or len(paths) == 1 and len(paths[0]) == len(u)
-                     and bool((np.diff(paths[0]) == 1).all())))
+                and (u.shape[1] > 1 or len(paths) == 1 and len(paths[0]) == len(u)  # every instant once:
+                     and bool((paths[0][1:] > paths[0][:-1]).all())))  # increasing, so 0, 1, …, N − 1
 
     def _swept(self, u, chosen, notes, u_rate=None, u_acc=None):
         """Positions (N, n), the instants not determined, σ per block and, with ``u_rate``, (q̇, q̈, (where
@@ -372,7 +372,9 @@ class Solving:
             values = values[rows]
         if not len(values):
             return previous, turns
-        steps = np.empty(values.shape)  # the steps from ``previous`` on (the first block's first step is 0)
+        # the steps from ``previous`` on (the first block's first step is 0), in the layout of ``values``
+        # (columns taken by a list: one column after the other, which a row-by-row array would cross slowly)
+        steps = np.empty_like(values)
         np.subtract(values[:1], previous, out=steps[:1])
         np.subtract(values[1:], values[:-1], out=steps[1:])
         steps /= 2 * np.pi

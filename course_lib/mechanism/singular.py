@@ -61,25 +61,24 @@ def _below_two(J: np.ndarray, rows: np.ndarray, columns: np.ndarray, singular: n
     """The rule's two decisions at a stack of 2×2 J (N, 2, 2), into ``singular`` and ``near`` (N,):
     σ_min(J̃) < SINGULAR and σ_min(J̃) < NEAR_SINGULAR, σ_min computed (:func:`_smallest_two`, the same
     bits as everywhere) only where the lower bound |det J̃| / ‖J̃‖_F cannot settle both.  The bound settles
-    them where it is above 2·NEAR_SINGULAR: det J² > (2·NEAR_SINGULAR·r0·r1·c0·c1)²·Σ J_ij² / (r_i c_j)²
-    (+ 1e-280, so nothing underflowed settles; the strict > leaves overflow and NaN unsettled), where
-    σ_min ≥ 2·NEAR_SINGULAR up to rounding far below a factor of two."""
-    scale = (1.0 / np.outer(rows, columns) ** 2).ravel()  # 1 / (r_i c_j)², row by row
-    product = float(rows[0] * rows[1] * columns[0] * columns[1])
+    them where det² J̃ > (2·NEAR_SINGULAR)²·‖J̃‖²_F and ‖J̃‖²_F ≤ 1e4 (J̃'s entries are of order 1 by
+    their scaling): σ_min is then above 2·NEAR_SINGULAR and |det J̃| ≥ 2e-4·‖J̃‖²_F, so the rounding of
+    det J̃ (parts in 1e16 of ‖J̃‖²_F) moves σ_min by parts in 1e12 at most, in the closed form as here —
+    far above both thresholds.  Elsewhere (NaN, inf, J̃ too large for that, σ_min near a threshold) the
+    closed form decides, as at every instant."""
     with np.errstate(all="ignore"):
-        entries = [J[:, 0, 0], J[:, 0, 1], J[:, 1, 0], J[:, 1, 1]]
-        size, work = np.multiply(entries[0], entries[0]), np.empty(len(J))
-        size *= scale[0]
-        for entry, weight in zip(entries[1:], scale[1:], strict=True):
-            np.multiply(entry, entry, out=work)
-            work *= weight
-            size += work
-        size *= (2 * NEAR_SINGULAR * product) ** 2
-        size += 1e-280
-        det = np.multiply(entries[0], entries[3])
-        det -= np.multiply(entries[1], entries[2], out=work)
+        weight = 1 / np.outer(rows, columns)
+        a, b = np.multiply(J[:, 0, 0], weight[0, 0]), np.multiply(J[:, 0, 1], weight[0, 1])
+        c, d = np.multiply(J[:, 1, 0], weight[1, 0]), np.multiply(J[:, 1, 1], weight[1, 1])
+        size, work = np.multiply(a, a), np.empty(len(J))  # ‖J̃‖²_F (entries scaled to a few ulps)
+        for entry in (b, c, d):
+            size += np.multiply(entry, entry, out=work)
+        det = np.multiply(a, d, out=a)
+        det -= np.multiply(b, c, out=b)
         det *= det
-        settled = np.greater(det, size, out=np.empty(len(J), bool))
+        settled = np.less_equal(size, 1e4, out=np.empty(len(J), bool))
+        size *= (2 * NEAR_SINGULAR) ** 2
+        settled &= np.greater(det, size, out=np.empty(len(J), bool))
         singular[:] = False
         near[:] = False
         if not settled.all():

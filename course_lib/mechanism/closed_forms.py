@@ -43,6 +43,14 @@ if TYPE_CHECKING:
 __all__ = ["LEVEL", "RESIDUAL", "ClosedForms", "KernelBlock"]
 
 
+def _instants(value, count: int) -> np.ndarray:
+    """A kernel's value as floats at ``count`` instants: its own array when it is one already (no view made),
+    else broadcast (read-only); ValueError where it does not broadcast."""
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.shape == (count,):
+        return value
+    return np.broadcast_to(np.asarray(value, float), (count,))
+
+
 @dataclass(frozen=True)
 class KernelBlock:
     """A block with no closed form (Newton would solve it) that a registered kernel solves: its unknowns as
@@ -460,12 +468,11 @@ class ClosedForms:
                 values, levels = kernel(parameters, given, given.pop("σ", sigma))
                 count = min(part.stop, size) - part.start
                 try:
-                    these = [np.broadcast_to(np.asarray(values[s.name], float), (count,))
-                             for s in form.unknowns]
-                    this_level = np.broadcast_to(np.asarray(levels, float), (count,))
+                    these = [_instants(values[s.name], count) for s in form.unknowns]
+                    this_level = _instants(levels, count)
                     for key in wanted_trig & values.keys():
                         if count == size:  # one part: the kernel's own arrays
-                            trig[key] = np.broadcast_to(np.asarray(values[key], float), (count,))
+                            trig[key] = _instants(values[key], count)
                         else:
                             trig.setdefault(key, np.empty(size))[part] = values[key]
                 except (KeyError, TypeError, ValueError) as error:

@@ -123,7 +123,8 @@ class Solving:
                 except ValueError:
                     raise InvalidGeometryError(f"assembly's σ per instant must broadcast to the inputs' "
                                                f"shape {shape}; got shape {np.shape(sigma)}") from None
-        u = np.stack(arrays[:m], axis=-1).reshape(-1, m)
+        # the inputs (N, m): one input as given (a view where it can be: nothing writes into u)
+        u = arrays[0].reshape(-1, 1) if m == 1 else np.stack(arrays[:m], axis=-1).reshape(-1, m)
         u_rate, u_acc = ((_stacked(arrays[k * m:(k + 1) * m], len(u)) for k in (1, 2))
                          if rates is not None or accelerations is not None else (None, None))
         if not len(u):  # an empty sweep: an empty motion

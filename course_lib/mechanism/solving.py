@@ -344,14 +344,13 @@ class Solving:
                 # J, q̇, q̈ in one pass; rates the same at every instant given once (their products with
                 # the parameters then computed once)
                 given = [a[:1] if a.strides[0] == 0 else a[part] for a in (u_rate, u_acc)]
-                fused = self._fused(safe, u_part, *given, known)
+                velocity, acceleration = rates[0][:, part], rates[1][:, part]
+                fused = self._fused(safe, u_part, *given, known, into=(velocity, acceleration))
                 J, F_u = (fused[0], None) if fused is not None else self._rate_terms(safe, u_part, known,
                                                                                      same_point=True)
                 self._below(J, rates[2][part], rates[3][part])
                 bad = ~found | rates[2][part] | undetermined[part]
-                velocity, acceleration = rates[0][:, part], rates[1][:, part]
-                if fused is not None:
-                    velocity[:], acceleration[:] = fused[1:]
+                if fused is not None:  # q̇ and q̈ written in their rows already
                     if bad.any():
                         velocity[:, bad] = acceleration[:, bad] = np.nan
                 else:

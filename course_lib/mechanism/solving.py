@@ -317,7 +317,7 @@ class Solving:
             for form in self._forms:
                 first = self.unknowns.index(form.unknowns[0])
                 name = form.unknowns[0].name
-                in_order = [np.arange(len(u_part))]
+                in_order = None  # σ named for every block (see _sweepable): no path to pick σ or follow it on
                 sigma[name][part], level, trig = self._kernel_block(self._kernels[name], form, q_part, u_part,
                                                                     in_order, None, at, notes,
                                                                     trig_wanted=True)

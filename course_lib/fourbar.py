@@ -64,30 +64,75 @@ def _kernel(parameters, known, sigma):
     level B² − 4AC over B² + (A − C)²."""
     l1, l2, l3, l4 = _unit_lengths(*(parameters[name] for name in ("l1", "l2", "l3", "l4")))
     theta2 = known["theta2"]
+    if np.ndim(theta2) == 0:  # one instant: a sweep of one
+        values, level = _kernel(parameters, {**known, "theta2": np.reshape(theta2, 1)}, sigma)
+        return {key: value[0] for key, value in values.items()}, level[0]
     k3 = l2**2 - l3**2 + l4**2 + l1**2
     cos2, sin2 = np.cos(theta2), np.sin(theta2)
-    A = 2 * l2 * l4 * cos2 - 2 * l1 * l4 - 2 * l1 * l2 * cos2 + k3
-    B = -4 * l2 * l4 * sin2
-    C = 2 * l1 * l4 - 2 * (l1 * l2 + l2 * l4) * cos2 + k3
-    discriminant, scale = B * B - 4 * A * C, (A - C) * (A - C) + B * B  # scale = 16 l4² |AO4|²
-    lost = discriminant < -LEVEL * scale  # below −LEVEL·scale the loop cannot close; above, rounding
-    anywhere = np.zeros(np.shape(theta2), bool)
+    # each line the same operations in the same order as the formulas in the comments (the same bits),
+    # written in place: a long sweep's temporaries are the time, not the arithmetic
+    A = np.multiply(2 * l2 * l4, cos2)  # A = 2·l2·l4·cos θ2 − 2·l1·l4 − 2·l1·l2·cos θ2 + k3
+    A -= 2 * l1 * l4
+    work = np.multiply(2 * l1 * l2, cos2)
+    A -= work
+    A += k3
+    B = np.multiply(-4 * l2 * l4, sin2)  # B = −4·l2·l4·sin θ2
+    C = np.multiply(2 * (l1 * l2 + l2 * l4), cos2)  # C = 2·l1·l4 − 2·(l1·l2 + l2·l4)·cos θ2 + k3
+    np.subtract(2 * l1 * l4, C, out=C)
+    C += k3
+    squared = B * B
+    np.multiply(4 * A, C, out=work)
+    discriminant = np.subtract(squared, work)  # B² − 4AC
+    scale = np.subtract(A, C)  # (A − C)² + B² = 16 l4² |AO4|²
+    scale *= scale
+    scale += squared
+    np.multiply(-LEVEL, scale, out=work)
+    lost = discriminant < work  # below −LEVEL·scale the loop cannot close; above, rounding
+    anywhere = None
     if abs(l3 - l4) < COINCIDENT:  # A on O4 with coupler = rocker: B anywhere on a circle
         anywhere = np.hypot(l1 - l2, 2 * np.sqrt(l1 * l2) * np.sin(theta2 / 2)) < COINCIDENT
-    root = np.sqrt(np.where(lost | anywhere, np.nan, np.maximum(discriminant, 0.0)))
+        lost |= anywhere
+    root = np.maximum(discriminant, 0.0)
+    np.copyto(root, np.nan, where=lost)
+    np.sqrt(root, out=root)
     # t = y/x with (y, x) = (−B ± √Δ, 2A) or, the same root, (2C, −B ∓ √Δ): take the larger pair
-    root = -sigma * root  # Norton's minus sign for the open assembly (σ = ±1, or one per instant)
-    y1, x1, y2, x2 = -B + root, 2 * A, 2 * C, -B - root
-    first = np.abs(y1) + np.abs(x1) >= np.abs(y2) + np.abs(x2)
+    root *= -sigma  # Norton's minus sign for the open assembly (σ = ±1, or one per instant)
+    np.negative(B, out=B)  # −B from here on
+    y1, x1, y2, x2 = np.add(B, root), np.multiply(2, A), np.multiply(2, C), np.subtract(B, root, out=root)
+    first = np.empty(np.shape(A), bool)  # |y1| + |x1| ≥ |y2| + |x2|
+    np.abs(y1, out=work)
+    np.add(work, np.abs(x1, out=B), out=work)
+    np.abs(y2, out=B)
+    np.add(B, np.abs(x2, out=squared), out=B)
+    np.greater_equal(work, B, out=first)
     y, x = np.where(first, y1, y2), np.where(first, x1, x2)
-    norm = x * x + y * y  # θ4 = 2·atan2(y, x), by the double-angle formulas
-    cos4, sin4 = (x * x - y * y) / norm, 2 * x * y / norm
-    coupler_x, coupler_y = l4 * cos4 + l1 - l2 * cos2, l4 * sin4 - l2 * sin2  # R3 = B − A, of length l3
-    # scale 0: A = C, B = 0, the constant equation A = 0 (every θ4, or none)
-    level = np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0), np.where(A == 0, 0.0, -1.0))
-    level = np.where(anywhere, 0.0, level)
-    return {"theta3": np.arctan2(coupler_y, coupler_x), "theta4": np.arctan2(sin4, cos4),
-            ("theta3", "cos"): coupler_x / l3, ("theta3", "sin"): coupler_y / l3,
+    del y1, x1, y2, x2
+    norm = np.multiply(x, x)  # θ4 = 2·atan2(y, x), by the double-angle formulas: cos θ4 = (x² − y²)/norm,
+    np.multiply(y, y, out=work)  # sin θ4 = 2xy/norm with norm = x² + y²
+    cos4 = np.subtract(norm, work)
+    norm += work
+    cos4 /= norm
+    sin4 = np.multiply(2, x, out=x)
+    sin4 *= y
+    sin4 /= norm
+    coupler_x = np.multiply(l4, cos4, out=y)  # R3 = B − A, of length l3: (l4·cos θ4 + l1 − l2·cos θ2,
+    coupler_x += l1  # l4·sin θ4 − l2·sin θ2)
+    coupler_x -= np.multiply(l2, cos2, out=work)
+    coupler_y = np.multiply(l4, sin4, out=norm)
+    coupler_y -= np.multiply(l2, sin2, out=work)
+    # the level B² − 4AC over B² + (A − C)²; scale 0: A = C, B = 0, the constant equation A = 0 (every θ4,
+    # or none)
+    if (scale > 0).all():
+        level = np.divide(discriminant, scale, out=discriminant)
+    else:
+        level = np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0),
+                         np.where(A == 0, 0.0, -1.0))
+    if anywhere is not None:
+        level = np.where(anywhere, 0.0, level)
+    theta3, theta4 = np.arctan2(coupler_y, coupler_x), np.arctan2(sin4, cos4)
+    coupler_x /= l3
+    coupler_y /= l3
+    return {"theta3": theta3, "theta4": theta4, ("theta3", "cos"): coupler_x, ("theta3", "sin"): coupler_y,
             ("theta4", "cos"): cos4, ("theta4", "sin"): sin4, ("theta2", "cos"): cos2, ("theta2", "sin"): sin2
             }, level
 

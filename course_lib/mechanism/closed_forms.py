@@ -43,6 +43,14 @@ if TYPE_CHECKING:
 __all__ = ["LEVEL", "RESIDUAL", "ClosedForms", "KernelBlock"]
 
 
+def _instants(value, count: int) -> np.ndarray:
+    """A kernel's value as floats at ``count`` instants: its own array when it is one already (no view made),
+    else broadcast (read-only); ValueError where it does not broadcast."""
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.shape == (count,):
+        return value
+    return np.broadcast_to(np.asarray(value, float), (count,))
+
+
 @dataclass(frozen=True)
 class KernelBlock:
     """A block with no closed form (Newton would solve it) that a registered kernel solves: its unknowns as
@@ -444,32 +452,41 @@ class ClosedForms:
         parameters = {s.name: value for s, value in self.parameters.items()}
 
         def solved(sigma, where=None):
-            """The block's values (N', k) and level (N',) for σ, at the instants ``where`` (all: None),
-            _BLOCK instants per call (the kernel's temporaries stay in the cache)."""
+            """The block's values (one array (N',) per unknown) and level (N',) for σ, at the instants
+            ``where`` (all: None), _BLOCK instants per call (the kernel's temporaries stay in the cache)."""
             at = {k: v if where is None else v[where] for k, v in known.items()}
             if np.ndim(sigma):  # σ per instant
                 at["σ"] = sigma if where is None else sigma[where]
             size = len(u) if where is None else int(np.count_nonzero(where))
-            block, level = np.empty((size, len(columns))), np.empty(size)
             trig.clear()
-            for start in range(0, size, _BLOCK):
-                part = slice(start, start + _BLOCK)
+            parts = [slice(start, start + _BLOCK) for start in range(0, size, _BLOCK)]
+            block = level = None  # one part: the kernel's own arrays; several: filled part by part
+            if len(parts) > 1:
+                block, level = [np.empty(size) for _ in columns], np.empty(size)
+            for part in parts:
                 given = {k: v[part] for k, v in at.items()}
                 values, levels = kernel(parameters, given, given.pop("σ", sigma))
-                count = len(block[part])
+                count = min(part.stop, size) - part.start
                 try:
-                    for j, s in enumerate(form.unknowns):
-                        block[part, j] = np.broadcast_to(np.asarray(values[s.name], float), (count,))
-                    level[part] = np.broadcast_to(np.asarray(levels, float), (count,))
+                    these = [_instants(values[s.name], count) for s in form.unknowns]
+                    this_level = _instants(levels, count)
                     for key in wanted_trig & values.keys():
                         if count == size:  # one part: the kernel's own arrays
-                            trig[key] = np.broadcast_to(np.asarray(values[key], float), (count,))
+                            trig[key] = _instants(values[key], count)
                         else:
                             trig.setdefault(key, np.empty(size))[part] = values[key]
                 except (KeyError, TypeError, ValueError) as error:
                     raise InvalidArgumentError(f"the kernel of {name} must return the values of "
                                                f"{[s.name for s in form.unknowns]} by name and the level, "
                                                f"each of {count} instants; got {error!r}") from None
+                if block is None:
+                    block, level = these, this_level
+                else:
+                    for column, value in zip(block, these, strict=True):
+                        column[part] = value
+                    level[part] = this_level
+            if block is None:  # no instants
+                block, level = [np.empty(0) for _ in columns], np.empty(0)
             return block, level
 
         wanted_trig = {(s.name, func) for s in (*form.unknowns, *self.inputs) for func in ("cos", "sin")
@@ -481,17 +498,19 @@ class ClosedForms:
         given = dict(trig)
         if named is None and target is not None:
             other, _ = solved(-1)
-            wanted = self._pick(block[:, 0], other[:, 0], paths, target, first, np.ones(len(u)))
+            wanted = self._pick(block[0], other[0], paths, target, first, np.ones(len(u)))
             if wanted == -1:
                 block, other = other, block
         root = np.ones(len(u))
         if named is None and u.shape[1] == 1 and len(u) > 1 and level_at is not None:
-            self._follow(root, level, paths, u, first, notes, level_at, outer, block[:, 0])
-        if (root < 0).any():
+            self._follow(root, level, paths, u, first, notes, level_at, outer, block[0])
+        swapped = bool((root < 0).any())
+        if swapped:
             other, _ = solved(-wanted)
-            block = np.where(root[:, None] > 0, block, other)
-        q[:, columns] = block
-        if (root < 0).any() or named is None and target is not None and wanted == -1:
+            block = [np.where(root > 0, mine, theirs) for mine, theirs in zip(block, other, strict=True)]
+        for column, values in zip(columns, block, strict=True):
+            q[:, column] = values
+        if swapped or named is None and target is not None and wanted == -1:
             given = {}  # another σ solved after: its cos and sin not kept
         return (wanted * root).astype(int), level, given
 

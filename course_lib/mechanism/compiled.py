@@ -72,9 +72,10 @@ class Compiled:
 
     def _compile(self, expressions, *groups, keep: int | None = None,
                  reciprocals: bool = False) -> Callable[..., np.ndarray]:
-        """f(values, *arrays, known=None, same_point=False, seen=None): array k (..., len(groups[k])) →
-        (len(expressions), ...); with ``keep``, the first ``keep`` only, with the bits of the whole;
-        ``reciprocals``: x**(−k) computed as 1/(x·…·x), not by numpy's slow general power.
+        """f(values, *arrays, known=None, same_point=False, seen=None, into=None): array k (...,
+        len(groups[k])) → (len(expressions), ...); with ``keep``, the first ``keep`` only, with the bits of
+        the whole; ``reciprocals``: x**(−k) computed as 1/(x·…·x), not by numpy's slow general power;
+        ``into``: one array (...) per expression to write it in (the caller's rows, no copy after), returned.
 
         cos and sin of unknowns and inputs are arguments, computed once per call or taken from ``known``
         ({(name, "cos"): array}, where inputs' are kept, and unknowns' with ``same_point``); ``seen``
@@ -111,7 +112,7 @@ class Compiled:
         angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
                      for func, s in trig]
 
-        def evaluate(values, *arrays, known=None, same_point=False, seen=None):
+        def evaluate(values, *arrays, known=None, same_point=False, seen=None, into=None):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
             columns = [arrays[k][..., j] for k, j in where]
             angles = []
@@ -130,13 +131,18 @@ class Compiled:
                 blocks = [Ellipsis]  # one block: the whole
             else:  # a long sweep in blocks: the temporaries stay in the cache and are reused
                 blocks = [slice(start, start + _BLOCK) for start in range(0, shape[0], _BLOCK)]
-            out, arguments = np.empty((len(expressions),) + shape), [*columns, *angles]  # floats stay floats
+            out = np.empty((len(expressions),) + shape) if into is None else into
+            arguments = [*columns, *angles]  # floats stay floats
             for block in blocks:
                 inputs, part = arguments, out
                 if block is not Ellipsis:
-                    inputs, part = [a[block] if np.ndim(a) else a for a in arguments], out[:, block]
+                    inputs = [a[block] if np.ndim(a) else a for a in arguments]
+                    part = out[:, block] if into is None else [row[block] for row in into]
                 for k, value in enumerate(function(*inputs, *values)):
-                    part[k] = value
+                    if into is None:
+                        part[k] = value
+                    else:
+                        part[k][...] = value
             return out
 
         evaluate.function = function  # the lambdified code, for reading

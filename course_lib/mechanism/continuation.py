@@ -51,7 +51,7 @@ class Continuation:
         N, m = u.shape
         if N == 1:
             return [np.array([0])]
-        if m > 1 or (np.diff(u[:, 0]) >= 0).all():  # several inputs, or one increasing from instant 0
+        if m > 1 or (u[1:, 0] >= u[:-1, 0]).all():  # several inputs, or one increasing from instant 0
             return [np.arange(N)]
         order = np.argsort(u[:, 0], kind="stable")
         at = int(np.flatnonzero(order == 0)[0])

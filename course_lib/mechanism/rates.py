@@ -38,17 +38,22 @@ class Rates:
         sizes = np.r_[self._scales]
         return not ((sizes >= 1e-50) & (sizes <= 1e50)).all()
 
-    def _fused(self, q, u, u_rate, u_acc, known=None):
-        """J (N, n, n), q̇ and q̈ (N, n) in one pass (:attr:`_fused_rate_fn`: Cramer's rule per block, as
-        :meth:`_rates` solves blocks of one or two unknowns), or None where that pass does not apply (a
-        block of three or more unknowns, or lengths so extreme that :meth:`_unit_rows` scales J); NaN and
-        inf where J is singular, which the caller masks."""
+    def _fused(self, q, u, u_rate, u_acc, known=None, into=None):
+        """J (N, n, n), q̇ and q̈ (n, N: a row per unknown) in one pass (:attr:`_fused_rate_fn`: Cramer's
+        rule per block, as :meth:`_rates` solves blocks of one or two unknowns), or None where that pass
+        does not apply (a block of three or more unknowns, or lengths so extreme that :meth:`_unit_rows`
+        scales J); NaN and inf where J is singular, which the caller masks.  ``into``: (q̇, q̈), two
+        (n, N) arrays to write them in (the caller's own rows)."""
         fused = self._fused_rate_fn
         if fused is None or self._extreme_scales():
             return None
         n = len(self.unknowns)
-        terms = fused(self._values, q, u, u_rate, u_acc, known=known, same_point=True)
-        return _matrix(terms, 0, n, n), terms[n * n:n * n + n].T, terms[n * n + n:].T
+        if into is None:
+            terms = fused(self._values, q, u, u_rate, u_acc, known=known, same_point=True)
+            return _matrix(terms, 0, n, n), terms[n * n:n * n + n], terms[n * n + n:]
+        J = np.empty((n * n, len(q)))
+        fused(self._values, q, u, u_rate, u_acc, known=known, same_point=True, into=[*J, *into[0], *into[1]])
+        return _matrix(J, 0, n, n), *into
 
     def _block_stacks(self, J: np.ndarray) -> list:
         """Per block of a stack J (N, n, n): its rows, columns, the columns solved before it, its diagonal

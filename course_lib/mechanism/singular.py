@@ -22,6 +22,72 @@ def _rms(values: np.ndarray, axis) -> np.ndarray:
     return (safe * np.sqrt(((values / safe) ** 2).mean(axis=axis, keepdims=True))).squeeze(axis)
 
 
+def _smallest_two(J: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """σ_min of a stack of 2×2 J̃ = J with row i divided by ``rows[i]`` and column j by ``columns[j]``:
+    |det J̃| / σ_max, σ_max² = (‖J̃‖²_F + √(‖J̃‖⁴_F − 4 det² J̃)) / 2, 0 where σ_max is 0 or not a number;
+    each entry of J̃ divided by its row's size, then its column's, and the squares summed row by row, a
+    stack's entries in place (the temporaries of a long sweep are the time, not the arithmetic)."""
+    shape = J.shape[:-2]
+    J = J.reshape(-1, 2, 2)
+    with np.errstate(all="ignore"):
+        a, b = np.divide(J[:, 0, 0], rows[0]), np.divide(J[:, 0, 1], rows[0])
+        c, d = np.divide(J[:, 1, 0], rows[1]), np.divide(J[:, 1, 1], rows[1])
+        a /= columns[0]
+        b /= columns[1]
+        c /= columns[0]
+        d /= columns[1]
+        frobenius, work = np.multiply(a, a), np.multiply(b, b)  # ‖J̃‖²_F = ((a² + b²) + c²) + d²
+        frobenius += work
+        frobenius += np.multiply(c, c, out=work)
+        frobenius += np.multiply(d, d, out=work)
+        det = np.multiply(a, d, out=a)  # det J̃ = ad − bc
+        det -= np.multiply(b, c, out=work)
+        largest = np.multiply(frobenius, frobenius, out=b)  # σ_max, in b
+        largest -= np.multiply(4, np.multiply(det, det, out=c), out=c)
+        np.maximum(largest, 0.0, out=largest)
+        np.sqrt(largest, out=largest)
+        largest += frobenius
+        largest /= 2
+        np.sqrt(largest, out=largest)
+        smallest = np.abs(det, out=det)
+        smallest /= largest
+        if not (positive := largest > 0).all():
+            smallest[~positive] = 0.0
+    return smallest.reshape(shape)
+
+
+def _below_two(J: np.ndarray, rows: np.ndarray, columns: np.ndarray, singular: np.ndarray,
+               near: np.ndarray) -> None:
+    """The rule's two decisions at a stack of 2×2 J (N, 2, 2), into ``singular`` and ``near`` (N,):
+    σ_min(J̃) < SINGULAR and σ_min(J̃) < NEAR_SINGULAR, σ_min computed (:func:`_smallest_two`, the same
+    bits as everywhere) only where the lower bound |det J̃| / ‖J̃‖_F cannot settle both.  The bound settles
+    them where det² J̃ > (2·NEAR_SINGULAR)²·‖J̃‖²_F and ‖J̃‖²_F ≤ 1e4 (J̃'s entries are of order 1 by
+    their scaling): σ_min is then above 2·NEAR_SINGULAR and |det J̃| ≥ 2e-4·‖J̃‖²_F, so the rounding of
+    det J̃ (parts in 1e16 of ‖J̃‖²_F) moves σ_min by parts in 1e12 at most, in the closed form as here —
+    far above both thresholds.  Elsewhere (NaN, inf, J̃ too large for that, σ_min near a threshold) the
+    closed form decides, as at every instant."""
+    with np.errstate(all="ignore"):
+        weight = 1 / np.outer(rows, columns)
+        a, b = np.multiply(J[:, 0, 0], weight[0, 0]), np.multiply(J[:, 0, 1], weight[0, 1])
+        c, d = np.multiply(J[:, 1, 0], weight[1, 0]), np.multiply(J[:, 1, 1], weight[1, 1])
+        size, work = np.multiply(a, a), np.empty(len(J))  # ‖J̃‖²_F (entries scaled to a few ulps)
+        for entry in (b, c, d):
+            size += np.multiply(entry, entry, out=work)
+        det = np.multiply(a, d, out=a)
+        det -= np.multiply(b, c, out=b)
+        det *= det
+        settled = np.less_equal(size, 1e4, out=np.empty(len(J), bool))
+        size *= (2 * NEAR_SINGULAR) ** 2
+        settled &= np.greater(det, size, out=np.empty(len(J), bool))
+        singular[:] = False
+        near[:] = False
+        if not settled.all():
+            where = np.flatnonzero(~settled)
+            smallest = _smallest_two(J[where], rows, columns)
+            singular[where] = ~(smallest >= SINGULAR)
+            near[where] = ~(smallest >= NEAR_SINGULAR)
+
+
 class Singularity:
     """The one singularity rule: typical sizes at the generic point and σ_min(J̃)."""
 
@@ -109,10 +175,24 @@ class Singularity:
         """
         return ~(self.smallest_singular_value(q, u) >= SINGULAR)
 
+    def _below(self, J: np.ndarray, singular: np.ndarray, near: np.ndarray) -> None:
+        """The rule at a stack J (N, n, n), into ``singular`` and ``near`` (N,): σ_min(J̃) < SINGULAR and
+        σ_min(J̃) < NEAR_SINGULAR (for n = 2, σ_min computed only where a bound cannot settle them, see
+        :func:`_below_two`)."""
+        if J.shape[-1] == 2:
+            rows, columns = self._scales
+            _below_two(J, rows, columns, singular, near)
+            return
+        smallest = self._smallest(J)
+        singular[:] = ~(smallest >= SINGULAR)
+        near[:] = ~(smallest >= NEAR_SINGULAR)
+
     def _smallest(self, J: np.ndarray) -> np.ndarray:
         """σ_min(J̃) of a stack J (..., n, n): exact for n ≤ 2, else exact where a bound cannot settle it."""
         rows, columns = self._scales
         n = J.shape[-1]
+        if n == 2:
+            return _smallest_two(J, rows, columns)
         # entries first (n, n, ...): contiguous for the compiled terms' J, so each operation runs in one pass
         A = np.moveaxis(J, (-2, -1), (0, 1)) / rows[:, None].reshape((n, 1) + (1,) * (J.ndim - 2))
         A /= columns.reshape((1, n) + (1,) * (J.ndim - 2))
@@ -120,10 +200,6 @@ class Singularity:
             if n == 1:
                 return np.abs(A[0, 0])
             frobenius = (A * A).sum(axis=(0, 1))
-            if n == 2:
-                det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
-                largest = np.sqrt((frobenius + np.sqrt(np.maximum(frobenius**2 - 4 * det**2, 0.0))) / 2)
-                return np.where(largest > 0, np.abs(det) / largest, 0.0)
             det = np.ones(A.shape[2:])
             for block_rows, block_columns in self._structure["blocks"]:
                 block = A[np.ix_(block_rows, block_columns)]

@@ -39,6 +39,14 @@ from .singular import NEAR_SINGULAR, SINGULAR
 _SWEPT = 16_384
 
 
+def _stacked(arrays, N: int) -> np.ndarray:
+    """Arrays of one shape (the inputs' rates or accelerations) side by side, (N, m); numbers given
+    (broadcast, every stride 0) as a read-only view of their one row, the same at every instant."""
+    if N and not any(stride for a in arrays for stride in a.strides):
+        return np.broadcast_to(np.array([a[(0,) * a.ndim] for a in arrays], float), (N, len(arrays)))
+    return np.stack(arrays, axis=-1).reshape(-1, len(arrays))
+
+
 class Solving:
     """``solve``: a motion from the inputs, and the one result it returns."""
 
@@ -115,8 +123,9 @@ class Solving:
                 except ValueError:
                     raise InvalidGeometryError(f"assembly's σ per instant must broadcast to the inputs' "
                                                f"shape {shape}; got shape {np.shape(sigma)}") from None
-        u = np.stack(arrays[:m], axis=-1).reshape(-1, m)
-        u_rate, u_acc = ((np.stack(arrays[k * m:(k + 1) * m], axis=-1).reshape(-1, m) for k in (1, 2))
+        # the inputs (N, m): one input as given (a view where it can be: nothing writes into u)
+        u = arrays[0].reshape(-1, 1) if m == 1 else np.stack(arrays[:m], axis=-1).reshape(-1, m)
+        u_rate, u_acc = ((_stacked(arrays[k * m:(k + 1) * m], len(u)) for k in (1, 2))
                          if rates is not None or accelerations is not None else (None, None))
         if not len(u):  # an empty sweep: an empty motion
             nothing = MappingProxyType({s.name: np.empty(shape) for s in self.unknowns})
@@ -212,7 +221,7 @@ class Solving:
                         raise ConvergenceError(f"at {where}, the first instant, from the guess: "
                                                f"{shown.message}", result=shown)
                 q, iterations = self._march(u, paths, start, tol, max_iter, notes)
-            converged = _finite_rows(q)
+            converged = found if closed else _finite_rows(q)  # (q as it was when found)
             if "rigid" not in self._numeric and self.links and converged.any():
                 found = np.flatnonzero(converged)  # a sample spread over the motion shows a stretch
                 sample = found[np.linspace(0, len(found) - 1, min(len(found), 257)).astype(int)]
@@ -221,30 +230,32 @@ class Solving:
             at_q = at_q if at_q is not None and safe is q else dict(known)
             masks = {}
 
-            def singular_and_near(smallest=None):  # the core's rule, once: with the rates, else when read
-                if not masks:
-                    if smallest is None:
+            def singular_and_near(below=None):  # the core's rule, once: with the rates, else when read
+                if not masks:  # below: σ_min(J̃) < SINGULAR and < NEAR_SINGULAR, where found already
+                    if below is None:
+                        below = np.empty(len(u), bool), np.empty(len(u), bool)
                         with np.errstate(all="ignore"):
-                            smallest = self._smallest(self._J(safe, u, at_q))
-                    masks["singular"] = converged & ~(smallest >= SINGULAR) | stuck
-                    masks["near"] = converged & ~(smallest >= NEAR_SINGULAR)
+                            self._below(self._J(safe, u, at_q), *below)
+                    masks["singular"] = converged & below[0] | stuck
+                    masks["near"] = converged & below[1]
                     self._notes(notes, converged, masks["singular"], masks["near"], u, undetermined)
                 return masks
 
             if want_rates and swept:  # found with the positions, block by block
-                q_rate, q_acc, smallest = swept
-                singular = singular_and_near(smallest)["singular"]
+                q_rate, q_acc, below = swept
+                singular = singular_and_near(below)["singular"]
             elif want_rates:  # _BLOCK instants at a time: the temporaries stay in the cache, the memory flat
-                q_rate, q_acc, smallest = np.empty(q.shape), np.empty(q.shape), np.empty(len(u))
+                q_rate, q_acc = np.empty(q.shape), np.empty(q.shape)
+                below = np.empty(len(u), bool), np.empty(len(u), bool)
                 for start in range(0, len(u), _BLOCK):
                     part = slice(start, start + _BLOCK)
                     known_part = {key: value[part] for key, value in at_q.items()}
                     J, F_u = self._rate_terms(safe[part], u[part], known_part, same_point=True)
-                    smallest[part] = self._smallest(J)
-                    bad = ~converged[part] | ~(smallest[part] >= SINGULAR) | stuck[part]
+                    self._below(J, below[0][part], below[1][part])
+                    bad = ~converged[part] | below[0][part] | stuck[part]
                     q_rate[part], q_acc[part], _ = self._rates(safe[part], u[part], u_rate[part], u_acc[part],
                                                                bad, (J, F_u), known_part)
-                singular = singular_and_near(smallest)["singular"]
+                singular = singular_and_near(below)["singular"]
         if on_failure == "raise":
             self._report(~converged, singular if want_rates else undetermined, u, closed, q, undetermined)
         if not converged.all():  # an instant is solved whole or not at all: NaN in every unknown
@@ -278,20 +289,23 @@ class Solving:
         increasing from the first, or several inputs, which have no order of neighbours)."""
         blocks = self._forms
         return (seed is None and len(self._kernels) == len(blocks) and len(chosen) == len(blocks)
-                and (u.shape[1] > 1 or len(paths) == 1 and len(paths[0]) == len(u)
-                     and bool((np.diff(paths[0]) == 1).all())))
+                and (u.shape[1] > 1 or len(paths) == 1 and len(paths[0]) == len(u)  # every instant once:
+                     and bool((paths[0][1:] > paths[0][:-1]).all())))  # increasing, so 0, 1, …, N − 1
 
     def _swept(self, u, chosen, notes, u_rate=None, u_acc=None):
-        """Positions (N, n), the instants not determined, σ per block and, with ``u_rate``, (q̇, q̈,
-        σ_min(J̃)): _SWEPT instants at a time, each block's kernel, the angles continued from the block
-        before (the same bits as :meth:`_continuous` on the whole) and the rates of the block while its
-        values are in the cache (the kernel route of :meth:`solve`, see :meth:`_sweepable`)."""
+        """Positions (N, n), the instants not determined, σ per block and, with ``u_rate``, (q̇, q̈, (where
+        σ_min(J̃) < SINGULAR, where < NEAR_SINGULAR)): _SWEPT instants at a time, each block's kernel, the
+        angles continued from the block before (the same bits as :meth:`_continuous` on the whole) and the
+        rates of the block while its values are in the cache (the kernel route of :meth:`solve`, see
+        :meth:`_sweepable`)."""
         N, n = u.shape[0], len(self.unknowns)
         angles = [j for j, s in enumerate(self.unknowns) if s in self._structure["angles"]]
         several, inputs = u.shape[1] > 1, {s.name for s in self.inputs}
         q, undetermined = np.empty((N, n)), np.zeros(N, bool)
         sigma = {name: np.empty(N, np.int8) for name in chosen}
-        rates = None if u_rate is None else (np.empty((N, n)), np.empty((N, n)), np.empty(N))
+        # q̇, q̈ by row, and where σ_min(J̃) < SINGULAR and < NEAR_SINGULAR
+        rates = None if u_rate is None else (np.empty((n, N)), np.empty((n, N)), np.empty(N, bool),
+                                             np.empty(N, bool))
         followed = previous = turns = None  # the angles followed from instant 0, their last value, turns
         for start in range(0, N, _SWEPT):
             part = slice(start, start + _SWEPT)
@@ -303,7 +317,7 @@ class Solving:
             for form in self._forms:
                 first = self.unknowns.index(form.unknowns[0])
                 name = form.unknowns[0].name
-                in_order = [np.arange(len(u_part))]
+                in_order = None  # σ named for every block (see _sweepable): no path to pick σ or follow it on
                 sigma[name][part], level, trig = self._kernel_block(self._kernels[name], form, q_part, u_part,
                                                                     in_order, None, at, notes,
                                                                     trig_wanted=True)
@@ -327,19 +341,24 @@ class Solving:
                 if not found.all():  # the unknowns' cos and sin taken at 0 where not found, as their values
                     safe = np.where(found[:, None], q_part, 0.0)
                     known = {key: value for key, value in known.items() if key[0] in inputs}
-                fused = self._fused(safe, u_part, u_rate[part], u_acc[part], known)  # J, q̇, q̈ in one pass
+                # J, q̇, q̈ in one pass; rates the same at every instant given once (their products with
+                # the parameters then computed once)
+                given = [a[:1] if a.strides[0] == 0 else a[part] for a in (u_rate, u_acc)]
+                velocity, acceleration = rates[0][:, part], rates[1][:, part]
+                fused = self._fused(safe, u_part, *given, known, into=(velocity, acceleration))
                 J, F_u = (fused[0], None) if fused is not None else self._rate_terms(safe, u_part, known,
                                                                                      same_point=True)
-                rates[2][part] = smallest = self._smallest(J)
-                bad = ~found | ~(smallest >= SINGULAR) | undetermined[part]
-                if fused is not None:
-                    rates[0][part], rates[1][part] = fused[1:]
+                self._below(J, rates[2][part], rates[3][part])
+                bad = ~found | rates[2][part] | undetermined[part]
+                if fused is not None:  # q̇ and q̈ written in their rows already
                     if bad.any():
-                        rates[0][part][bad] = rates[1][part][bad] = np.nan
+                        velocity[:, bad] = acceleration[:, bad] = np.nan
                 else:
-                    rates[0][part], rates[1][part], _ = self._rates(safe, u_part, u_rate[part], u_acc[part],
-                                                                    bad, (J, F_u), known)
-        return q, undetermined, sigma, rates
+                    q_rate, q_acc, _ = self._rates(safe, u_part, u_rate[part], u_acc[part], bad, (J, F_u),
+                                                   known)
+                    velocity[:], acceleration[:] = q_rate.T, q_acc.T
+        # q̇ and q̈ (N, n) as views of their rows: each unknown's rates one contiguous array
+        return q, undetermined, sigma, None if rates is None else (rates[0].T, rates[1].T, rates[2:])
 
     @staticmethod
     def _turned(q_part, columns, previous, turns):
@@ -353,8 +372,13 @@ class Solving:
             values = values[rows]
         if not len(values):
             return previous, turns
-        steps = np.diff(values, axis=0, prepend=previous[None, :])  # (the first block's first step is 0)
-        wraps = np.round(steps / (2 * np.pi))
+        # the steps from ``previous`` on (the first block's first step is 0), in the layout of ``values``
+        # (columns taken by a list: one column after the other, which a row-by-row array would cross slowly)
+        steps = np.empty_like(values)
+        np.subtract(values[:1], previous, out=steps[:1])
+        np.subtract(values[1:], values[:-1], out=steps[1:])
+        steps /= 2 * np.pi
+        wraps = np.round(steps, out=steps)
         if wraps.any() or turns.any():
             counted = turns + np.cumsum(wraps, axis=0)
             kept = values - 2 * np.pi * counted

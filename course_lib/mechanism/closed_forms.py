@@ -364,6 +364,7 @@ class ClosedForms:
         between coarse steps; ``outer``: the sweep as given, whose instants the notes name.  ``stop``: the
         level of block ``stop`` alone, with every σ given by ``chosen`` (see :meth:`_follow`)."""
         known = {} if known is None else known
+        memo = {}  # the cos and sin of the unknowns computed here, with their arguments' bits (see _compile)
         N, n = len(u), len(self.unknowns)
         q, sigmas, undetermined = np.full((N, n), np.nan), {}, np.zeros(N, bool)
         structure = self._structure
@@ -384,7 +385,7 @@ class ClosedForms:
                 following |= (chosen or {}).get(form.unknowns[0].name) is None
                 undetermined |= np.isnan(q[:, first]) & (level >= -LEVEL)
                 continue
-            a, b, c = coefficients(self._values, q, u, known=known)
+            a, b, c = coefficients(self._values, q, u, known=known, memo=memo)
             if linear:
                 q[:, first] = -c / b
             else:
@@ -398,8 +399,10 @@ class ClosedForms:
                 at_plus = q.copy()
                 at_plus[:, first] = plus
                 if form.second is not None:
-                    at_plus[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, at_plus, u)
-                side = -np.sign(orientation(self._values, np.where(np.isfinite(at_plus), at_plus, 0.0), u)[0])
+                    at_plus[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, at_plus, u,
+                                                                                     known, memo)
+                side = -np.sign(orientation(self._values, np.where(np.isfinite(at_plus), at_plus, 0.0), u,
+                                            memo=memo)[0])
                 side = np.where(side == 0, 1.0, side)
                 name = form.unknowns[0].name
                 wanted = (chosen or {}).get(name)
@@ -411,7 +414,7 @@ class ClosedForms:
                 q[:, first] = np.where(root > 0, plus, minus)
                 sigmas[name] = (root * side).astype(int)
             if form.second is not None:
-                q[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, q, u, known)
+                q[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, q, u, known, memo)
         if following and refine and u.shape[1] == 1 and N > 1:
             denser = self._denser(u, q)
             if denser is not None:  # coarse steps: the motion followed on a denser sweep, read at u
@@ -430,7 +433,7 @@ class ClosedForms:
         everywhere = bool(finite.all())
         at_q = dict(known)
         at = q if everywhere else np.where(finite[:, None], q, 0.0)
-        residual = np.abs(self._F(at, u, at_q, same_point=True)) / rows
+        residual = np.abs(self._F(at, u, at_q, same_point=True, memo=memo)) / rows
         doubt = np.flatnonzero(finite & ~(residual.max(axis=1) <= RESIDUAL))
         for k in doubt:  # the cross-check: Newton from the closed form, kept only on the same assembly
             polished, fixed, count = self._correct(q[k], u[k], tol, max_iter)
@@ -514,9 +517,9 @@ class ClosedForms:
             given = {}  # another σ solved after: its cos and sin not kept
         return (wanted * root).astype(int), level, given
 
-    def _second(self, form, second, q, u, known=None) -> np.ndarray:
+    def _second(self, form, second, q, u, known=None, memo=None) -> np.ndarray:
         """The block's second unknown from its first (already in ``q``)."""
-        values = second(self._values, q, u, known=known)
+        values = second(self._values, q, u, known=known, memo=memo)
         return np.arctan2(values[1], values[0]) if form.second[0] == "angle" else values[0]
 
     def _pick(self, plus, minus, paths, target, first, side) -> int:

@@ -55,6 +55,21 @@ def _rows(*arrays) -> tuple[tuple, list[np.ndarray]]:
     return shape, [_broadcast(a, shape + a.shape[-1:]).reshape(-1, a.shape[-1]) for a in arrays]
 
 
+def _recalled(memo: dict, key, func, column: np.ndarray) -> np.ndarray:
+    """func(column) (a cos or sin), taken from ``memo`` where it holds the value for an argument with the
+    same bits as ``column`` (the same operation on the same bits: the same bits out), else computed and
+    kept there with a copy of its argument."""
+    if column.dtype != np.float64:
+        return func(column)
+    bits = column.view(np.int64)
+    kept = memo.get(key)
+    if kept is not None and kept[0].shape == bits.shape and np.array_equal(kept[0], bits):
+        return kept[1]
+    value = func(column)
+    memo[key] = (bits.copy(), value)
+    return value
+
+
 class _ReciprocalPrinter(NumPyPrinter):
     """numpy code with a negative whole power written as a reciprocal of a product, 1/(x*x) for x**-2:
     numpy's general power is some fifty times slower than a multiplication."""
@@ -75,7 +90,9 @@ class Compiled:
         """f(values, *arrays, known=None, same_point=False, seen=None, into=None): array k (...,
         len(groups[k])) → (len(expressions), ...); with ``keep``, the first ``keep`` only, with the bits of
         the whole; ``reciprocals``: x**(−k) computed as 1/(x·…·x), not by numpy's slow general power;
-        ``into``: one array (...) per expression to write it in (the caller's rows, no copy after), returned.
+        ``into``: one array (...) per expression to write it in (the caller's rows, no copy after), returned;
+        ``memo``: a dict keeping each cos and sin computed with its argument's bits, so a later call whose
+        argument has the same bits takes it from there (see :func:`_recalled`).
 
         cos and sin of unknowns and inputs are arguments, computed once per call or taken from ``known``
         ({(name, "cos"): array}, where inputs' are kept, and unknowns' with ``same_point``); ``seen``
@@ -112,14 +129,14 @@ class Compiled:
         angles_of = [((s.name, func), np.cos if func == "cos" else np.sin, symbols.index(s), s.name in inputs)
                      for func, s in trig]
 
-        def evaluate(values, *arrays, known=None, same_point=False, seen=None, into=None):
+        def evaluate(values, *arrays, known=None, same_point=False, seen=None, into=None, memo=None):
             arrays = [np.asarray(a, dtype=float) for a in arrays]
             columns = [arrays[k][..., j] for k, j in where]
             angles = []
             for key, func, index, is_input in angles_of:
                 value = None if known is None else known.get(key)
                 if value is None:
-                    value = func(columns[index])
+                    value = func(columns[index]) if memo is None else _recalled(memo, key, func, columns[index])
                     if known is not None and (is_input or same_point):
                         known[key] = value
                 angles.append(value)
@@ -238,8 +255,8 @@ class Compiled:
         terms = self._acceleration_fn(self._values, q, q_rate, u, u_rate, u_acceleration, known=known)
         return _vector(terms, 0, len(self.unknowns))
 
-    def _F(self, q, u, known=None, same_point=False) -> np.ndarray:
-        terms = self._residual_fn(self._values, q, u, known=known, same_point=same_point)
+    def _F(self, q, u, known=None, same_point=False, memo=None) -> np.ndarray:
+        terms = self._residual_fn(self._values, q, u, known=known, same_point=same_point, memo=memo)
         return _vector(terms, 0, len(self.unknowns))
 
     def _J(self, q, u, known=None) -> np.ndarray:

@@ -179,13 +179,59 @@ class Singularity:
         """The rule at a stack J (N, n, n), into ``singular`` and ``near`` (N,): σ_min(J̃) < SINGULAR and
         σ_min(J̃) < NEAR_SINGULAR (for n = 2, σ_min computed only where a bound cannot settle them, see
         :func:`_below_two`)."""
-        if J.shape[-1] == 2:
+        n = J.shape[-1]
+        if n == 2:
             rows, columns = self._scales
             _below_two(J, rows, columns, singular, near)
             return
+        if n > 2 and J.ndim == 3 and len(J):
+            settled = self._settled(J)
+            singular[:] = False
+            near[:] = False
+            if settled.all():
+                return
+            where = np.flatnonzero(~settled)
+            J = J[where]
+        else:
+            where = slice(None)
         smallest = self._smallest(J)
-        singular[:] = ~(smallest >= SINGULAR)
-        near[:] = ~(smallest >= NEAR_SINGULAR)
+        singular[where] = ~(smallest >= SINGULAR)
+        near[where] = ~(smallest >= NEAR_SINGULAR)
+
+    def _settled(self, J: np.ndarray) -> np.ndarray:
+        """Where a stack J (N, n, n), n > 2, has σ_min(J̃) ≥ NEAR_SINGULAR proven by the lower bound
+        |det J̃| / ‖J̃‖_F^(n−1) of :meth:`_smallest`, itself above NEAR_SINGULAR there: det² J̃ above
+        (1 + 1e-9)·NEAR_SINGULAR²·‖J̃‖_F^(2(n−1)) with ‖J̃‖²_F ≤ 1e4 (J̃'s entries of order 1 by their
+        scaling), so the rounding of either way of computing it (parts in 1e14 at most) cannot move it
+        across NEAR_SINGULAR; :meth:`_smallest` decides elsewhere, as at every instant.  Entries row by
+        row from the compiled terms' rows (each (N,) contiguous), det J̃ block by block as there."""
+        rows, columns = self._scales
+        n = J.shape[-1]
+        entries = J.transpose(1, 2, 0)  # (n, n, N): each entry's values one after the other
+        weight = 1 / np.outer(rows, columns)
+        with np.errstate(all="ignore"):
+            scaled = [[np.multiply(entries[i, j], weight[i, j]) for j in range(n)] for i in range(n)]
+            size, work = np.zeros(len(J)), np.empty(len(J))
+            for row in scaled:
+                for entry in row:
+                    size += np.multiply(entry, entry, out=work)
+            det = None
+            for block_rows, block_columns in self._structure["blocks"]:
+                if len(block_rows) == 1:
+                    part = scaled[block_rows[0]][block_columns[0]]
+                elif len(block_rows) == 2:
+                    (i, k), (j, m) = block_rows, block_columns
+                    part = scaled[i][j] * scaled[k][m] - scaled[i][m] * scaled[k][j]
+                else:
+                    block = np.array([[scaled[i][j] for j in block_columns] for i in block_rows])
+                    part = np.linalg.det(np.moveaxis(block, (0, 1), (-2, -1)))
+                det = part if det is None else det * part
+            det = det * det
+            settled = size <= 1e4
+            size **= n - 1
+            size *= (1 + 1e-9) * NEAR_SINGULAR ** 2
+            settled &= det > size
+        return settled
 
     def _smallest(self, J: np.ndarray) -> np.ndarray:
         """σ_min(J̃) of a stack J (..., n, n): exact for n ≤ 2, else exact where a bound cannot settle it."""

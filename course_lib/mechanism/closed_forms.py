@@ -256,24 +256,37 @@ class ClosedForms:
         """The roots σ = +1 and −1 of a·v² + b·v + c = 0 (v = tan(θ/2) → θ for an angle), each from the
         better-conditioned of (−b + σ√Δ)/(2a) and 2c/(−b − σ√Δ), NaN where Δ < 0 beyond rounding; and Δ over
         its scale: (root +1, root −1, Δ / scale)."""
-        discriminant = b * b - 4 * a * c
+        square_b = b * b
+        discriminant = square_b - 4 * a * c
         # for an angle, (a, b, c) = (C − A, 2B, C + A) of A cos θ + B sin θ + C:
         # Δ ≤ b² + (a − c)² = 4(A² + B²)
-        scale = b * b + ((a - c) ** 2 if kind == "angle" else np.abs(4 * a * c))
+        scale = square_b + ((a - c) ** 2 if kind == "angle" else np.abs(4 * a * c))
         bad = ~(discriminant >= -LEVEL * scale)
         root = np.sqrt(np.maximum(discriminant, 0.0))
         two_a, two_c = 2 * a, 2 * c
         size_a, size_c = np.abs(two_a), np.abs(two_c)
+        minus_b = -b
+        up, down = minus_b + root, minus_b - root  # −b + √Δ, −b − √Δ
+        size_up, size_down = np.abs(up), np.abs(down)
         out = []
-        for y1, x2 in ((-b + root, -b - root), (-b - root, -b + root)):
-            first = np.abs(y1) + size_a >= size_c + np.abs(x2)
+        for y1, x2, size_y1, size_x2 in ((up, down, size_up, size_down), (down, up, size_down, size_up)):
+            first = size_y1 + size_a >= size_c + size_x2
             y, x = np.where(first, y1, two_c), np.where(first, two_a, x2)
-            wrong = bad | ((np.abs(y) + np.abs(x)) == 0)
-            value = 2 * np.arctan2(y, x) if kind == "angle" else y / x
-            out.append(np.where(wrong, np.nan, value))
+            wrong = np.abs(y) + np.abs(x) == 0
+            wrong |= bad
+            if kind == "angle":
+                value = np.arctan2(y, x, out=y)
+                value *= 2
+            else:
+                value = np.divide(y, x, out=y)
+            value[wrong] = np.nan
+            out.append(value)
         # scale 0: b = 0 and a = c (an angle) or a·c = 0 (a length); the level 0 where a root remains (a
         # double one, or every v where every coefficient is 0: the position not determined), else −1
-        return out[0], out[1], np.where(scale > 0, discriminant / np.where(scale > 0, scale, 1.0),
+        positive = scale > 0
+        if positive.all():
+            return out[0], out[1], np.divide(discriminant, scale, out=discriminant)
+        return out[0], out[1], np.where(positive, discriminant / np.where(positive, scale, 1.0),
                                         np.where((discriminant < 0) | ((a == 0) & (c != 0)), -1.0, 0.0))
 
     def _assembly(self, assembly: Mapping | None, closed: bool, per_instant: bool = False) -> dict:

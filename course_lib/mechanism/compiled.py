@@ -136,7 +136,8 @@ class Compiled:
             for key, func, index, is_input in angles_of:
                 value = None if known is None else known.get(key)
                 if value is None:
-                    value = func(columns[index]) if memo is None else _recalled(memo, key, func, columns[index])
+                    column = columns[index]
+                    value = func(column) if memo is None else _recalled(memo, key, func, column)
                     if known is not None and (is_input or same_point):
                         known[key] = value
                 angles.append(value)

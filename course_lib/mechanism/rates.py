@@ -130,6 +130,9 @@ class Rates:
         """q̇ and q̈ (N, n; q̈ None without ``u_acc``) at solved positions from (J, F_u) there, NaN where
         ``singular`` (``known``: the cos and sin already computed at q and u, see _compile)."""
         J, F_u = terms
+        by_rows = self._rates_by_rows(q, u, u_rate, u_acc, singular, J, F_u, known)
+        if by_rows is not None:
+            return by_rows
         J, unit = self._unit_rows(J)
         rows, columns = unit or (1.0, 1.0)
         any_singular = singular.any()
@@ -146,3 +149,69 @@ class Rates:
             if q_acc is not None:
                 q_acc[singular] = np.nan
         return q_rate, q_acc, singular
+
+    def _rates_by_rows(self, q, u, u_rate, u_acc, singular, J, F_u, known=None):
+        """:meth:`_rates` with every array one row per entry or unknown ((N,) each, contiguous where J's
+        compiled rows are): the same operations on the same values, in the same order — b = 0 + Σ F_u·(−u̇)
+        and each block's right-hand side less 0 + Σ (coupling)·(earlier rates) as ``einsum`` sums them from 0,
+        Cramer's rule as :class:`LinearStack` — for one input and blocks of one or two unknowns, each after at
+        most two earlier ones (None elsewhere, where :meth:`_rates` solves as it does)."""
+        blocks, n = self._structure["blocks"], len(self.unknowns)
+        if (F_u.shape[-1] != 1 or self._extreme_scales() or any(len(c) > 2 for _, c in blocks)
+                or any(len(rows) != len(c) for rows, c in blocks) or J.ndim != 3):
+            return None
+        done, order = [], []
+        for rows, columns in blocks:
+            if len(done) > 2:
+                return None
+            order.append((rows, columns, list(done)))
+            done += list(columns)
+        entries = J.transpose(1, 2, 0)  # (n, n, N): rows of the compiled terms
+        any_singular = bool(singular.any())
+        eye = np.eye(n)
+
+        def entry(i, j):
+            return np.where(singular, eye[i, j], entries[i, j]) if any_singular else entries[i, j]
+
+        stacks = []
+        for rows, columns, earlier in order:
+            A = [[entry(i, j) for j in columns] for i in rows]
+            det = A[0][0] if len(rows) == 1 else A[0][0] * A[1][1] - A[0][1] * A[1][0]
+            coupling = [[entry(i, j) for j in earlier] for i in rows]
+            stacks.append((rows, columns, earlier, A, det, coupling))
+
+        def solve(b):  # b: one row (N,) per equation → x (n, N)
+            x = np.empty((n, len(J)))
+            for rows, columns, earlier, A, det, coupling in stacks:
+                rhs = [b[i] for i in rows]
+                if earlier:
+                    for k, row in enumerate(coupling):
+                        total = row[0] * x[earlier[0]]
+                        for c, d in zip(row[1:], earlier[1:], strict=True):
+                            total += c * x[d]
+                        total += 0.0
+                        rhs[k] = rhs[k] - total
+                if len(rows) == 1:
+                    x[columns[0]] = rhs[0] / det
+                else:
+                    x[columns[0]] = (A[1][1] * rhs[0] - A[0][1] * rhs[1]) / det
+                    x[columns[1]] = (A[0][0] * rhs[1] - A[1][0] * rhs[0]) / det
+            return x
+
+        with np.errstate(all="ignore"):
+            minus_rate = -u_rate[:, 0]
+            b = []
+            for i in range(n):
+                row = F_u[:, i, 0] * minus_rate
+                row += 0.0
+                b.append(row)
+            q_rate = solve(b)
+            if any_singular:
+                q_rate[:, singular] = np.nan
+            q_acc = None
+            if u_acc is not None:
+                rest = self._rhs(q, q_rate.T, u, u_rate, u_acc, known)
+                q_acc = solve([rest[:, i] for i in range(n)])
+                if any_singular:
+                    q_acc[:, singular] = np.nan
+        return q_rate.T, None if q_acc is None else q_acc.T, singular

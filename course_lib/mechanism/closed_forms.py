@@ -446,8 +446,13 @@ class ClosedForms:
         everywhere = bool(finite.all())
         at_q = dict(known)
         at = q if everywhere else np.where(finite[:, None], q, 0.0)
-        residual = np.abs(self._F(at, u, at_q, same_point=True, memo=memo)) / rows
-        doubt = np.flatnonzero(finite & ~(residual.max(axis=1) <= RESIDUAL))
+        F = self._F(at, u, at_q, same_point=True, memo=memo)  # (N, n): a view of one row per equation
+        residual = None  # the largest |F_i| / rows_i per instant, equation by equation
+        for i in range(n):
+            size = np.abs(F[:, i])
+            size /= rows[i]
+            residual = size if residual is None else np.maximum(residual, size, out=residual)
+        doubt = np.flatnonzero(finite & ~(residual <= RESIDUAL))
         for k in doubt:  # the cross-check: Newton from the closed form, kept only on the same assembly
             polished, fixed, count = self._correct(q[k], u[k], tol, max_iter)
             iterations[k] = count
@@ -688,14 +693,17 @@ class ClosedForms:
                 continue
             if not finite.all():
                 rows, values = path[finite], values[finite]
-            # each step within π: whole turns taken off, counted along the path
-            steps = np.diff(values, axis=0)
-            if not (np.abs(steps) > np.pi).any():
-                continue
-            turns = np.cumsum(np.round(steps / (2 * np.pi)), axis=0)
-            moved = (turns != 0).any(axis=0)
-            for k in np.flatnonzero(moved):
-                kept = values[1:, k] - 2 * np.pi * turns[:, k]
+            # each step within π: whole turns taken off, counted along the path, unknown by unknown (a
+            # column with every step within π has no turn to take off)
+            for k in range(len(columns)):
+                steps = np.diff(values[:, k])
+                if not (np.abs(steps) > np.pi).any():
+                    continue
+                turns = np.round(steps / (2 * np.pi))
+                np.cumsum(turns, out=turns)
+                if not turns.any():
+                    continue
+                kept = values[1:, k] - 2 * np.pi * turns
                 if isinstance(rows, slice):
                     q[1:len(path), columns[k]] = kept
                 else:

@@ -62,13 +62,21 @@ class Continuation:
         columns = range(len(self.unknowns)) if columns is None else columns
         angles = self._structure["angles"]
         scale = self._scales[1]
-        gaps = []
-        for j in columns:
-            gap = a[..., j] - b[..., j]
+        largest = None
+        for j in columns:  # the operations of _unwrap_to and np.max, in place
+            gap = np.asarray(np.subtract(a[..., j], b[..., j]))  # an array even at one instant
             if self.unknowns[j] in angles:
-                gap = _unwrap_to(gap, 0.0)
-            gaps.append(np.abs(gap) * scale[j])
-        return np.max(gaps, axis=0)
+                turns = np.subtract(gap, 0.0, out=np.empty_like(gap))
+                turns /= 2 * np.pi
+                np.round(turns, out=turns)
+                turns *= 2 * np.pi
+                gap -= turns
+            np.abs(gap, out=gap)
+            gap *= scale[j]
+            largest = gap if largest is None else np.maximum(largest, gap, out=largest)
+        if largest is None:
+            return np.max([], axis=0)
+        return largest[()] if largest.ndim == 0 else largest
 
     def _orientation(self, q, u) -> float:
         """The sign of det J̃ at one instant (J scaled by the typical sizes), 0 where J is singular there: the

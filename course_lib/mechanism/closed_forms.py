@@ -404,7 +404,9 @@ class ClosedForms:
             else:
                 plus, minus, level = self._roots(a, b, c, form.kind)
                 with np.errstate(invalid="ignore"):  # where an earlier block found nothing: no level
-                    level = np.where(np.isfinite(a + b + c), level, np.nan)
+                    given = np.isfinite(a + b + c)
+                    if not given.all():
+                        level = np.where(given, level, np.nan)
                 if stop == index:
                     return level
                 undetermined |= np.isnan(plus) & (level >= -LEVEL)  # 0·v² + 0·v + 0: every v solves it
@@ -414,8 +416,10 @@ class ClosedForms:
                 if form.second is not None:
                     at_plus[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, at_plus, u,
                                                                                      known, memo)
-                side = -np.sign(orientation(self._values, np.where(np.isfinite(at_plus), at_plus, 0.0), u,
-                                            memo=memo)[0])
+                # unknowns not found taken as 0 where det J_b reads them (the others not read at all)
+                read = at_plus[:, orientation.reads[0]]
+                at = at_plus if np.isfinite(read).all() else np.where(np.isfinite(at_plus), at_plus, 0.0)
+                side = -np.sign(orientation(self._values, at, u, memo=memo)[0])
                 side = np.where(side == 0, 1.0, side)
                 name = form.unknowns[0].name
                 wanted = (chosen or {}).get(name)

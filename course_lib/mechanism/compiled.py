@@ -164,6 +164,9 @@ class Compiled:
             return out
 
         evaluate.function = function  # the lambdified code, for reading
+        # the columns of each group the expressions read (a symbol, or the cos or sin of one)
+        free = set().union(*(e.free_symbols for e in expressions))
+        evaluate.reads = [[j for j, s in enumerate(group) if s in free] for group in groups]
         return evaluate
 
     @_derived

@@ -271,15 +271,20 @@ class ClosedForms:
         out = []
         for y1, x2, size_y1, size_x2 in ((up, down, size_up, size_down), (down, up, size_down, size_up)):
             first = size_y1 + size_a >= size_c + size_x2
-            y, x = np.where(first, y1, two_c), np.where(first, two_a, x2)
-            wrong = np.abs(y) + np.abs(x) == 0
+            if first.all():  # (−b ± √Δ)/(2a) at every instant: y and x as they are
+                y, x, size = y1, two_a, size_y1 + size_a
+            else:
+                y, x = np.where(first, y1, two_c), np.where(first, two_a, x2)
+                size = np.abs(y) + np.abs(x)
+            wrong = size == 0
             wrong |= bad
             if kind == "angle":
-                value = np.arctan2(y, x, out=y)
+                value = np.arctan2(y, x)
                 value *= 2
             else:
-                value = np.divide(y, x, out=y)
-            value[wrong] = np.nan
+                value = np.divide(y, x)
+            if wrong.any():
+                value[wrong] = np.nan
             out.append(value)
         # scale 0: b = 0 and a = c (an angle) or a·c = 0 (a length); the level 0 where a root remains (a
         # double one, or every v where every coefficient is 0: the position not determined), else −1

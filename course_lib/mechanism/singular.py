@@ -56,38 +56,6 @@ def _smallest_two(J: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.nd
     return smallest.reshape(shape)
 
 
-def _below_two(J: np.ndarray, rows: np.ndarray, columns: np.ndarray, singular: np.ndarray,
-               near: np.ndarray) -> None:
-    """The rule's two decisions at a stack of 2×2 J (N, 2, 2), into ``singular`` and ``near`` (N,):
-    σ_min(J̃) < SINGULAR and σ_min(J̃) < NEAR_SINGULAR, σ_min computed (:func:`_smallest_two`, the same
-    bits as everywhere) only where the lower bound |det J̃| / ‖J̃‖_F cannot settle both.  The bound settles
-    them where det² J̃ > (2·NEAR_SINGULAR)²·‖J̃‖²_F and ‖J̃‖²_F ≤ 1e4 (J̃'s entries are of order 1 by
-    their scaling): σ_min is then above 2·NEAR_SINGULAR and |det J̃| ≥ 2e-4·‖J̃‖²_F, so the rounding of
-    det J̃ (parts in 1e16 of ‖J̃‖²_F) moves σ_min by parts in 1e12 at most, in the closed form as here —
-    far above both thresholds.  Elsewhere (NaN, inf, J̃ too large for that, σ_min near a threshold) the
-    closed form decides, as at every instant."""
-    with np.errstate(all="ignore"):
-        weight = 1 / np.outer(rows, columns)
-        a, b = np.multiply(J[:, 0, 0], weight[0, 0]), np.multiply(J[:, 0, 1], weight[0, 1])
-        c, d = np.multiply(J[:, 1, 0], weight[1, 0]), np.multiply(J[:, 1, 1], weight[1, 1])
-        size, work = np.multiply(a, a), np.empty(len(J))  # ‖J̃‖²_F (entries scaled to a few ulps)
-        for entry in (b, c, d):
-            size += np.multiply(entry, entry, out=work)
-        det = np.multiply(a, d, out=a)
-        det -= np.multiply(b, c, out=b)
-        det *= det
-        settled = np.less_equal(size, 1e4, out=np.empty(len(J), bool))
-        size *= (2 * NEAR_SINGULAR) ** 2
-        settled &= np.greater(det, size, out=np.empty(len(J), bool))
-        singular[:] = False
-        near[:] = False
-        if not settled.all():
-            where = np.flatnonzero(~settled)
-            smallest = _smallest_two(J[where], rows, columns)
-            singular[where] = ~(smallest >= SINGULAR)
-            near[where] = ~(smallest >= NEAR_SINGULAR)
-
-
 class Singularity:
     """The one singularity rule: typical sizes at the generic point and σ_min(J̃)."""
 
@@ -177,14 +145,10 @@ class Singularity:
 
     def _below(self, J: np.ndarray, singular: np.ndarray, near: np.ndarray) -> None:
         """The rule at a stack J (N, n, n), into ``singular`` and ``near`` (N,): σ_min(J̃) < SINGULAR and
-        σ_min(J̃) < NEAR_SINGULAR (for n = 2, σ_min computed only where a bound cannot settle them, see
-        :func:`_below_two`)."""
+        σ_min(J̃) < NEAR_SINGULAR, σ_min computed (:meth:`_smallest`) only where the bound of
+        :meth:`_settled` cannot settle them (n ≥ 2)."""
         n = J.shape[-1]
-        if n == 2:
-            rows, columns = self._scales
-            _below_two(J, rows, columns, singular, near)
-            return
-        if n > 2 and J.ndim == 3 and len(J):
+        if n >= 2 and J.ndim == 3 and len(J):
             settled = self._settled(J)
             singular[:] = False
             near[:] = False
@@ -199,7 +163,7 @@ class Singularity:
         near[where] = ~(smallest >= NEAR_SINGULAR)
 
     def _settled(self, J: np.ndarray) -> np.ndarray:
-        """Where a stack J (N, n, n), n > 2, has σ_min(J̃) ≥ NEAR_SINGULAR proven by the lower bound
+        """Where a stack J (N, n, n), n ≥ 2, has σ_min(J̃) ≥ NEAR_SINGULAR proven by the lower bound
         |det J̃| / ‖J̃‖_F^(n−1) of :meth:`_smallest`, itself above NEAR_SINGULAR there: det² J̃ above
         (1 + 1e-9)·NEAR_SINGULAR²·‖J̃‖_F^(2(n−1)) with ‖J̃‖²_F ≤ 1e4 (J̃'s entries of order 1 by their
         scaling), so the rounding of either way of computing it (parts in 1e14 at most) cannot move it

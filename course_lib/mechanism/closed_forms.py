@@ -392,6 +392,7 @@ class ClosedForms:
         for index, (form, (coefficients, second, linear, orientation)) in enumerate(zip(
                 self._forms, self._closed_fns, strict=True)):
             first = self.unknowns.index(form.unknowns[0])
+            column = None if form.second is None else self.unknowns.index(form.unknowns[1])
             kernel = self._kernels.get(form.unknowns[0].name)
             level_at = self._level_at(index, sigmas, tol, max_iter)
             if kernel is not None:
@@ -415,28 +416,36 @@ class ClosedForms:
                 if stop == index:
                     return level
                 undetermined |= np.isnan(plus) & (level >= -LEVEL)  # 0·v² + 0·v + 0: every v solves it
-                # σ of the root +√Δ: −sign(det J_b) there (the other root's is the opposite)
-                at_plus = q.copy()
-                at_plus[:, first] = plus
-                if form.second is not None:
-                    at_plus[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, at_plus, u,
-                                                                                     known, memo)
-                # unknowns not found taken as 0 where det J_b reads them (the others not read at all)
-                read = at_plus[:, orientation.reads[0]]
-                at = at_plus if np.isfinite(read).all() else np.where(np.isfinite(at_plus), at_plus, 0.0)
-                side = -np.sign(orientation(self._values, at, u, memo=memo)[0])
-                side = np.where(side == 0, 1.0, side)
                 name = form.unknowns[0].name
                 wanted = (chosen or {}).get(name)
+                # σ = −sign(det J_b) at the root the block is expected on (the other root's is the opposite)
+                trial = self._trial(plus, minus, paths, target, first, wanted, form, second, orientation,
+                                    q, u)
+                at_trial = q.copy()
+                at_trial[:, first] = plus if trial > 0 else minus
+                if form.second is not None:
+                    at_trial[:, column] = self._second(form, second, at_trial, u, known, memo)
+                # unknowns not found taken as 0 where det J_b reads them (the others not read at all)
+                read = at_trial[:, orientation.reads[0]]
+                at = at_trial if np.isfinite(read).all() else np.where(np.isfinite(at_trial), at_trial, 0.0)
+                side = np.sign(orientation(self._values, at, u, memo=memo)[0])
+                if trial > 0:
+                    side = -side
+                side = np.where(side == 0, 1.0, side)  # σ of the root +√Δ
                 root = (self._pick(plus, minus, paths, target, first, side) if wanted is None
                         else wanted) * side  # +1: the root +√Δ
                 if wanted is None:  # σ named by assembly= holds at every instant; else it follows the motion
                     following = True
                     self._follow(root, level, paths, u, first, notes, level_at, outer)
-                q[:, first] = np.where(root > 0, plus, minus)
                 sigmas[name] = (root * side).astype(int)
+                if (root == trial).all():  # on the expected root at every instant: its values are the block's
+                    q[:, first] = at_trial[:, first]
+                    if form.second is not None:
+                        q[:, column] = at_trial[:, column]
+                    continue
+                q[:, first] = np.where(root > 0, plus, minus)
             if form.second is not None:
-                q[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, q, u, known, memo)
+                q[:, column] = self._second(form, second, q, u, known, memo)
         if following and refine and u.shape[1] == 1 and N > 1:
             denser = self._denser(u, q)
             if denser is not None:  # coarse steps: the motion followed on a denser sweep, read at u
@@ -549,20 +558,47 @@ class ClosedForms:
         values = second(self._values, q, u, known=known, memo=memo)
         return np.arctan2(values[1], values[0]) if form.second[0] == "angle" else values[0]
 
-    def _pick(self, plus, minus, paths, target, first, side) -> int:
-        """σ at the first instant (along the paths) where the two roots differ: the one nearer ``target``
-        (``side``: the σ of the root +√Δ per instant)."""
-        if target is None:
-            return 1
+    def _apart(self, plus, minus, paths) -> int | None:
+        """The first instant (along the paths) where the two roots are both found and differ; None if none."""
         for k in itertools.chain(*paths):
             both = np.array([plus[k], minus[k]])
             if np.isfinite(both).all() and self._distance(both[:1, None], both[1:, None], [0]) > 1e-7:
-                size = self._scales[1][first]
-                gaps = np.abs(both - target[first])
-                if self.unknowns[first] in self._structure["angles"]:
-                    gaps = np.abs(_unwrap_to(both - target[first], 0.0))
-                return int((1 if gaps[0] * size <= gaps[1] * size else -1) * side[k])
-        return 1
+                return int(k)
+        return None
+
+    def _nearer(self, plus, minus, k, target, first) -> int:
+        """The root nearer ``target`` at the instant ``k``: +1 the root +√Δ, −1 the other."""
+        both = np.array([plus[k], minus[k]])
+        size = self._scales[1][first]
+        gaps = np.abs(both - target[first])
+        if self.unknowns[first] in self._structure["angles"]:
+            gaps = np.abs(_unwrap_to(both - target[first], 0.0))
+        return 1 if gaps[0] * size <= gaps[1] * size else -1
+
+    def _pick(self, plus, minus, paths, target, first, side) -> int:
+        """σ at the first instant (along the paths) where the two roots differ: the one nearer ``target``
+        (``side``: the σ of the root +√Δ per instant)."""
+        k = None if target is None else self._apart(plus, minus, paths)
+        return 1 if k is None else int(self._nearer(plus, minus, k, target, first) * side[k])
+
+    def _trial(self, plus, minus, paths, target, first, wanted, form, second, orientation, q, u) -> int:
+        """The root (+1: +√Δ, −1 the other) the block is expected on at every instant, where σ is decided
+        once for the whole sweep: the root nearer ``target`` where the two first differ, or the one with the
+        ``wanted`` σ there (det J_b at that one instant).  Only a saving: the block's σ is decided by det J_b
+        at this root, and the values computed for it are kept where it is the root chosen."""
+        k = self._apart(plus, minus, paths)
+        if k is None:
+            return 1
+        if wanted is None and target is not None:
+            return self._nearer(plus, minus, k, target, first)
+        at = q[k:k + 1].copy()
+        at[:, first] = plus[k]
+        if form.second is not None:
+            at[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, at, u[k:k + 1])
+        at = np.where(np.isfinite(at), at, 0.0)
+        det = orientation(self._values, at, u[k:k + 1])[0][0]
+        sigma = 1 if wanted is None else int(np.ravel(wanted)[k if np.size(wanted) > 1 else 0])
+        return sigma if det <= 0 else -sigma
 
     def _level_at(self, index: int, sigmas: Mapping, tol, max_iter) -> Callable:
         """(points (K, m), left (K,)) → the level of block ``index`` at the inputs ``points``, the blocks

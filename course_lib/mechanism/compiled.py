@@ -72,6 +72,22 @@ def _recalled(memo: dict, key, func, column: np.ndarray) -> np.ndarray:
     return value
 
 
+def _sums_expanded(expression: sp.Expr, symbols) -> sp.Expr:
+    """cos and sin of a sum that holds unknowns or inputs (θ3 + δ) written with those of its terms
+    (cos θ3 cos δ − sin θ3 sin δ): the cos and sin of θ3 are computed once per call anyway, and those of
+    the parameters are numbers.
+
+    >>> th, d = sp.symbols("theta delta")
+    >>> _sums_expanded(sp.cos(th + d), [th])
+    -sin(delta)*sin(theta) + cos(delta)*cos(theta)
+    """
+    def is_sum(f):
+        return (isinstance(f, (sp.cos, sp.sin)) and f.args[0].is_Add
+                and any(s in f.args[0].free_symbols for s in symbols))
+
+    return expression.replace(is_sum, lambda f: sp.expand_trig(f))
+
+
 class _ReciprocalPrinter(NumPyPrinter):
     """numpy code with a negative whole power written as a reciprocal of a product, 1/(x*x) for x**-2:
     numpy's general power is some fifty times slower than a multiplication."""
@@ -100,7 +116,7 @@ class Compiled:
         ({(name, "cos"): array}, where inputs' are kept, and unknowns' with ``same_point``); ``seen``
         receives every one used."""
         symbols = [s for group in groups for s in group]
-        expressions = [sp.sympify(e) for e in expressions]
+        expressions = [_sums_expanded(sp.sympify(e), symbols) for e in expressions]
 
         def angles(among):
             return sorted({(f.func.__name__, f.args[0]) for e in among for f in e.atoms(sp.cos, sp.sin)

@@ -270,9 +270,10 @@ class ClosedForms:
         size_up, size_down = np.abs(up), np.abs(down)
         out = []
         for y1, x2, size_y1, size_x2 in ((up, down, size_up, size_down), (down, up, size_down, size_up)):
-            first = size_y1 + size_a >= size_c + size_x2
+            size = size_y1 + size_a
+            first = size >= size_c + size_x2
             if first.all():  # (−b ± √Δ)/(2a) at every instant: y and x as they are
-                y, x, size = y1, two_a, size_y1 + size_a
+                y, x = y1, two_a
             else:
                 y, x = np.where(first, y1, two_c), np.where(first, two_a, x2)
                 size = np.abs(y) + np.abs(x)
@@ -431,7 +432,7 @@ class ClosedForms:
                 side = np.sign(orientation(self._values, at, u, memo=memo)[0])
                 if trial > 0:
                     side = -side
-                side = np.where(side == 0, 1.0, side)  # σ of the root +√Δ
+                side[side == 0] = 1.0  # σ of the root +√Δ
                 root = (self._pick(plus, minus, paths, target, first, side) if wanted is None
                         else wanted) * side  # +1: the root +√Δ
                 if wanted is None:  # σ named by assembly= holds at every instant; else it follows the motion

@@ -80,7 +80,7 @@ def scipy_loop(n=N):
             lambda q, th=theta2: (saw.position_residual(q, th), saw.position_jacobian(q)),
             x[0:3], jac=True, method=METHOD, options={"xtol": 1e-12},
         ).x
-        jac = saw.velocity_jacobian(position)
+        jac = saw.velocity_residual_jacobian(position)
         velocity = scipy.optimize.root(
             lambda qd, q=position, th=theta2, w=omega2, J=jac: (saw.velocity_residual(qd, q, th, w), J),
             x[3:6], jac=True, method=METHOD, options={"xtol": 1e-12},

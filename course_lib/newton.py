@@ -57,7 +57,9 @@ class NewtonResult:
     """What one Newton run did.
 
     x : the last iterate (a float for a scalar problem, else an array (n,)).
-    converged : the step and residual tests both passed.  singular : stopped by a singular J.
+    converged : the step and residual tests both passed.  ill_conditioned : stopped by Newton's step test
+    (:func:`ill_conditioned`: J too close to singular to take a step), not the mechanism's singularity rule
+    (``Motion.singular``); ``singular`` is its older name.
     iterations : updates x_n → x_{n+1} performed.  message : what happened, in words.
     history : x_0 and every iterate, (iterations + 1, n).  step_norms : ‖x_{n+1} − x_n‖ per
     update.  step_components : |x_{n+1} − x_n| per variable.  residual_norms : ‖F(x_k)‖, k = 0 … iterations.
@@ -71,23 +73,34 @@ class NewtonResult:
     step_components: np.ndarray
     residual_norms: np.ndarray
     message: str = ""
-    singular: bool = False
+    ill_conditioned: bool = False
+
+    @property
+    def singular(self) -> bool:
+        """The older name of :attr:`ill_conditioned` (Newton's step test stopped the run)."""
+        return self.ill_conditioned
 
 
 @dataclass(frozen=True)
 class BatchNewtonResult:
     """What a batched Newton run did, one entry per system (the fields of :class:`NewtonResult`
-    without the history): x (N, n); converged, singular, iterations (N,); step_norms and
-    residual_norms (N,) of the last update; message, a summary.
+    without the history): x (N, n); converged, ill_conditioned, iterations (N,); step_norms and
+    residual_norms (N,) of the last update; message, a summary.  ``singular`` is the older name of
+    ``ill_conditioned``.
     """
 
     x: np.ndarray
     converged: np.ndarray
     iterations: np.ndarray
-    singular: np.ndarray
+    ill_conditioned: np.ndarray
     step_norms: np.ndarray
     residual_norms: np.ndarray
     message: str = ""
+
+    @property
+    def singular(self) -> np.ndarray:
+        """The older name of :attr:`ill_conditioned` (Newton's step test stopped these systems)."""
+        return self.ill_conditioned
 
 
 def finite_difference_jacobian(F: Callable, x: np.ndarray, fx: np.ndarray | None = None) -> np.ndarray:
@@ -357,13 +370,13 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
 
     history, steps, residuals, failure = [x], [], [], None
 
-    def result(converged: bool, message: str, singular: bool = False) -> NewtonResult:
+    def result(converged: bool, message: str, stopped: bool = False) -> NewtonResult:
         path, step_array = np.array(history), np.array(steps).reshape(-1, n)
         return NewtonResult(
             x=float(path[-1, 0]) if scalar else path[-1].copy(), converged=converged, iterations=len(steps),
             history=path[:, 0] if scalar else path, step_norms=np.sqrt((step_array * step_array).sum(axis=1)),
             step_components=np.abs(step_array[:, 0] if scalar else step_array),
-            residual_norms=np.array(residuals), message=message, singular=singular)
+            residual_norms=np.array(residuals), message=message, ill_conditioned=stopped)
 
     def here():
         return float(x[0]) if scalar else x.tolist()
@@ -384,7 +397,7 @@ def newton(F: Callable, x0, jac: Callable | None = None, tol: float = 1e-6, max_
                           "a step from here: try another seed"
                 if on_failure == "raise":
                     raise SingularJacobianError(message, x=here(), condition_number=float(np.linalg.cond(J)))
-                return result(False, message, singular=True)
+                return result(False, message, stopped=True)
             step = np.linalg.solve(J, -fx)
             x = x + step  # a new array: the history keeps every iterate
             fx = F_vec(x)
@@ -472,7 +485,7 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
         def evaluate(xs):
             return _real("F", F(xs), (N, n), xs), lambda: _real("jac", jacobian(xs), (N, n, n), xs)
 
-    converged, singular = np.zeros(N, dtype=bool), np.zeros(N, dtype=bool)
+    converged, stopped = np.zeros(N, dtype=bool), np.zeros(N, dtype=bool)  # stopped: by the step test
     iterations, step_norms = np.zeros(N, dtype=int), np.full(N, np.inf)
 
     with np.errstate(all="ignore"):  # failed rows may hold NaN; they are masked out
@@ -490,7 +503,7 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
             bad = stack.singular if every or rows is not None else stack.singular & active
             if bad.any():  # these stop: J singular or not finite
                 ended = bad if rows is None else rows[bad]
-                singular[ended], iterations[ended], active[ended] = stack.finite[bad], updates, False
+                stopped[ended], iterations[ended], active[ended] = stack.finite[bad], updates, False
                 count, every = int(active.sum()), False
                 if count == 0:
                     break
@@ -528,14 +541,14 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
         message = f"all {N} systems converged"
     else:
         k = failed[0]
-        why = ("its Jacobian is " + singular_jacobian_text(n) if singular[k] else
+        why = ("its Jacobian is " + singular_jacobian_text(n) if stopped[k] else
                "a non-finite value appeared" if not np.isfinite(residual_norms[k] + step_norms[k]) or
                not np.all(np.isfinite(x[k])) else f"not converged in max_iter={max_iter} iterations")
         message = f"{failed.size} of {N} systems did not converge; the first, row {k}: {why}"
-    result = BatchNewtonResult(x=x, converged=converged, iterations=iterations, singular=singular,
+    result = BatchNewtonResult(x=x, converged=converged, iterations=iterations, ill_conditioned=stopped,
                                step_norms=step_norms, residual_norms=residual_norms, message=message)
     if failed.size and on_failure == "raise":
-        if singular[failed[0]]:
+        if stopped[failed[0]]:
             raise SingularJacobianError(message, x=x[failed[0]].tolist())
         raise ConvergenceError(message, result=result)
     return result

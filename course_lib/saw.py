@@ -48,10 +48,9 @@ from .planar import Unpacks
 from .profile import first_turn_time, motor_profile
 
 __all__ = ["Saw", "COURSE_SAW", "ASSEMBLIES", "UNKNOWNS", "SEED_PRINTED", "SEED_CODE", "position_residual",
-           "position_jacobian", "velocity_residual", "velocity_jacobian", "acceleration_residual",
-           "acceleration_jacobian", "system_residual", "system_jacobian", "SawMotion", "SawSolution",
-           "solve_consecutive",
-           "solve_simultaneous", "analytic", "joint_positions", "SawSweep", "sweep"]
+           "position_jacobian", "velocity_residual", "velocity_residual_jacobian", "acceleration_residual",
+           "acceleration_residual_jacobian", "system_residual", "system_jacobian", "SawMotion", "SawSolution",
+           "solve_consecutive", "solve_simultaneous", "analytic", "joint_positions", "SawSweep", "sweep"]
 
 #: Names of the nine unknowns, in the course's order.
 UNKNOWNS = ("r1", "theta1", "theta3", "v_r", "omega1", "omega3", "a_r", "alpha1", "alpha3")
@@ -259,10 +258,13 @@ def velocity_residual(velocity, position, theta2, omega2, *, saw: Saw = COURSE_S
     return _core(saw).velocity_residual(velocity, position, theta2, omega2)
 
 
-def velocity_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
-    """∂(velocity residuals)/∂(v_r, ω1, ω3), eq. (18), shape (..., 3, 3): the position Jacobian.
+def velocity_residual_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
+    """∂(velocity residuals)/∂(v_r, ω1, ω3), eq. (18), shape (..., 3, 3): the Jacobian of
+    :func:`velocity_residual`, which is the position Jacobian J.
 
-    >>> bool(np.allclose(velocity_jacobian([-0.1, -0.5, 3.0]), position_jacobian([-0.1, -0.5, 3.0])))
+    >>> at, v = [-0.1, -0.5, 3.0], np.array([0.2, -1.0, 0.5])   # the residuals are linear in v
+    >>> change = velocity_residual(v, at, 0.3, 2.0) - velocity_residual(0 * v, at, 0.3, 2.0)
+    >>> bool(np.abs(velocity_residual_jacobian(at) @ v - change).max() < 1e-12)
     True
     """
     return position_jacobian(position, saw=saw)
@@ -280,14 +282,24 @@ def acceleration_residual(acceleration, velocity, position, theta2, omega2, alph
     return _core(saw).acceleration_residual(*arrays, *_motion(theta2, omega2, alpha2))
 
 
-def acceleration_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
-    """∂(acceleration residuals)/∂(a_r, α1, α3), shape (..., 3, 3): the position Jacobian (eq. 19 lists its
-    rows in the order Fc, Fx, Fy).
+def acceleration_residual_jacobian(position, *, saw: Saw = COURSE_SAW) -> np.ndarray:
+    """∂(acceleration residuals)/∂(a_r, α1, α3), shape (..., 3, 3): the Jacobian of
+    :func:`acceleration_residual`, which is the position Jacobian J (eq. 19 lists its rows in the order
+    Fc, Fx, Fy).
 
-    >>> bool(np.allclose(acceleration_jacobian([-0.1, -0.5, 3.0]), velocity_jacobian([-0.1, -0.5, 3.0])))
+    >>> at, v, a = [-0.1, -0.5, 3.0], [0.2, -1.0, 0.5], np.array([1.0, 3.0, -2.0])   # linear in a
+    >>> change = (acceleration_residual(a, v, at, 0.3, 2.0, 5.0)
+    ...           - acceleration_residual(0 * a, v, at, 0.3, 2.0, 5.0))
+    >>> bool(np.abs(acceleration_residual_jacobian(at) @ a - change).max() < 1e-12)
     True
     """
     return position_jacobian(position, saw=saw)
+
+
+#: The older name of :func:`velocity_residual_jacobian` (``velocity_jacobian`` is the five-bar's V = −A⁻¹B).
+velocity_jacobian = velocity_residual_jacobian
+#: The older name of :func:`acceleration_residual_jacobian`.
+acceleration_jacobian = acceleration_residual_jacobian
 
 
 def _system(x, theta2, omega2, alpha2, saw, variant):

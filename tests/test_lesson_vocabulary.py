@@ -21,6 +21,9 @@ OLDER = {
     r"\bnewton\.is_singular\b|\bfrom course_lib\.newton import[^\n]*\bis_singular\b":
         "newton.ill_conditioned",
     r"\b(\w+)(?:\[[^\]]*\])?\.reachable\b": ".converged (a Motion's; `reachable` is a WorkspaceMap's grid)",
+    r"\bsaw\.(?:velocity|acceleration)_jacobian\b"
+    r"|\bfrom course_lib\.saw import[^\n]*\b(?:velocity|acceleration)_jacobian\b":
+        "saw.velocity_residual_jacobian, saw.acceleration_residual_jacobian",
 }
 
 
@@ -44,6 +47,17 @@ workspace_names = bound_names
 #: older names of a result's values, counted only on names bound to that kind of result: (pattern, the one)
 OLDER_MAP_VALUES = (r"\b(\w+)(?:\[[^\]]*\])?\.(?:x|y)\b", "WorkspaceMap.x3, .y3")
 OLDER_SLIDER_VALUES = (r"\b(\w+)\.(?:x|v|a)\b", "SliderCrankMotion.xC, .v_xC, .a_xC")
+OLDER_NEWTON_VALUES = (r"\b(\w+)(?:\[[^\]]*\])?\.singular\b",
+                       "NewtonResult.ill_conditioned (Motion.singular is the mechanism's rule)")
+#: what returns a Newton run's result: a call of newton / newton_batch (also as newton.newton or
+#: course_lib.newton), a Motion's .newton, a SawSolution's stages
+NEWTON_CALL = r"(?:(?:\w+\.)*newton(?:_batch)?\(|\w+\.newton\b|\w+\.stages\[)"
+
+
+def newton_names(lines: list[str]) -> set[str]:
+    """Names bound to a Newton run's result (``NewtonResult``, ``BatchNewtonResult``), whose ``singular`` is
+    the older name of ``ill_conditioned``; a Motion's ``singular`` is not counted."""
+    return bound_names(lines, NEWTON_CALL)
 
 
 def slider_names(lines: list[str]) -> set[str]:
@@ -59,7 +73,7 @@ def slider_names(lines: list[str]) -> set[str]:
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.relative_to(ROOT / "notebooks").as_posix())
 def test_no_code_line_in_an_older_spelling(path):
     lines = code_lines(path)
-    maps, sliders = workspace_names(lines), slider_names(lines)
+    maps, sliders, runs = workspace_names(lines), slider_names(lines), newton_names(lines)
     found = []
     for line in lines:
         for pattern, one in OLDER.items():
@@ -67,7 +81,8 @@ def test_no_code_line_in_an_older_spelling(path):
                 if match.groups() and match.group(1) in maps:
                     continue
                 found.append(f"{line.strip()}  →  {one}")
-        for names, (pattern, one) in ((maps, OLDER_MAP_VALUES), (sliders, OLDER_SLIDER_VALUES)):
+        for names, (pattern, one) in ((maps, OLDER_MAP_VALUES), (sliders, OLDER_SLIDER_VALUES),
+                                      (runs, OLDER_NEWTON_VALUES)):
             found += [f"{line.strip()}  →  {one}" for m in re.finditer(pattern, line) if m.group(1) in names]
     assert not found, "\n".join(found)
 
@@ -76,7 +91,8 @@ def test_the_glossary_lists_every_older_spelling_this_test_counts():
     glossary = (ROOT / "docs" / "glossary.md").read_text()
     older = glossary.split("### Older spellings", 1)[1].split("\n## ", 1)[0]
     for word in ("branch=", "on_unreachable=", "on_singular=", "mask", "draw_linkage", "joint_positions",
-                 "blocks=", "is_singular", "reachable"):
+                 "blocks=", "is_singular", "reachable", "NewtonResult.singular", "BatchNewtonResult.singular",
+                 "saw.velocity_jacobian", "saw.acceleration_jacobian"):
         assert word in older, word
 
 
@@ -104,6 +120,28 @@ def test_the_older_value_names_are_counted_on_their_results_only():
             for m in re.finditer(pattern, line) if m.group(1) in names]
     assert hits == [(lines[1], "w.x"), (lines[4], "textbook.x"), (lines[7], "m.a"),
                     (lines[9], "maps[(1, 1)].y")]
+
+
+
+def test_the_older_newton_and_saw_names_are_counted_and_nothing_else():
+    lines = ["again = newton_batch(F_batch, seeds, jac=J_batch, max_iter=50)",
+             "stuck = ~again.converged & again.singular",
+             "run = course_lib.newton(f, 1.0, jac=j)", "print(run.ill_conditioned, run.singular)",
+             "first = motion.newton", "assert not first.singular",
+             "stage = solution.stages['position']", "stage.singular",
+             # a Motion's singular is the mechanism's rule: not counted
+             "pose = robot.forward(1.2, 1.9, mode=1)", "assert not pose.singular",
+             "sweep = linkage.solve({th2: angles})", "print(sweep.singular.any())",
+             "J = saw.acceleration_jacobian(q_rest)", "from course_lib.saw import velocity_jacobian",
+             "J = saw.acceleration_residual_jacobian(q_rest)",
+             "V = robot.velocity_jacobian(1.2, 1.9, x3, y3)"]
+    runs = newton_names(lines)
+    assert runs == {"again", "run", "first", "stage"}
+    pattern, _ = OLDER_NEWTON_VALUES
+    hits = [m.group(0) for line in lines for m in re.finditer(pattern, line) if m.group(1) in runs]
+    assert hits == ["again.singular", "run.singular", "first.singular", "stage.singular"]
+    older = [line for line in lines for p in OLDER if re.search(p, line)]
+    assert older == [lines[12], lines[13]]
 
 
 # ----------------------------------------------------------------- single letters with one meaning each

@@ -167,7 +167,7 @@ def test_batch_reports_singular_and_unconverged_rows_without_raising():
     x0 = np.array([[0.0], [1.0], [2.0]])  # row 0 starts at a zero derivative
     offsets = np.array([[2.0], [2.0], [-1.0]])  # row 2: x² + 1 = 0 has no real root
     result = newton_batch(lambda x: x**2 - offsets, x0, jac=lambda x: 2 * x[:, :, None], max_iter=40)
-    assert result.singular.tolist()[0] is True
+    assert result.ill_conditioned.tolist()[0] is True
     assert result.converged.tolist() == [False, True, False]
     assert abs(result.x[1, 0] - np.sqrt(2)) < 1e-12
 
@@ -178,9 +178,9 @@ def test_batch_with_residual_and_jacobian_from_one_function():
     offsets = np.array([[2.0], [2.0], [-1.0], [5.0]])
     separate = newton_batch(lambda x: x**2 - offsets, x0, jac=lambda x: 2 * x[:, :, None], max_iter=40)
     together = newton_batch(lambda x: (x**2 - offsets, 2 * x[:, :, None]), x0, jac=True, max_iter=40)
-    for name in ("x", "converged", "iterations", "singular", "step_norms", "residual_norms"):
+    for name in ("x", "converged", "iterations", "ill_conditioned", "step_norms", "residual_norms"):
         np.testing.assert_array_equal(getattr(together, name), getattr(separate, name), err_msg=name)
-    assert together.singular.tolist() == [True, False, False, False]
+    assert together.ill_conditioned.tolist() == [True, False, False, False]
     np.testing.assert_allclose(together.x[[1, 3], 0], [np.sqrt(2), -np.sqrt(5)], rtol=1e-12)
 
 
@@ -267,14 +267,15 @@ def test_nan_from_F_or_jac_is_said_so_not_called_singular():
         newton(lambda x: np.sqrt(x) + 1.0, 0.25, jac=lambda x: 0.5 / np.sqrt(x))
     batch = newton_batch(lambda x: np.sqrt(x) - 2, np.array([[-1.0], [1.0]]),
                          jac=lambda x: 0.5 / np.sqrt(x)[:, :, None])
-    assert batch.converged.tolist() == [False, True] and batch.singular.tolist() == [False, False]
+    assert batch.converged.tolist() == [False, True] and batch.ill_conditioned.tolist() == [False, False]
     assert "row 0: a non-finite value appeared" in batch.message
 
 
 def test_one_result_shape_and_one_rule_for_failures():
     single = newton(lambda x: x**2 + 1.0, 2.0, jac=lambda x: 2 * x, max_iter=5, on_failure="report")
     batch = newton_batch(lambda x: x**2 + 1.0, np.array([[2.0]]), jac=lambda x: 2 * x[:, :, None], max_iter=5)
-    for name in ("x", "converged", "singular", "iterations", "message", "step_norms", "residual_norms"):
+    for name in ("x", "converged", "ill_conditioned", "iterations", "message", "step_norms",
+                 "residual_norms"):
         assert hasattr(single, name) and hasattr(batch, name)
     assert not single.converged and single.iterations == 5 and "max_iter=5" in single.message
     assert batch.converged.tolist() == [False] and "max_iter=5 iterations" in batch.message
@@ -284,7 +285,7 @@ def test_one_result_shape_and_one_rule_for_failures():
                      on_failure="raise")
     assert info.value.result.iterations.tolist() == [5]
     stuck = newton(lambda x: x**2 - 2.0, 0.0, jac=lambda x: 2.0 * x, on_failure="report")
-    assert stuck.singular and not stuck.converged and "condition number > 1e+12" in stuck.message
+    assert stuck.ill_conditioned and not stuck.converged and "condition number > 1e+12" in stuck.message
     with pytest.raises(SingularJacobianError, match="row 0: its Jacobian is singular"):
         newton_batch(lambda x: x**2 - 2.0, np.zeros((1, 1)), jac=lambda x: 2 * x[:, :, None],
                      on_failure="raise")
@@ -334,7 +335,7 @@ def test_linear_stack_solves_as_numpy_and_each_matrix_alone(n):
     for k, row in enumerate(np.cumsum(~stack.singular) - 1):
         run = newton(lambda v, k=k: J[k] @ v - b[k], np.zeros(n), jac=lambda v, k=k: J[k],
                      on_failure="report")
-        assert run.singular == (k == 5)
+        assert run.ill_conditioned == (k == 5)
         if k != 5:
             np.testing.assert_allclose(run.history[1], x[row], rtol=1e-14, atol=1e-15)
 
@@ -350,10 +351,11 @@ def test_batch_with_a_constant_jacobian_is_the_run_with_that_jacobian_as_a_calla
 
     constant = newton_batch(F, np.zeros((30, 3)), jac=J, tol=1e-10)
     callable_ = newton_batch(F, np.zeros((30, 3)), jac=lambda x: J, tol=1e-10)
-    for name in ("x", "converged", "iterations", "singular", "step_norms", "residual_norms", "message"):
+    for name in ("x", "converged", "iterations", "ill_conditioned", "step_norms", "residual_norms",
+                 "message"):
         np.testing.assert_array_equal(getattr(constant, name), getattr(callable_, name), err_msg=name)
     ok = np.arange(30) != 4
-    assert constant.singular.tolist() == (~ok).tolist() and constant.converged.tolist() == ok.tolist()
+    assert constant.ill_conditioned.tolist() == (~ok).tolist() and constant.converged.tolist() == ok.tolist()
     assert (constant.iterations[ok] == 2).all()
     np.testing.assert_allclose(constant.x[ok], np.linalg.solve(J[ok], -c[ok][..., None])[..., 0], rtol=1e-12,
                                atol=1e-14)
@@ -371,8 +373,8 @@ def test_batch_rows_stopping_at_different_updates_are_each_the_single_run():
     for k in range(10):
         single = newton(lambda x, k=k: x**2 - targets[k], x0[k], jac=lambda x: 2 * x, tol=1e-12, max_iter=30,
                         on_failure="report")
-        assert (batch.iterations[k], batch.converged[k], batch.singular[k]) == (
-            single.iterations, single.converged, single.singular), k
+        assert (batch.iterations[k], batch.converged[k], batch.ill_conditioned[k]) == (
+            single.iterations, single.converged, single.ill_conditioned), k
         assert batch.x[k, 0] == single.x, k
     assert batch.iterations[:2].tolist() == [1, 1]
-    assert batch.singular.tolist() == [False] * 2 + [True] * 2 + [False] * 6
+    assert batch.ill_conditioned.tolist() == [False] * 2 + [True] * 2 + [False] * 6

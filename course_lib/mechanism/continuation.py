@@ -255,7 +255,7 @@ class Continuation:
         found[:, angles] = _unwrap_to(found[:, angles], prediction[1:, angles])
         change = self._distance(prediction[1:], at_q[nearest[1:]])
         with np.errstate(all="ignore"):
-            close = (np.asarray(result.converged) & ~np.asarray(result.singular)
+            close = (np.asarray(result.converged) & ~np.asarray(result.ill_conditioned)
                      & (self._distance(found, prediction[1:]) <= np.maximum(0.5 * change, 1e-6)))
         # kept only on the orientation of its recorded step, where the path keeps it to the next one (an
         # instant beside a change point, or where J is singular, goes one by one)

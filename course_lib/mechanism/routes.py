@@ -65,19 +65,20 @@ class Routes:
         else:
             result = newton(lambda v: terms(v)[0], start, jac=lambda v: terms(v)[1], tol=tol,
                             max_iter=max_iter, on_failure="report")
-        if np.all(result.converged) and not np.any(result.singular):
+        if np.all(result.converged) and not np.any(result.ill_conditioned):
             return result
-        failed = np.flatnonzero(~np.atleast_1d(result.converged) | np.atleast_1d(result.singular))
+        failed = np.flatnonzero(~np.atleast_1d(result.converged) | np.atleast_1d(result.ill_conditioned))
         first = failed[0]
         where = self._where(u, first)
         if batch:
-            what = "the Jacobian became singular" if result.singular[first] else "Newton did not converge"
+            what = ("the Jacobian became singular" if result.ill_conditioned[first]
+                    else "Newton did not converge")
             message = (f"{stage} stage at {where}: {what} ({failed.size} of {len(start)} points, first at "
                        f"index {first})")
         else:
             message = f"{stage} stage at {where}: " + (
                 f"the Jacobian is {singular_jacobian_text(start.size)}" if direct else result.message)
-        if np.atleast_1d(result.singular)[first]:
+        if np.atleast_1d(result.ill_conditioned)[first]:
             raise SingularJacobianError(message, x=result.x[first].tolist() if batch else result.x.tolist())
         raise ConvergenceError(message, result=result)
 

@@ -196,4 +196,4 @@ class Scaling:
                              f"(last step {norms[-1]:.3g}, residual {residuals[-1]:.3g})", message)
         return NewtonResult(x=result.x * units.q, converged=result.converged, iterations=result.iterations,
                             history=history * units.q, step_norms=norms, step_components=steps,
-                            residual_norms=residuals, message=message, singular=result.singular)
+                            residual_norms=residuals, message=message, ill_conditioned=result.ill_conditioned)

@@ -201,12 +201,12 @@ class Solving:
                     found, fixed, count = self._correct(seed, u[0], tol, max_iter)
                 if not fixed and np.isfinite(result.x).all():
                     found, fixed, count = self._correct(result.x, u[0], tol, max_iter)
-                if on_failure == "raise" and result.singular and not fixed:
+                if on_failure == "raise" and result.ill_conditioned and not fixed:
                     raise SingularJacobianError(f"at {where}: {shown.message}", shown.x.tolist())
                 if on_failure == "raise" and not fixed:
                     raise ConvergenceError(f"at {where}, from the guess: {shown.message}", result=shown)
                 q = found[None, :].copy() if fixed else np.full((1, len(seed)), np.nan)
-                iterations, stuck[0] = np.array([count]), result.singular and not fixed
+                iterations, stuck[0] = np.array([count]), result.ill_conditioned and not fixed
             else:
                 start = result.x if result.converged else None
                 if start is None:
@@ -215,7 +215,7 @@ class Solving:
                         start = None
                     if start is None and on_failure == "raise":
                         where = self._where(u, 0)
-                        if result.singular:
+                        if result.ill_conditioned:
                             raise SingularJacobianError(f"at {where}, the first instant: {shown.message}",
                                                         shown.x.tolist())
                         raise ConvergenceError(f"at {where}, the first instant, from the guess: "

@@ -128,7 +128,8 @@ class LinearStack:
     ``rows`` (indices or a mask) keeps those matrices only.
 
     >>> stack = LinearStack(np.array([[[2.0, 0.0], [0.0, 4.0]], [[1.0, 1.0], [2.0, 2.0]]]))
-    >>> stack.singular.tolist(), stack.take(~stack.singular).solve(np.array([[2.0, 8.0]])).tolist()
+    >>> solvable = ~stack.ill_conditioned
+    >>> stack.ill_conditioned.tolist(), stack.take(solvable).solve(np.array([[2.0, 8.0]])).tolist()
     ([False, True], [[1.0, 2.0]])
     """
 
@@ -194,7 +195,7 @@ class LinearStack:
         return np.abs(self._det) / np.sqrt(rows)
 
     @property
-    def singular(self) -> np.ndarray:
+    def ill_conditioned(self) -> np.ndarray:
         """True per matrix too ill-conditioned to solve with, or not finite (see :func:`ill_conditioned`);
         computed once."""
         if self._singular is None:
@@ -202,6 +203,11 @@ class LinearStack:
                 regular = self._regular()
                 self._singular = np.zeros(self.size, bool) if regular else ~(self.ratio > 1.0 / MAX_CONDITION)
         return self._singular
+
+    @property
+    def singular(self) -> np.ndarray:
+        """The older name of :attr:`ill_conditioned` (Newton's step test, not the mechanism's rule)."""
+        return self.ill_conditioned
 
     def _regular(self) -> bool:
         """True when one pass proves every matrix regular: each ‖row‖ ≤ √n·max|entry|, so |det J| above
@@ -265,7 +271,7 @@ def ill_conditioned(J: np.ndarray) -> np.ndarray:
     >>> ill_conditioned(np.array([[[1.0, 1.0], [2.0, 2.0]], [[1.0, 0.0], [0.0, 1.0]]])).tolist()
     [True, False]
     """
-    return LinearStack(J).singular
+    return LinearStack(J).ill_conditioned
 
 
 #: The older name of :func:`ill_conditioned` (Newton's step test, not the mechanism's singularity rule).
@@ -500,7 +506,7 @@ def newton_batch(F: Callable, x0, jac: Callable | bool | np.ndarray | LinearStac
                 stack = fixed if rows is None else fixed.take(rows)
             else:
                 stack = LinearStack(J(), rows)
-            bad = stack.singular if every or rows is not None else stack.singular & active
+            bad = stack.ill_conditioned if every or rows is not None else stack.ill_conditioned & active
             if bad.any():  # these stop: J singular or not finite
                 ended = bad if rows is None else rows[bad]
                 stopped[ended], iterations[ended], active[ended] = stack.finite[bad], updates, False

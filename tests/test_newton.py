@@ -318,21 +318,22 @@ def test_linear_stack_solves_as_numpy_and_each_matrix_alone(n):
     J, b = rng.normal(size=(40, n, n)) + 2 * np.eye(n), rng.normal(size=(40, n))
     J[5] = 0.0  # singular, flagged and left out below
     stack = LinearStack(J)
-    np.testing.assert_array_equal(stack.singular, ill_conditioned(J))
+    np.testing.assert_array_equal(stack.ill_conditioned, ill_conditioned(J))
     assert is_singular is ill_conditioned  # the older name
-    assert stack.singular.tolist() == [k == 5 for k in range(40)]
-    good = LinearStack(J, ~stack.singular)
-    x = good.solve(b[~stack.singular])
-    np.testing.assert_allclose(x, np.linalg.solve(J[~stack.singular], b[~stack.singular][..., None])[..., 0],
+    assert stack.ill_conditioned.tolist() == [k == 5 for k in range(40)]
+    kept = ~stack.ill_conditioned
+    good = LinearStack(J, kept)
+    x = good.solve(b[kept])
+    np.testing.assert_allclose(x, np.linalg.solve(J[kept], b[kept][..., None])[..., 0],
                                rtol=1e-10, atol=1e-12)
     # a subset taken from the prepared stack and a stack laid out otherwise: same bits
-    np.testing.assert_array_equal(stack.take(~stack.singular).solve(b[~stack.singular]), x)
+    np.testing.assert_array_equal(stack.take(~stack.ill_conditioned).solve(b[~stack.ill_conditioned]), x)
     columns_first = np.ascontiguousarray(J.transpose(1, 2, 0)).transpose(2, 0, 1)
-    np.testing.assert_array_equal(LinearStack(columns_first, np.flatnonzero(~stack.singular)).solve(
-        b[~stack.singular]), x)
+    np.testing.assert_array_equal(LinearStack(columns_first, np.flatnonzero(~stack.ill_conditioned)).solve(
+        b[~stack.ill_conditioned]), x)
     np.testing.assert_array_equal(stack.matrices, J)
     # one matrix at a time, as newton steps: its first step from 0 solves J·x = b, and J[5] stops it
-    for k, row in enumerate(np.cumsum(~stack.singular) - 1):
+    for k, row in enumerate(np.cumsum(~stack.ill_conditioned) - 1):
         run = newton(lambda v, k=k: J[k] @ v - b[k], np.zeros(n), jac=lambda v, k=k: J[k],
                      on_failure="report")
         assert run.ill_conditioned == (k == 5)

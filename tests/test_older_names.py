@@ -72,3 +72,11 @@ def test_singular_is_a_read_only_older_name_not_a_field(kind):
     with pytest.raises(dataclasses.FrozenInstanceError):
         run.singular = False
     assert np.all(run.ill_conditioned) and np.all(run.singular)
+
+
+def test_a_linear_stacks_singular_is_its_ill_conditioned():
+    from course_lib.newton import LinearStack
+    J = np.array([[[2.0, 0.0], [0.0, 4.0]], [[1.0, 1.0], [2.0, 2.0]], [[1.0, 2.0], [3.0, 4.0]]])
+    stack = LinearStack(J)
+    assert stack.ill_conditioned.tolist() == [False, True, False]  # det 8, 0, −2
+    assert stack.singular is stack.ill_conditioned

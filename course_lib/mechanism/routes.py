@@ -41,7 +41,7 @@ class Routes:
         if direct:
             F0 = terms(start)
             stack = jacobian if batch else LinearStack(jacobian[None])
-            stuck = stack.singular
+            stuck = stack.ill_conditioned
             if batch and stuck.any():
                 stack = LinearStack(np.where(stuck[:, None, None], np.eye(start.shape[-1]), stack.matrices))
             x = start + stack.solve(-(F0 if batch else F0[None])).reshape(start.shape)

@@ -30,6 +30,9 @@ import warnings
 import nbformat
 from nbclient import NotebookClient
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from kernels import kernel_manager  # noqa: E402
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 
@@ -110,22 +113,10 @@ def write(notebook: nbformat.NotebookNode, path: pathlib.Path) -> None:
     nbformat.write(notebook, path)
 
 
-def _kernel_manager():
-    """A kernel manager that hands the kernel CurveZMQ keys where pyzmq has them (as `make lab` does,
-    tools/lab-settings/jupyter_server_config.py), so ipykernel does not warn "running over TCP without
-    encryption" at every notebook; else the plain one."""
-    import zmq
-    from jupyter_client.manager import KernelManager
-
-    if zmq.has("curve"):
-        return KernelManager(kernel_name="python3", transport_encryption="auto")
-    return KernelManager(kernel_name="python3")
-
-
 def execute(path: pathlib.Path) -> float:
     notebook = read(path)
     start = time.perf_counter()
-    manager = _kernel_manager()
+    manager = kernel_manager()
     client = NotebookClient(
         notebook,
         km=manager,

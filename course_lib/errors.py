@@ -52,7 +52,8 @@ class UnreachableError(CourseLibError, ValueError):
 
 
 class SingularJacobianError(CourseLibError, ArithmeticError):
-    """A Jacobian is singular or numerically singular, so a Newton step (or a rate) is undefined there.
+    """A Jacobian is singular (the core's rule, σ_min(J̃) < SINGULAR) or ill-conditioned (Newton's step test,
+    ``newton.ill_conditioned``; the message says which), so a Newton step (or a rate) is undefined there.
     ``x``: the unknowns where it is (Newton's iterate, or the position found), None where not at hand;
     ``condition_number``: J's, where computed (inf when exactly singular)."""
 

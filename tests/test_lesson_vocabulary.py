@@ -24,6 +24,8 @@ OLDER = {
     r"\bsaw\.(?:velocity|acceleration)_jacobian\b"
     r"|\bfrom course_lib\.saw import[^\n]*\b(?:velocity|acceleration)_jacobian\b":
         "saw.velocity_residual_jacobian, saw.acceleration_residual_jacobian",
+    r"\banimate_linkage\b": "animate",
+    r"\bmechanism_explorer\b": "explore",
 }
 
 
@@ -92,7 +94,8 @@ def test_the_glossary_lists_every_older_spelling_this_test_counts():
     older = glossary.split("### Older spellings", 1)[1].split("\n## ", 1)[0]
     for word in ("branch=", "on_unreachable=", "on_singular=", "mask", "draw_linkage", "joint_positions",
                  "blocks=", "is_singular", "reachable", "NewtonResult.singular", "BatchNewtonResult.singular",
-                 "saw.velocity_jacobian", "saw.acceleration_jacobian"):
+                 "saw.velocity_jacobian", "saw.acceleration_jacobian", "animate_linkage",
+                 "mechanism_explorer"):
         assert word in older, word
 
 

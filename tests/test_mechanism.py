@@ -560,7 +560,8 @@ def test_consecutive_and_simultaneous_routes_one_instant_and_batched():
             np.testing.assert_allclose(batch[stage].x[k], one[stage].x, rtol=1e-12, atol=1e-13)
     with pytest.raises(ConvergenceError, match=r"position stage at theta2=0\.7: Newton did not converge"):
         WIPER.consecutive(u, u_rate, u_acc, seed, max_iter=2)
-    with pytest.raises(SingularJacobianError, match="position stage at theta2=0.7: the Jacobian is singular"):
+    with pytest.raises(SingularJacobianError,
+                       match="position stage at theta2=0.7: the Jacobian is ill-conditioned"):
         WIPER.consecutive(u, u_rate, u_acc, [1.0, 1.0, 0, 0, 0, 0])
     with pytest.raises(InvalidGeometryError, match="linear_stages must be one of"):
         WIPER.consecutive(u, u_rate, u_acc, seed, linear_stages="exact")

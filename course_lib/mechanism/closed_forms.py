@@ -560,12 +560,18 @@ class ClosedForms:
         return np.arctan2(values[1], values[0]) if form.second[0] == "angle" else values[0]
 
     def _apart(self, plus, minus, paths) -> int | None:
-        """The first instant (along the paths) where the two roots are both found and differ; None if none."""
-        for k in itertools.chain(*paths):
-            both = np.array([plus[k], minus[k]])
-            if np.isfinite(both).all() and self._distance(both[:1, None], both[1:, None], [0]) > 1e-7:
+        """The first instant (along the paths) where the two roots are both found and differ; None if none
+        (the first few instants looked at one by one, as most sweeps start there; then all at once)."""
+        def apart(k):
+            return ((np.isfinite(plus[k]) & np.isfinite(minus[k]))
+                    & (self._distance(plus[k][..., None], minus[k][..., None], [0]) > 1e-7))
+
+        order = np.concatenate(paths) if len(paths) > 1 else np.asarray(paths[0])
+        for k in order[:4]:
+            if apart(k):
                 return int(k)
-        return None
+        found = np.flatnonzero(apart(order[4:]))
+        return int(order[4 + found[0]]) if len(found) else None
 
     def _nearer(self, plus, minus, k, target, first) -> int:
         """The root nearer ``target`` at the instant ``k``: +1 the root +√Δ, −1 the other."""

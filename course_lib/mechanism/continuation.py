@@ -66,7 +66,7 @@ class Continuation:
         for j in columns:  # the operations of _unwrap_to and np.max, in place
             gap = np.asarray(np.subtract(a[..., j], b[..., j]))  # an array even at one instant
             if self.unknowns[j] in angles:
-                turns = np.divide(gap, 2 * np.pi)
+                turns = np.divide(gap, 2 * np.pi, out=np.empty_like(gap))
                 np.round(turns, out=turns)
                 turns *= 2 * np.pi
                 gap -= turns

@@ -46,10 +46,10 @@ def singular_jacobian_text(n: int = 2) -> str:
     Its condition number then exceeds MAX_CONDITION^(1/(n − 1)), as ‖row‖ ≤ σ_max.
 
     >>> singular_jacobian_text(2)
-    'ill-conditioned (|det J| < 1e-12 × the product of its row lengths, so condition number > 1e+12)'
+    'ill-conditioned (|det J| ≤ 1e-12 × the product of its row lengths, so condition number > 1e+12)'
     """
     bound = MAX_CONDITION ** (1 / max(n - 1, 1))
-    return f"ill-conditioned (|det J| < {1 / MAX_CONDITION:.0e} × the product of its row lengths, so " \
+    return f"ill-conditioned (|det J| ≤ {1 / MAX_CONDITION:.0e} × the product of its row lengths, so " \
            f"condition number > {bound:.0e})"
 
 

@@ -55,7 +55,7 @@ def position_equations(q, theta2=THETA2, r1y=0.030, r2=0.060, r3=0.150, sp=np):
 
 
 @functools.cache
-def _nine():
+def _nine(omega2=OMEGA2, alpha2=ALPHA2):
     """The nine equations and their Jacobian, lambdified: the position equations and their first and second
     time derivatives, by sympy, along θ2(t) with θ2' = ω2, θ2'' = α2."""
     t = sp.Symbol("t")
@@ -66,7 +66,7 @@ def _nine():
     plain = {}
     for q, name in enumerate((r1, t1, t3)):
         plain[name.diff(t, 2)], plain[name.diff(t)] = x[6 + q], x[3 + q]
-    plain.update({theta2.diff(t, 2): ALPHA2, theta2.diff(t): OMEGA2})
+    plain.update({theta2.diff(t, 2): alpha2, theta2.diff(t): omega2})
     rows = sp.Matrix.vstack(*rates).subs(plain).subs({r1: x[0], t1: x[1], t3: x[2], theta2: THETA2})
     return sp.lambdify([x], rows, "numpy"), sp.lambdify([x], rows.jacobian(x), "numpy")
 
@@ -149,6 +149,20 @@ def test_the_nine_unknowns_by_another_method_are_named():
         feedback.message, feedback
     feedback = acceleration(newton_by_hand(position_equations, SEED[:3], 6))  # the position stage alone
     assert not feedback.ok and "only r1, θ1, θ3" in feedback.message, feedback
+
+
+def test_newtons_steps_at_a_flipped_motor_rate_are_told_which():
+    """The student's own 9×9 Newton (sympy's equations) with ω2 of the wrong sign: a_r is right (ω2 enters
+    squared), the steps are not the task's — the message names ω2's sign; with α2 flipped a_r is wrong."""
+    for omega2, alpha2, says in ((-OMEGA2, ALPHA2, "sign of ω2 is flipped"),
+                                 (OMEGA2, -ALPHA2, "α2 of the other sign")):
+        equations, jacobian = _nine(omega2, alpha2)
+        rows = newton_by_hand(lambda x, F=equations: np.ravel(F(x)), SEED, 7,
+                              jacobian=lambda x, J=jacobian: np.asarray(J(x), float))
+        feedback = acceleration(rows)
+        assert not feedback.ok and says in feedback.message, feedback
+    right = newton_by_hand(nine_equations, SEED, 7, jacobian=lambda x: np.asarray(_nine()[1](x), float))
+    assert acceleration(right).ok
 
 
 def test_a_wrong_solve_still_gets_its_diagnosis():

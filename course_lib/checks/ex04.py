@@ -135,15 +135,15 @@ def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, o
         return wrong(f"{solve.what} start from {np.round(solve.iterates[0], 6).tolist()}, not from the "
                      f"report's seed {seeds[0].tolist()}: {asked}.")
 
-    def equations(variant):
+    def equations(variant, rates=(omega2, alpha2)):
         if size == 3:
             return (lambda x: position_residual(x, theta2, saw=saw, variant=variant),
                     lambda x: position_jacobian(x, saw=saw, variant=variant))
-        return (lambda x: system_residual(x, theta2, omega2, alpha2, saw=saw, variant=variant),
+        return (lambda x: system_residual(x, theta2, *rates, saw=saw, variant=variant),
                 lambda x: system_jacobian(x, saw=saw, variant=variant))
 
-    def first_off(variant) -> int | None:  # the first step (from 1) that is not Newton's, else None
-        residual, jacobian = equations(variant)
+    def first_off(variant, rates=(omega2, alpha2)) -> int | None:  # the first step (from 1) not Newton's
+        residual, jacobian = equations(variant, rates)
         pairs = zip(solve.iterates[:-1], solve.iterates[1:], strict=True)
         for k, (x, following) in enumerate(pairs, start=1):
             step = np.linalg.solve(jacobian(x), -residual(x))
@@ -153,6 +153,10 @@ def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, o
 
     offs = [first_off(variant) for variant in VARIANTS]
     if all(off is not None for off in offs):
+        if size == 9 and omega2 != 0 and any(first_off(v, (-omega2, alpha2)) is None for v in VARIANTS):
+            return wrong(f"{solve.what} are Newton's steps of the saw's equations at ω2 = {-omega2:.6g} "
+                         f"rad/s; the task's motor turns at ω2 = {omega2:.6g} rad/s: the sign of ω2 is "
+                         "flipped (a_r holds ω2 only squared, so it comes out right all the same).")
         k = max(offs)
         return wrong(f"step {k} of {solve.what} is not a Newton step of the saw's equations: from iterate "
                      f"{k - 1} Newton goes to x + Δx with J(x)·Δx = −F(x) ({asked}).")
@@ -299,6 +303,8 @@ def _acceleration_verdict(answer: float, saw: Saw, theta2: float, omega2: float,
          "to the solve too."),
         (lambda v: omega2 != alpha2 and FIGURES.agrees(v, analytic(theta2, alpha2, omega2, saw=saw)[6]),
          "that is a_r with ω2 and α2 swapped: give the solve ω2 (rad/s) then α2 (rad/s²)."),
+        (lambda v: alpha2 != 0 and FIGURES.agrees(v, analytic(theta2, omega2, -alpha2, saw=saw)[6]),
+         "that is a_r with α2 of the other sign: give the solve the task's α2, sign and all (rad/s²)."),
         (x[3], "that is the velocity v_r; the task asks for the acceleration a_r."),
         (lambda v: saw != COURSE_SAW
          and FIGURES.agrees(v, analytic(theta2, omega2, alpha2, saw=COURSE_SAW)[6]),

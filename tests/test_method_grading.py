@@ -55,10 +55,10 @@ def position_equations(q, theta2=THETA2, r1y=0.030, r2=0.060, r3=0.150, sp=np):
 
 
 @functools.cache
-def _nine(omega2=OMEGA2, alpha2=ALPHA2):
+def _nine(omega2=OMEGA2, alpha2=ALPHA2, theta2=THETA2):
     """The nine equations and their Jacobian, lambdified: the position equations and their first and second
     time derivatives, by sympy, along θ2(t) with θ2' = ω2, θ2'' = α2."""
-    t = sp.Symbol("t")
+    t, theta2_value = sp.Symbol("t"), theta2
     r1, t1, t3, theta2 = (sp.Function(name)(t) for name in ("r1", "theta1", "theta3", "theta2"))
     F = sp.Matrix(position_equations((r1, t1, t3), theta2, sp=sp))
     rates = [F, F.diff(t), F.diff(t, 2)]
@@ -67,7 +67,7 @@ def _nine(omega2=OMEGA2, alpha2=ALPHA2):
     for q, name in enumerate((r1, t1, t3)):
         plain[name.diff(t, 2)], plain[name.diff(t)] = x[6 + q], x[3 + q]
     plain.update({theta2.diff(t, 2): alpha2, theta2.diff(t): omega2})
-    rows = sp.Matrix.vstack(*rates).subs(plain).subs({r1: x[0], t1: x[1], t3: x[2], theta2: THETA2})
+    rows = sp.Matrix.vstack(*rates).subs(plain).subs({r1: x[0], t1: x[1], t3: x[2], theta2: theta2_value})
     return sp.lambdify([x], rows, "numpy"), sp.lambdify([x], rows.jacobian(x), "numpy")
 
 
@@ -151,18 +151,24 @@ def test_the_nine_unknowns_by_another_method_are_named():
     assert not feedback.ok and "only r1, θ1, θ3" in feedback.message, feedback
 
 
-def test_newtons_steps_at_a_flipped_motor_rate_are_told_which():
-    """The student's own 9×9 Newton (sympy's equations) with ω2 of the wrong sign: a_r is right (ω2 enters
-    squared), the steps are not the task's — the message names ω2's sign; with α2 flipped a_r is wrong."""
-    for omega2, alpha2, says in ((-OMEGA2, ALPHA2, "sign of ω2 is flipped"),
-                                 (OMEGA2, -ALPHA2, "α2 of the other sign")):
-        equations, jacobian = _nine(omega2, alpha2)
-        rows = newton_by_hand(lambda x, F=equations: np.ravel(F(x)), SEED, 7,
+def test_newtons_steps_at_another_motor_state_or_unfinished_are_told_which():
+    """The student's own 9×9 Newton (sympy's equations) at a motor state off the task's: with ω2 of the
+    wrong sign a_r is right (ω2 enters squared) but the steps are not the task's; α2 or both flipped, θ2
+    in degrees, a run stopped after two steps — each named from the iterates."""
+    for motor, steps, says in (((-OMEGA2, ALPHA2, THETA2), 7, "sign of ω2 is flipped"),
+                               ((OMEGA2, -ALPHA2, THETA2), 7, "α2 has the other sign"),
+                               ((-OMEGA2, -ALPHA2, THETA2), 7, "ω2 and α2 have the other sign"),
+                               ((OMEGA2, ALPHA2, 50.0), 7, "went in in degrees"),
+                               ((OMEGA2, ALPHA2, THETA2), 2, "stopped before it converged")):
+        equations, jacobian = _nine(*motor)
+        rows = newton_by_hand(lambda x, F=equations: np.ravel(F(x)), SEED, steps,
                               jacobian=lambda x, J=jacobian: np.asarray(J(x), float))
         feedback = acceleration(rows)
-        assert not feedback.ok and says in feedback.message, feedback
+        assert not feedback.ok and says in feedback.message, (motor, steps, feedback)
     right = newton_by_hand(nine_equations, SEED, 7, jacobian=lambda x: np.asarray(_nine()[1](x), float))
     assert acceleration(right).ok
+    assert acceleration([sp.Matrix(row) for row in right]).ok  # each iterate a column, as sympy gives it
+    assert acceleration([row.reshape(9, 1) for row in right]).ok
 
 
 def test_a_wrong_solve_still_gets_its_diagnosis():

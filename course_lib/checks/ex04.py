@@ -5,6 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import CourseLibError
 from ..motion import Motion
 from ..newton import NewtonResult
 from ..saw import (
@@ -99,6 +100,8 @@ def _solve(answer) -> "_Solve | Feedback | None":
         return None
     iterates = np.array(iterates, dtype=float) if not isinstance(iterates, np.ndarray) or \
         iterates.dtype.kind not in "iuf" else iterates.astype(float)
+    if iterates.ndim == 3 and iterates.shape[-1] == 1:  # each iterate a column (a sympy Matrix, say)
+        iterates = iterates[..., 0]
     if iterates.ndim != 2 or iterates.shape[1] not in (3, 9) or not np.all(np.isfinite(iterates)):
         return wrong(f"{what} should be the Newton iterates, one row of 3 numbers (r1, θ1, θ3) or of the "
                      f"nine unknowns per iteration, the seed first; got shape {iterates.shape}.")
@@ -110,7 +113,7 @@ def _solve(answer) -> "_Solve | Feedback | None":
 def _rows(answer) -> bool:
     """Whether ``answer`` is a table: rows of numbers of one length (a ragged list is not)."""
     try:
-        return np.ndim(answer) == 2
+        return np.ndim(answer) == 2 or np.ndim(answer) == 3 and np.shape(answer)[-1] == 1  # rows, or columns
     except ValueError:  # a ragged nested list: numpy refuses its shape
         return False
 
@@ -135,31 +138,76 @@ def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, o
         return wrong(f"{solve.what} start from {np.round(solve.iterates[0], 6).tolist()}, not from the "
                      f"report's seed {seeds[0].tolist()}: {asked}.")
 
-    def equations(variant, rates=(omega2, alpha2)):
-        if size == 3:
-            return (lambda x: position_residual(x, theta2, saw=saw, variant=variant),
-                    lambda x: position_jacobian(x, saw=saw, variant=variant))
-        return (lambda x: system_residual(x, theta2, *rates, saw=saw, variant=variant),
-                lambda x: system_jacobian(x, saw=saw, variant=variant))
-
-    def first_off(variant, rates=(omega2, alpha2)) -> int | None:  # the first step (from 1) not Newton's
-        residual, jacobian = equations(variant, rates)
-        pairs = zip(solve.iterates[:-1], solve.iterates[1:], strict=True)
-        for k, (x, following) in enumerate(pairs, start=1):
-            step = np.linalg.solve(jacobian(x), -residual(x))
-            if not np.max(np.abs(following - x - step)) <= 1e-9 + 1e-6 * np.max(np.abs(step)):
-                return k
-        return None
-
-    offs = [first_off(variant) for variant in VARIANTS]
+    offs = [_first_off(solve.iterates, saw, theta2, omega2, alpha2, variant) for variant in VARIANTS]
     if all(off is not None for off in offs):
-        if size == 9 and omega2 != 0 and any(first_off(v, (-omega2, alpha2)) is None for v in VARIANTS):
+        if size == 9 and omega2 != 0 and _newtons_steps(solve.iterates, saw, theta2, -omega2, alpha2):
             return wrong(f"{solve.what} are Newton's steps of the saw's equations at ω2 = {-omega2:.6g} "
                          f"rad/s; the task's motor turns at ω2 = {omega2:.6g} rad/s: the sign of ω2 is "
                          "flipped (a_r holds ω2 only squared, so it comes out right all the same).")
         k = max(offs)
         return wrong(f"step {k} of {solve.what} is not a Newton step of the saw's equations: from iterate "
                      f"{k - 1} Newton goes to x + Δx with J(x)·Δx = −F(x) ({asked}).")
+    return None
+
+
+def _first_off(iterates: np.ndarray, saw: Saw, theta2: float, omega2: float, alpha2: float,
+               variant: str) -> int | None:
+    """The first step (from 1) of ``iterates`` (rows of 3 or 9 unknowns) that is not a Newton step
+    J(x)·Δx = −F(x) of the saw's equations in form ``variant`` at these motor values; None if every one is."""
+    if iterates.shape[1] == 3:
+        def residual(x):
+            return position_residual(x, theta2, saw=saw, variant=variant)
+
+        def jacobian(x):
+            return position_jacobian(x, saw=saw, variant=variant)
+    else:
+        def residual(x):
+            return system_residual(x, theta2, omega2, alpha2, saw=saw, variant=variant)
+
+        def jacobian(x):
+            return system_jacobian(x, saw=saw, variant=variant)
+    with np.errstate(all="ignore"):
+        for k, (x, following) in enumerate(zip(iterates[:-1], iterates[1:], strict=True), start=1):
+            try:
+                step = np.linalg.solve(jacobian(x), -residual(x))
+            except (np.linalg.LinAlgError, CourseLibError):
+                return k
+            if not np.max(np.abs(following - x - step)) <= 1e-9 + 1e-6 * np.max(np.abs(step)):
+                return k
+    return None
+
+
+def _newtons_steps(iterates, saw, theta2, omega2, alpha2) -> bool:
+    """Whether every step of ``iterates`` is a Newton step of the saw's equations (either form) there."""
+    return any(_first_off(iterates, saw, theta2, omega2, alpha2, v) is None for v in VARIANTS)
+
+
+def _explained(solve: "_Solve | None", saw: Saw, theta2: float, omega2: float = 0.0,
+               alpha2: float = 0.0) -> Feedback | None:
+    """Why a solve's Newton iterates end at a wrong value, read from the iterates themselves: Newton's steps
+    of the task's equations stopped before converging, or Newton's steps at the motor's rates with a sign
+    flipped, or at θ2 taken in degrees; None where they say none of these."""
+    if solve is None or solve.iterates is None or len(solve.iterates) < 2:
+        return None
+    iterates = solve.iterates
+    if _newtons_steps(iterates, saw, theta2, omega2, alpha2):
+        last, size = np.max(np.abs(iterates[-1] - iterates[-2])), np.max(np.abs(iterates[-1]))
+        if last > 1e-6 * max(1.0, size):
+            return wrong(f"every step of {solve.what} is a Newton step of the task's equations, but the run "
+                         f"stopped before it converged (its last step moved an unknown by {last:.1e}): "
+                         "iterate until the step is below the tolerance.")
+        return None
+    if iterates.shape[1] == 9:
+        for rates, which in (((-omega2, alpha2), "ω2 has"), ((omega2, -alpha2), "α2 has"),
+                             ((-omega2, -alpha2), "ω2 and α2 have")):
+            if rates != (omega2, alpha2) and _newtons_steps(iterates, saw, theta2, *rates):
+                return wrong(f"{solve.what} are Newton's steps of the saw's equations at ω2 = {rates[0]:.6g} "
+                             f"rad/s, α2 = {rates[1]:.6g} rad/s²; the task's motor has ω2 = {omega2:.6g} "
+                             f"rad/s, α2 = {alpha2:.6g} rad/s²: {which} the other sign.")
+    if _newtons_steps(iterates, saw, np.degrees(theta2), omega2, alpha2):
+        return wrong(f"{solve.what} are Newton's steps of the saw's equations at θ2 = "
+                     f"{np.degrees(theta2):.6g} rad: the crank angle went in in degrees; the task's θ2 is "
+                     f"{theta2:.6g} rad (np.radians).")
     return None
 
 
@@ -195,7 +243,10 @@ def _numbers(answer, picks: slice | int, parse, theta2: float):
 def _graded(verdict: Feedback, solve, method, saw, theta2, omega2=0.0, alpha2=0.0) -> Feedback:
     """The verdict on the numbers, and with ``method`` the method's own: right numbers without the asked
     Newton work are not ✔."""
-    if not verdict.ok or method is None:
+    if not verdict.ok:
+        why = _explained(solve, saw, theta2, omega2, alpha2)
+        return verdict if why is None else why
+    if method is None:
         return verdict
     work = _newton_work(solve, method, saw, theta2, omega2, alpha2)
     if work is not None:

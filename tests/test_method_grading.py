@@ -54,6 +54,11 @@ def position_equations(q, theta2=THETA2, r1y=0.030, r2=0.060, r3=0.150, sp=np):
             r1 * sp.sin(t1) - r1y]
 
 
+def position_equations_of(r1y, r2, r3):
+    """The position equations of a saw with these lengths, at the task's θ2."""
+    return lambda q: position_equations(q, r1y=r1y, r2=r2, r3=r3)
+
+
 @functools.cache
 def _nine(omega2=OMEGA2, alpha2=ALPHA2, theta2=THETA2):
     """The nine equations and their Jacobian, lambdified: the position equations and their first and second
@@ -156,10 +161,12 @@ def test_newtons_steps_at_another_motor_state_or_unfinished_are_told_which():
     wrong sign a_r is right (ω2 enters squared) but the steps are not the task's; α2 or both flipped, θ2
     in degrees, a run stopped after two steps — each named from the iterates."""
     for motor, steps, says in (((-OMEGA2, ALPHA2, THETA2), 7, "sign of ω2 is flipped"),
-                               ((OMEGA2, -ALPHA2, THETA2), 7, "α2 has the other sign"),
-                               ((-OMEGA2, -ALPHA2, THETA2), 7, "ω2 and α2 have the other sign"),
+                               ((OMEGA2, -ALPHA2, THETA2), 7, "at α2 of the other sign."),
+                               ((-OMEGA2, -ALPHA2, THETA2), 7, "at ω2 and α2 of the other sign."),
                                ((OMEGA2, ALPHA2, 50.0), 7, "went in in degrees"),
-                               ((OMEGA2, ALPHA2, THETA2), 2, "stopped before it converged")):
+                               ((-OMEGA2, ALPHA2, THETA2), 2, "ω2 of the other sign — and the run stopped"),
+                               ((OMEGA2, ALPHA2, THETA2), 2, "stopped before it converged"),
+                               ((OMEGA2, ALPHA2, THETA2), 3, "stop before the run converged")):
         equations, jacobian = _nine(*motor)
         rows = newton_by_hand(lambda x, F=equations: np.ravel(F(x)), SEED, steps,
                               jacobian=lambda x, J=jacobian: np.asarray(J(x), float))
@@ -167,8 +174,16 @@ def test_newtons_steps_at_another_motor_state_or_unfinished_are_told_which():
         assert not feedback.ok and says in feedback.message, (motor, steps, feedback)
     right = newton_by_hand(nine_equations, SEED, 7, jacobian=lambda x: np.asarray(_nine()[1](x), float))
     assert acceleration(right).ok
-    assert acceleration([sp.Matrix(row) for row in right]).ok  # each iterate a column, as sympy gives it
-    assert acceleration([row.reshape(9, 1) for row in right]).ok
+    for table in ([sp.Matrix(row) for row in right], [row.reshape(9, 1) for row in right],  # columns,
+                  [sp.Matrix([list(row)]) for row in right], sp.Matrix(np.array(right).tolist())):  # rows
+        assert acceleration(table).ok, table
+    rounded = acceleration(np.round(np.array(right), 8))
+    assert not rounded.ok and "rounded to 8 decimals" in rounded.message, rounded
+    single = acceleration(np.array(right, dtype=np.float32))
+    assert not single.ok and "only to about 7 digits" in single.message, single
+    other = newton_by_hand(position_equations_of(0.045, 0.075, 0.170), SEED[:3], 2)  # the course's saw
+    feedback = position(other)
+    assert not feedback.ok and "the course's saw" in feedback.message and "stopped before" in feedback.message
 
 
 def test_a_wrong_solve_still_gets_its_diagnosis():

@@ -1,6 +1,7 @@
 """Checkers of exercise set 04 (the power saw)."""
 # ruff: noqa: F403, F405
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,12 +97,14 @@ def _solve(answer) -> "_Solve | Feedback | None":
         iterates, what = answer.history, "a NewtonResult"
     elif isinstance(answer, list | tuple | np.ndarray) and _rows(answer) and len(answer) > 1:
         iterates, what = answer, "your iterates"
+    elif _is_matrix(answer) and answer.shape[0] > 1 and answer.shape[1] in (3, 9):  # one row per iterate
+        iterates, what = answer.tolist(), "your iterates"
     else:
         return None
     iterates = np.array(iterates, dtype=float) if not isinstance(iterates, np.ndarray) or \
         iterates.dtype.kind not in "iuf" else iterates.astype(float)
-    if iterates.ndim == 3 and iterates.shape[-1] == 1:  # each iterate a column (a sympy Matrix, say)
-        iterates = iterates[..., 0]
+    if iterates.ndim == 3 and 1 in iterates.shape[1:]:  # each iterate a column or a row (sympy Matrices)
+        iterates = iterates.reshape(len(iterates), -1)
     if iterates.ndim != 2 or iterates.shape[1] not in (3, 9) or not np.all(np.isfinite(iterates)):
         return wrong(f"{what} should be the Newton iterates, one row of 3 numbers (r1, θ1, θ3) or of the "
                      f"nine unknowns per iteration, the seed first; got shape {iterates.shape}.")
@@ -113,9 +116,15 @@ def _solve(answer) -> "_Solve | Feedback | None":
 def _rows(answer) -> bool:
     """Whether ``answer`` is a table: rows of numbers of one length (a ragged list is not)."""
     try:
-        return np.ndim(answer) == 2 or np.ndim(answer) == 3 and np.shape(answer)[-1] == 1  # rows, or columns
+        shape = np.shape(answer)
     except ValueError:  # a ragged nested list: numpy refuses its shape
         return False
+    return len(shape) == 2 or len(shape) == 3 and 1 in shape[1:]  # rows, or columns / rows as matrices
+
+
+def _is_matrix(answer) -> bool:
+    """Whether ``answer`` is a sympy Matrix (read without importing sympy where it is not loaded)."""
+    return type(answer).__module__.startswith("sympy.") and len(getattr(answer, "shape", ())) == 2
 
 
 def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, omega2: float = 0.0,
@@ -135,6 +144,10 @@ def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, o
                      f"{asked}.")
     seeds = [SEED_PRINTED[:size], SEED_CODE[:size]]
     if not any(np.allclose(solve.iterates[0], seed, rtol=0, atol=1e-12) for seed in seeds):
+        if any(np.allclose(solve.iterates[0], seed, rtol=0, atol=1e-6) for seed in seeds):
+            return wrong(f"{solve.what} start from the report's seed only to about 7 digits (float32 "
+                         "numbers, or a seed typed rounded): keep the seed exactly as the report prints it, "
+                         "in float64.")
         return wrong(f"{solve.what} start from {np.round(solve.iterates[0], 6).tolist()}, not from the "
                      f"report's seed {seeds[0].tolist()}: {asked}.")
 
@@ -144,9 +157,18 @@ def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, o
             return wrong(f"{solve.what} are Newton's steps of the saw's equations at ω2 = {-omega2:.6g} "
                          f"rad/s; the task's motor turns at ω2 = {omega2:.6g} rad/s: the sign of ω2 is "
                          "flipped (a_r holds ω2 only squared, so it comes out right all the same).")
+        decimals = _rounded(solve.iterates)
+        if decimals is not None:
+            return wrong(f"the numbers are right, but {solve.what} look rounded to {decimals} decimals: "
+                         "Newton's steps are checked at the iterates themselves, so keep them unrounded.")
         k = max(offs)
         return wrong(f"step {k} of {solve.what} is not a Newton step of the saw's equations: from iterate "
                      f"{k - 1} Newton goes to x + Δx with J(x)·Δx = −F(x) ({asked}).")
+    if _last_step(solve.iterates) > _CONVERGED:
+        moved = np.max(np.abs(solve.iterates[-1] - solve.iterates[-2]))
+        return wrong(f"the numbers are right to the task's precision, but {solve.what} stop before the run "
+                     f"converged (the last step moved an unknown by {moved:.1e}): iterate until the step is "
+                     "below the tolerance.")
     return None
 
 
@@ -182,32 +204,67 @@ def _newtons_steps(iterates, saw, theta2, omega2, alpha2) -> bool:
     return any(_first_off(iterates, saw, theta2, omega2, alpha2, v) is None for v in VARIANTS)
 
 
+#: A run of Newton has converged, for the tasks' 4 figures or decimals, once its last step moves no unknown by
+#: more than this (times the unknowns' size, at least 1): the iterate before it was that close, so this one,
+#: Newton converging quadratically, is far closer.
+_CONVERGED = 1e-3
+
+
+def _last_step(iterates: np.ndarray) -> float:
+    """How far the last step of ``iterates`` moved an unknown, relative to their size (at least 1)."""
+    return float(np.max(np.abs(iterates[-1] - iterates[-2])) / max(1.0, np.max(np.abs(iterates[-1]))))
+
+
+def _rounded(iterates: np.ndarray) -> int | None:
+    """The decimals ``iterates`` (after the seed) were rounded to, if they look rounded; else None."""
+    rest = iterates[1:]
+    for decimals in range(1, 11):
+        scaled = rest * 10.0**decimals
+        if np.allclose(scaled, np.round(scaled), rtol=0, atol=1e-6):
+            return decimals
+    return None
+
+
 def _explained(solve: "_Solve | None", saw: Saw, theta2: float, omega2: float = 0.0,
                alpha2: float = 0.0) -> Feedback | None:
-    """Why a solve's Newton iterates end at a wrong value, read from the iterates themselves: Newton's steps
-    of the task's equations stopped before converging, or Newton's steps at the motor's rates with a sign
-    flipped, or at θ2 taken in degrees; None where they say none of these."""
+    """Why a solve's Newton iterates end at a wrong value, read from the iterates themselves: they are
+    Newton's steps of the saw's equations at something else than the task's — the course's saw, θ2 taken in
+    degrees, ω2 or α2 of the other sign — or of the task's own but stopped before converging; None where
+    they say none of these."""
     if solve is None or solve.iterates is None or len(solve.iterates) < 2:
         return None
-    iterates = solve.iterates
-    if _newtons_steps(iterates, saw, theta2, omega2, alpha2):
-        last, size = np.max(np.abs(iterates[-1] - iterates[-2])), np.max(np.abs(iterates[-1]))
-        if last > 1e-6 * max(1.0, size):
+    iterates, nine = solve.iterates, solve.iterates.shape[1] == 9
+    saws = [(saw, None)] + ([(COURSE_SAW, "the course's saw, not this one (pass saw=my_saw)")]
+                            if saw != COURSE_SAW else [])
+    angles = [(theta2, None), (np.degrees(theta2), f"θ2 = {np.degrees(theta2):.6g} rad: the crank angle went "
+                                                  f"in in degrees (the task's θ2 is {theta2:.6g} rad: "
+                                                  "np.radians)")]
+    flips = [((omega2, alpha2), None)]
+    if nine:
+        flips += [(rates, slip) for rates, slip in (((-omega2, alpha2), "ω2 of the other sign"),
+                                                    ((omega2, -alpha2), "α2 of the other sign"),
+                                                    ((-omega2, -alpha2), "ω2 and α2 of the other sign"))
+                  if rates != (omega2, alpha2)]
+    unfinished = _last_step(iterates) > _CONVERGED
+    for (that_saw, saw_slip), (angle, angle_slip), (rates, rate_slip) in itertools.product(saws, angles,
+                                                                                          flips):
+        if not _newtons_steps(iterates, that_saw, angle, *rates):
+            continue
+        slips = [slip for slip in (saw_slip, angle_slip, rate_slip) if slip]
+        if not slips:
+            if not unfinished:
+                return None
+            moved = np.max(np.abs(iterates[-1] - iterates[-2]))
             return wrong(f"every step of {solve.what} is a Newton step of the task's equations, but the run "
-                         f"stopped before it converged (its last step moved an unknown by {last:.1e}): "
+                         f"stopped before it converged (its last step moved an unknown by {moved:.1e}): "
                          "iterate until the step is below the tolerance.")
-        return None
-    if iterates.shape[1] == 9:
-        for rates, which in (((-omega2, alpha2), "ω2 has"), ((omega2, -alpha2), "α2 has"),
-                             ((-omega2, -alpha2), "ω2 and α2 have")):
-            if rates != (omega2, alpha2) and _newtons_steps(iterates, saw, theta2, *rates):
-                return wrong(f"{solve.what} are Newton's steps of the saw's equations at ω2 = {rates[0]:.6g} "
-                             f"rad/s, α2 = {rates[1]:.6g} rad/s²; the task's motor has ω2 = {omega2:.6g} "
-                             f"rad/s, α2 = {alpha2:.6g} rad/s²: {which} the other sign.")
-    if _newtons_steps(iterates, saw, np.degrees(theta2), omega2, alpha2):
-        return wrong(f"{solve.what} are Newton's steps of the saw's equations at θ2 = "
-                     f"{np.degrees(theta2):.6g} rad: the crank angle went in in degrees; the task's θ2 is "
-                     f"{theta2:.6g} rad (np.radians).")
+        where = "; ".join(slips)
+        more = " — and the run stopped before it converged: iterate on" if unfinished else ""
+        return wrong(f"{solve.what} are Newton's steps of the saw's equations, but at {where}{more}.")
+    decimals = _rounded(iterates)
+    if decimals is not None:
+        return wrong(f"{solve.what} look rounded to {decimals} decimals: Newton's steps are checked at the "
+                     "iterates themselves, so keep them unrounded (round only the answer you read).")
     return None
 
 

@@ -161,12 +161,12 @@ def test_newtons_steps_at_another_motor_state_or_unfinished_are_told_which():
     wrong sign a_r is right (ω2 enters squared) but the steps are not the task's; α2 or both flipped, θ2
     in degrees, a run stopped after two steps — each named from the iterates."""
     for motor, steps, says in (((-OMEGA2, ALPHA2, THETA2), 7, "sign of ω2 is flipped"),
-                               ((OMEGA2, -ALPHA2, THETA2), 7, "at α2 of the other sign."),
-                               ((-OMEGA2, -ALPHA2, THETA2), 7, "at ω2 and α2 of the other sign."),
-                               ((OMEGA2, ALPHA2, 50.0), 7, "went in in degrees"),
-                               ((-OMEGA2, ALPHA2, THETA2), 2, "ω2 of the other sign — and the run stopped"),
-                               ((OMEGA2, ALPHA2, THETA2), 2, "stopped before it converged"),
-                               ((OMEGA2, ALPHA2, THETA2), 3, "stop before the run converged")):
+                               ((OMEGA2, -ALPHA2, THETA2), 7, "at α2 = -4 rad/s², not the task's."),
+                               ((-OMEGA2, -ALPHA2, THETA2), 7, "at ω2 = -6 rad/s; α2 = -4 rad/s², not the"),
+                               ((OMEGA2, ALPHA2, 50.0), 7, "the crank angle in degrees"),
+                               ((-OMEGA2, ALPHA2, THETA2), 2, "-6 rad/s, not the task's; the run stopped"),
+                               ((OMEGA2, ALPHA2, THETA2), 2, "stopped before converging"),
+                               ((OMEGA2, ALPHA2, THETA2), 3, "precision, but your iterates stopped before")):
         equations, jacobian = _nine(*motor)
         rows = newton_by_hand(lambda x, F=equations: np.ravel(F(x)), SEED, steps,
                               jacobian=lambda x, J=jacobian: np.asarray(J(x), float))
@@ -184,6 +184,8 @@ def test_newtons_steps_at_another_motor_state_or_unfinished_are_told_which():
     other = newton_by_hand(position_equations_of(0.045, 0.075, 0.170), SEED[:3], 2)  # the course's saw
     feedback = position(other)
     assert not feedback.ok and "the course's saw" in feedback.message and "stopped before" in feedback.message
+    four = acceleration(right[:5])  # stopped where one more step moves nothing by more than the tolerance
+    assert four.ok and "4 iterations" in four.message, four
 
 
 def test_a_wrong_solve_still_gets_its_diagnosis():

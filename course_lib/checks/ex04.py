@@ -2,6 +2,7 @@
 # ruff: noqa: F403, F405
 
 import itertools
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -124,14 +125,15 @@ def _rows(answer) -> bool:
 
 def _is_matrix(answer) -> bool:
     """Whether ``answer`` is a sympy Matrix (read without importing sympy where it is not loaded)."""
-    return type(answer).__module__.startswith("sympy.") and len(getattr(answer, "shape", ())) == 2
+    sympy = sys.modules.get("sympy")
+    return sympy is not None and isinstance(answer, sympy.MatrixBase)
 
 
 def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, omega2: float = 0.0,
                  alpha2: float = 0.0) -> Feedback | None:
     """Why ``solve`` does not show the asked Newton method (``method``) at work; None when it does: iterates
     from the report's seed, each step a Newton step J(x_k)·Δx = −F(x_k) of the course's equations (in its
-    "loop" or "substituted" form), recomputed here at the student's own iterates."""
+    "loop" or "substituted" form), recomputed here at the student's own iterates, run until converged."""
     solver, size = _METHODS[method]
     asked = (f"the task asks for {method} Newton–Raphson: store the solve itself — what {solver} returns, a "
              "Motion that keeps its Newton iterations — or your own iterates, the report's seed first")
@@ -150,73 +152,91 @@ def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, o
                          "in float64.")
         return wrong(f"{solve.what} start from {np.round(solve.iterates[0], 6).tolist()}, not from the "
                      f"report's seed {seeds[0].tolist()}: {asked}.")
-
-    offs = [_first_off(solve.iterates, saw, theta2, omega2, alpha2, variant) for variant in VARIANTS]
-    if all(off is not None for off in offs):
-        if size == 9 and omega2 != 0 and _newtons_steps(solve.iterates, saw, theta2, -omega2, alpha2):
-            return wrong(f"{solve.what} are Newton's steps of the saw's equations at ω2 = {-omega2:.6g} "
-                         f"rad/s; the task's motor turns at ω2 = {omega2:.6g} rad/s: the sign of ω2 is "
-                         "flipped (a_r holds ω2 only squared, so it comes out right all the same).")
-        decimals = _rounded(solve.iterates)
-        if decimals is not None:
-            return wrong(f"the numbers are right, but {solve.what} look rounded to {decimals} decimals: "
-                         "Newton's steps are checked at the iterates themselves, so keep them unrounded.")
-        k = max(offs)
+    reading = _reading(solve, saw, theta2, omega2, alpha2)
+    if reading is None:
+        k = max(_first_off(solve.iterates, saw, theta2, omega2, alpha2, variant) for variant in VARIANTS)
         return wrong(f"step {k} of {solve.what} is not a Newton step of the saw's equations: from iterate "
                      f"{k - 1} Newton goes to x + Δx with J(x)·Δx = −F(x) ({asked}).")
-    if _last_step(solve.iterates) > _CONVERGED:
-        moved = np.max(np.abs(solve.iterates[-1] - solve.iterates[-2]))
-        return wrong(f"the numbers are right to the task's precision, but {solve.what} stop before the run "
-                     f"converged (the last step moved an unknown by {moved:.1e}): iterate until the step is "
-                     "below the tolerance.")
+    if reading.slips == [f"ω2 = {-omega2:.6g} rad/s"] and not reading.left and reading.rounded is None:
+        return wrong(f"{solve.what} are Newton's steps of the saw's equations at ω2 = {-omega2:.6g} rad/s; "
+                     f"the task's motor turns at ω2 = {omega2:.6g} rad/s: the sign of ω2 is flipped (a_r "
+                     "holds ω2 only squared, so it comes out right all the same).")
+    if reading.slips or reading.left or reading.rounded is not None:
+        return wrong("the numbers are right to the task's precision, but " + reading.words(solve.what))
     return None
 
 
-def _first_off(iterates: np.ndarray, saw: Saw, theta2: float, omega2: float, alpha2: float,
-               variant: str) -> int | None:
-    """The first step (from 1) of ``iterates`` (rows of 3 or 9 unknowns) that is not a Newton step
-    J(x)·Δx = −F(x) of the saw's equations in form ``variant`` at these motor values; None if every one is."""
+@dataclass(frozen=True)
+class _Reading:
+    """What Newton iterates are: Newton's steps of the saw's equations at ``slips`` (what differs from the
+    task's saw, θ2, ω2, α2; none: the task's own), ``rounded`` to that many decimals (None: not), and
+    ``left``, how far one more Newton step from the last iterate would move an unknown (0 when converged)."""
+
+    slips: list
+    rounded: int | None
+    left: float
+
+    def words(self, what: str) -> str:
+        """The reading in words, after "the numbers are …, but " or on its own."""
+        parts = []
+        if self.slips:
+            parts.append(f"{what} are Newton's steps of the saw's equations at {'; '.join(self.slips)}, not "
+                         "the task's")
+        if self.left:
+            parts.append(f"{'the run' if parts else what} stopped before converging (one more Newton "
+                         f"step from the last iterate moves an unknown by {self.left:.1e}): iterate until "
+                         "the step is below the tolerance")
+        if self.rounded is not None:
+            parts.append(f"{'they' if parts else what} look rounded to {self.rounded} decimals: keep the "
+                         "iterates unrounded (the check takes each Newton step again from them)")
+        return "; ".join(parts) + "."
+
+
+#: One more Newton step from the last iterate moving no unknown by more than this (times their size, at least
+#: 1) marks a run as converged: the course's tolerance.
+_CONVERGED = 1e-6
+
+
+def _equations(iterates, saw, theta2, omega2, alpha2, variant):
+    """F and J of the saw's equations whose unknowns the iterates hold (3: the position; 9: all)."""
     if iterates.shape[1] == 3:
-        def residual(x):
-            return position_residual(x, theta2, saw=saw, variant=variant)
+        return (lambda x: position_residual(x, theta2, saw=saw, variant=variant),
+                lambda x: position_jacobian(x, saw=saw, variant=variant))
+    return (lambda x: system_residual(x, theta2, omega2, alpha2, saw=saw, variant=variant),
+            lambda x: system_jacobian(x, saw=saw, variant=variant))
 
-        def jacobian(x):
-            return position_jacobian(x, saw=saw, variant=variant)
-    else:
-        def residual(x):
-            return system_residual(x, theta2, omega2, alpha2, saw=saw, variant=variant)
 
-        def jacobian(x):
-            return system_jacobian(x, saw=saw, variant=variant)
+def _first_off(iterates: np.ndarray, saw: Saw, theta2: float, omega2: float, alpha2: float,
+               variant: str, slack: float = 0.0) -> int | None:
+    """The first step (from 1) of ``iterates`` (rows of 3 or 9 unknowns) that is not a Newton step
+    J(x)·Δx = −F(x) of the saw's equations in form ``variant`` at these motor values (to ``slack`` more, for
+    rounded iterates); None if every one is."""
+    residual, jacobian = _equations(iterates, saw, theta2, omega2, alpha2, variant)
     with np.errstate(all="ignore"):
         for k, (x, following) in enumerate(zip(iterates[:-1], iterates[1:], strict=True), start=1):
             try:
                 step = np.linalg.solve(jacobian(x), -residual(x))
             except (np.linalg.LinAlgError, CourseLibError):
                 return k
-            if not np.max(np.abs(following - x - step)) <= 1e-9 + 1e-6 * np.max(np.abs(step)):
+            if not np.max(np.abs(following - x - step)) <= 1e-9 + slack + 1e-6 * np.max(np.abs(step)):
                 return k
     return None
 
 
-def _newtons_steps(iterates, saw, theta2, omega2, alpha2) -> bool:
-    """Whether every step of ``iterates`` is a Newton step of the saw's equations (either form) there."""
-    return any(_first_off(iterates, saw, theta2, omega2, alpha2, v) is None for v in VARIANTS)
-
-
-#: A run of Newton has converged, for the tasks' 4 figures or decimals, once its last step moves no unknown by
-#: more than this (times the unknowns' size, at least 1): the iterate before it was that close, so this one,
-#: Newton converging quadratically, is far closer.
-_CONVERGED = 1e-3
-
-
-def _last_step(iterates: np.ndarray) -> float:
-    """How far the last step of ``iterates`` moved an unknown, relative to their size (at least 1)."""
-    return float(np.max(np.abs(iterates[-1] - iterates[-2])) / max(1.0, np.max(np.abs(iterates[-1]))))
+def _left(iterates, saw, theta2, omega2, alpha2, variant) -> float:
+    """How far one more Newton step from the last iterate moves an unknown, 0 below the course's tolerance."""
+    residual, jacobian = _equations(iterates, saw, theta2, omega2, alpha2, variant)
+    x = iterates[-1]
+    with np.errstate(all="ignore"):
+        try:
+            step = float(np.max(np.abs(np.linalg.solve(jacobian(x), -residual(x)))))
+        except (np.linalg.LinAlgError, CourseLibError):
+            return 0.0
+    return step if step > _CONVERGED * max(1.0, float(np.max(np.abs(x)))) else 0.0
 
 
 def _rounded(iterates: np.ndarray) -> int | None:
-    """The decimals ``iterates`` (after the seed) were rounded to, if they look rounded; else None."""
+    """The decimals ``iterates`` (after the seed) were rounded to, if they look rounded (to at most 10)."""
     rest = iterates[1:]
     for decimals in range(1, 11):
         scaled = rest * 10.0**decimals
@@ -225,47 +245,45 @@ def _rounded(iterates: np.ndarray) -> int | None:
     return None
 
 
+def _reading(solve: "_Solve", saw: Saw, theta2: float, omega2: float = 0.0, alpha2: float = 0.0
+             ) -> _Reading | None:
+    """The solve's iterates read as a teacher would: Newton's steps of the saw's equations at the task's saw,
+    θ2, ω2, α2 — or at the course's saw, θ2 taken in degrees, ω2 or α2 of the other sign — rounded or not,
+    converged or not; None where they are Newton's steps of none of these."""
+    iterates = solve.iterates
+    if iterates is None or len(iterates) < 2:
+        return None
+    decimals = _rounded(iterates)
+    slack = 0.0 if decimals is None else 100 * 10.0**-decimals * max(1.0, float(np.max(np.abs(iterates))))
+    saws = [(saw, None)]
+    if saw != COURSE_SAW:
+        saws.append((COURSE_SAW, "the course's saw (pass saw=my_saw)"))
+    degrees = np.degrees(theta2)
+    angles = [(theta2, None), (degrees, f"θ2 = {degrees:.6g} rad (the crank angle in degrees; the task's θ2 "
+                                        f"is {theta2:.6g} rad: np.radians)")]
+    flips = [((omega2, alpha2), [])]
+    if iterates.shape[1] == 9:
+        w, a = f"ω2 = {-omega2:.6g} rad/s", f"α2 = {-alpha2:.6g} rad/s²"
+        flipped = (((-omega2, alpha2), [w]), ((omega2, -alpha2), [a]), ((-omega2, -alpha2), [w, a]))
+        flips += [(rates, slips) for rates, slips in flipped if rates != (omega2, alpha2)]
+    for (that_saw, saw_slip), (angle, angle_slip), (rates, rate_slips) in itertools.product(saws, angles,
+                                                                                           flips):
+        for variant in VARIANTS:
+            if _first_off(iterates, that_saw, angle, *rates, variant, slack) is None:
+                slips = [slip for slip in (saw_slip, angle_slip) if slip] + rate_slips
+                left = _left(iterates, that_saw, angle, *rates, variant)
+                return _Reading(slips, decimals, left if left > slack else 0.0)
+    return None
+
+
 def _explained(solve: "_Solve | None", saw: Saw, theta2: float, omega2: float = 0.0,
                alpha2: float = 0.0) -> Feedback | None:
-    """Why a solve's Newton iterates end at a wrong value, read from the iterates themselves: they are
-    Newton's steps of the saw's equations at something else than the task's — the course's saw, θ2 taken in
-    degrees, ω2 or α2 of the other sign — or of the task's own but stopped before converging; None where
-    they say none of these."""
-    if solve is None or solve.iterates is None or len(solve.iterates) < 2:
+    """Why a solve's Newton iterates end at a wrong value, read from the iterates themselves
+    (:func:`_reading`); None where they say nothing the value's own diagnosis does not."""
+    reading = None if solve is None else _reading(solve, saw, theta2, omega2, alpha2)
+    if reading is None or not (reading.slips or reading.left or reading.rounded is not None):
         return None
-    iterates, nine = solve.iterates, solve.iterates.shape[1] == 9
-    saws = [(saw, None)] + ([(COURSE_SAW, "the course's saw, not this one (pass saw=my_saw)")]
-                            if saw != COURSE_SAW else [])
-    angles = [(theta2, None), (np.degrees(theta2), f"θ2 = {np.degrees(theta2):.6g} rad: the crank angle went "
-                                                  f"in in degrees (the task's θ2 is {theta2:.6g} rad: "
-                                                  "np.radians)")]
-    flips = [((omega2, alpha2), None)]
-    if nine:
-        flips += [(rates, slip) for rates, slip in (((-omega2, alpha2), "ω2 of the other sign"),
-                                                    ((omega2, -alpha2), "α2 of the other sign"),
-                                                    ((-omega2, -alpha2), "ω2 and α2 of the other sign"))
-                  if rates != (omega2, alpha2)]
-    unfinished = _last_step(iterates) > _CONVERGED
-    for (that_saw, saw_slip), (angle, angle_slip), (rates, rate_slip) in itertools.product(saws, angles,
-                                                                                          flips):
-        if not _newtons_steps(iterates, that_saw, angle, *rates):
-            continue
-        slips = [slip for slip in (saw_slip, angle_slip, rate_slip) if slip]
-        if not slips:
-            if not unfinished:
-                return None
-            moved = np.max(np.abs(iterates[-1] - iterates[-2]))
-            return wrong(f"every step of {solve.what} is a Newton step of the task's equations, but the run "
-                         f"stopped before it converged (its last step moved an unknown by {moved:.1e}): "
-                         "iterate until the step is below the tolerance.")
-        where = "; ".join(slips)
-        more = " — and the run stopped before it converged: iterate on" if unfinished else ""
-        return wrong(f"{solve.what} are Newton's steps of the saw's equations, but at {where}{more}.")
-    decimals = _rounded(iterates)
-    if decimals is not None:
-        return wrong(f"{solve.what} look rounded to {decimals} decimals: Newton's steps are checked at the "
-                     "iterates themselves, so keep them unrounded (round only the answer you read).")
-    return None
+    return wrong(reading.words(solve.what))
 
 
 def _closes(saw: Saw, theta2: float, omega2: float = 0.0, alpha2: float = 0.0, **_) -> None:

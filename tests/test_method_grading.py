@@ -186,6 +186,16 @@ def test_newtons_steps_at_another_motor_state_or_unfinished_are_told_which():
     assert not feedback.ok and "the course's saw" in feedback.message and "stopped before" in feedback.message
     four = acceleration(right[:5])  # stopped where one more step moves nothing by more than the tolerance
     assert four.ok and "4 iterations" in four.message, four
+    steps = newton_by_hand(position_equations, SEED[:3], 6)
+    for decimals in (2, 4, 10):  # rounded iterates, wherever the unknowns' sizes put their last digit
+        for check, rows in ((position, steps), (acceleration, right)):
+            told = check([row if k == 0 else np.round(row, decimals) for k, row in enumerate(rows)])
+            assert not told.ok and f"rounded to {decimals} decimals" in told.message, (decimals, told)
+    both = position([row if k == 0 else np.round(row, 4) for k, row in enumerate(steps[:3])])
+    assert "stopped before converging" in both.message and "rounded to 4" in both.message, both
+    single = position([row if k == 0 else row.astype(np.float32).astype(float)
+                       for k, row in enumerate(steps)])
+    assert not single.ok and "float32" in single.message, single
 
 
 def test_a_wrong_solve_still_gets_its_diagnosis():

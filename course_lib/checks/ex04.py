@@ -153,6 +153,12 @@ def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, o
         return wrong(f"{solve.what} start from {np.round(solve.iterates[0], 6).tolist()}, not from the "
                      f"report's seed {seeds[0].tolist()}: {asked}.")
     reading = _reading(solve, saw, theta2, omega2, alpha2)
+    if reading is None and _single(solve.iterates):
+        return wrong(f"{solve.what} after the seed are float32 numbers (about 7 digits): Newton's steps are "
+                     "checked at the iterates themselves, so keep them in float64.")
+    if reading is None and _rounded(solve.iterates) is not None:
+        return wrong(f"{solve.what} look rounded to {_rounded(solve.iterates)} decimals: Newton's steps are "
+                     "checked at the iterates themselves, so keep them unrounded.")
     if reading is None:
         k = max(_first_off(solve.iterates, saw, theta2, omega2, alpha2, variant) for variant in VARIANTS)
         return wrong(f"step {k} of {solve.what} is not a Newton step of the saw's equations: from iterate "
@@ -209,8 +215,8 @@ def _equations(iterates, saw, theta2, omega2, alpha2, variant):
 def _first_off(iterates: np.ndarray, saw: Saw, theta2: float, omega2: float, alpha2: float,
                variant: str, slack: float = 0.0) -> int | None:
     """The first step (from 1) of ``iterates`` (rows of 3 or 9 unknowns) that is not a Newton step
-    J(x)·Δx = −F(x) of the saw's equations in form ``variant`` at these motor values (to ``slack`` more, for
-    rounded iterates); None if every one is."""
+    J(x)·Δx = −F(x) of the saw's equations in form ``variant`` at these motor values (to ``slack`` times the
+    size of the iterate it reaches more, for rounded iterates); None if every one is."""
     residual, jacobian = _equations(iterates, saw, theta2, omega2, alpha2, variant)
     with np.errstate(all="ignore"):
         for k, (x, following) in enumerate(zip(iterates[:-1], iterates[1:], strict=True), start=1):
@@ -218,7 +224,8 @@ def _first_off(iterates: np.ndarray, saw: Saw, theta2: float, omega2: float, alp
                 step = np.linalg.solve(jacobian(x), -residual(x))
             except (np.linalg.LinAlgError, CourseLibError):
                 return k
-            if not np.max(np.abs(following - x - step)) <= 1e-9 + slack + 1e-6 * np.max(np.abs(step)):
+            room = slack * max(1.0, float(np.max(np.abs(following))))
+            if not np.max(np.abs(following - x - step)) <= 1e-9 + room + 1e-6 * np.max(np.abs(step)):
                 return k
     return None
 
@@ -240,9 +247,15 @@ def _rounded(iterates: np.ndarray) -> int | None:
     rest = iterates[1:]
     for decimals in range(1, 11):
         scaled = rest * 10.0**decimals
-        if np.allclose(scaled, np.round(scaled), rtol=0, atol=1e-6):
+        if np.all(np.abs(scaled - np.round(scaled)) <= 1e-6 + 8 * np.finfo(float).eps * np.abs(scaled)):
             return decimals
     return None
+
+
+def _single(iterates: np.ndarray) -> bool:
+    """Whether the iterates after the seed are float32 numbers (each exactly a float32)."""
+    rest = iterates[1:]
+    return bool(np.all(rest.astype(np.float32).astype(float) == rest))
 
 
 def _reading(solve: "_Solve", saw: Saw, theta2: float, omega2: float = 0.0, alpha2: float = 0.0
@@ -254,7 +267,9 @@ def _reading(solve: "_Solve", saw: Saw, theta2: float, omega2: float = 0.0, alph
     if iterates is None or len(iterates) < 2:
         return None
     decimals = _rounded(iterates)
-    slack = 0.0 if decimals is None else 100 * 10.0**-decimals * max(1.0, float(np.max(np.abs(iterates))))
+    if decimals is not None and decimals < 3:  # too coarse to tell Newton's steps from others
+        return None
+    slack = 0.0 if decimals is None else 10 * 10.0**-decimals  # times the size of each iterate
     saws = [(saw, None)]
     if saw != COURSE_SAW:
         saws.append((COURSE_SAW, "the course's saw (pass saw=my_saw)"))
@@ -272,7 +287,8 @@ def _reading(solve: "_Solve", saw: Saw, theta2: float, omega2: float = 0.0, alph
             if _first_off(iterates, that_saw, angle, *rates, variant, slack) is None:
                 slips = [slip for slip in (saw_slip, angle_slip) if slip] + rate_slips
                 left = _left(iterates, that_saw, angle, *rates, variant)
-                return _Reading(slips, decimals, left if left > slack else 0.0)
+                rounding = slack / 10 * max(1.0, float(np.max(np.abs(iterates[-1]))))  # a unit of the last
+                return _Reading(slips, decimals, left if left > rounding else 0.0)
     return None
 
 
@@ -281,6 +297,13 @@ def _explained(solve: "_Solve | None", saw: Saw, theta2: float, omega2: float = 
     """Why a solve's Newton iterates end at a wrong value, read from the iterates themselves
     (:func:`_reading`); None where they say nothing the value's own diagnosis does not."""
     reading = None if solve is None else _reading(solve, saw, theta2, omega2, alpha2)
+    if reading is None and solve is not None and solve.iterates is not None and len(solve.iterates) > 1:
+        if _single(solve.iterates):
+            return wrong(f"{solve.what} after the seed are float32 numbers (about 7 digits): keep them in "
+                         "float64 (the check takes each Newton step again from them).")
+        if _rounded(solve.iterates) is not None:
+            return wrong(f"{solve.what} look rounded to {_rounded(solve.iterates)} decimals: keep them "
+                         "unrounded (the check takes each Newton step again from them).")
     if reading is None or not (reading.slips or reading.left or reading.rounded is not None):
         return None
     return wrong(reading.words(solve.what))

@@ -153,13 +153,10 @@ def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, o
         return wrong(f"{solve.what} start from {np.round(solve.iterates[0], 6).tolist()}, not from the "
                      f"report's seed {seeds[0].tolist()}: {asked}.")
     reading = _reading(solve, saw, theta2, omega2, alpha2)
-    if reading is None and _single(solve.iterates):
-        return wrong(f"{solve.what} after the seed are float32 numbers (about 7 digits): Newton's steps are "
-                     "checked at the iterates themselves, so keep them in float64.")
-    if reading is None and _rounded(solve.iterates) is not None:
-        return wrong(f"{solve.what} look rounded to {_rounded(solve.iterates)} decimals: Newton's steps are "
-                     "checked at the iterates themselves, so keep them unrounded.")
     if reading is None:
+        unread = _unreadable(solve)
+        if unread is not None:
+            return unread
         k = max(_first_off(solve.iterates, saw, theta2, omega2, alpha2, variant) for variant in VARIANTS)
         return wrong(f"step {k} of {solve.what} is not a Newton step of the saw's equations: from iterate "
                      f"{k - 1} Newton goes to x + Δx with J(x)·Δx = −F(x) ({asked}).")
@@ -167,7 +164,7 @@ def _newton_work(solve: "_Solve | None", method: str, saw: Saw, theta2: float, o
         return wrong(f"{solve.what} are Newton's steps of the saw's equations at ω2 = {-omega2:.6g} rad/s; "
                      f"the task's motor turns at ω2 = {omega2:.6g} rad/s: the sign of ω2 is flipped (a_r "
                      "holds ω2 only squared, so it comes out right all the same).")
-    if reading.slips or reading.left or reading.rounded is not None:
+    if reading.off:
         return wrong("the numbers are right to the task's precision, but " + reading.words(solve.what))
     return None
 
@@ -181,6 +178,11 @@ class _Reading:
     slips: list
     rounded: int | None
     left: float
+
+    @property
+    def off(self) -> bool:
+        """Whether they are anything but the task's own Newton steps, unrounded and converged."""
+        return bool(self.slips or self.left or self.rounded is not None)
 
     def words(self, what: str) -> str:
         """The reading in words, after "the numbers are …, but " or on its own."""
@@ -217,12 +219,11 @@ def _first_off(iterates: np.ndarray, saw: Saw, theta2: float, omega2: float, alp
     """The first step (from 1) of ``iterates`` (rows of 3 or 9 unknowns) that is not a Newton step
     J(x)·Δx = −F(x) of the saw's equations in form ``variant`` at these motor values (to ``slack`` times the
     size of the iterate it reaches more, for rounded iterates); None if every one is."""
-    residual, jacobian = _equations(iterates, saw, theta2, omega2, alpha2, variant)
+    equations = _equations(iterates, saw, theta2, omega2, alpha2, variant)
     with np.errstate(all="ignore"):
         for k, (x, following) in enumerate(zip(iterates[:-1], iterates[1:], strict=True), start=1):
-            try:
-                step = np.linalg.solve(jacobian(x), -residual(x))
-            except (np.linalg.LinAlgError, CourseLibError):
+            step = _step(*equations, x)
+            if step is None:
                 return k
             room = slack * max(1.0, float(np.max(np.abs(following))))
             if not np.max(np.abs(following - x - step)) <= 1e-9 + room + 1e-6 * np.max(np.abs(step)):
@@ -230,16 +231,21 @@ def _first_off(iterates: np.ndarray, saw: Saw, theta2: float, omega2: float, alp
     return None
 
 
-def _left(iterates, saw, theta2, omega2, alpha2, variant) -> float:
-    """How far one more Newton step from the last iterate moves an unknown, 0 below the course's tolerance."""
-    residual, jacobian = _equations(iterates, saw, theta2, omega2, alpha2, variant)
-    x = iterates[-1]
+def _step(residual, jacobian, x) -> np.ndarray | None:
+    """Newton's step Δx from ``x``, J(x)·Δx = −F(x); None where J cannot be solved with."""
     with np.errstate(all="ignore"):
         try:
-            step = float(np.max(np.abs(np.linalg.solve(jacobian(x), -residual(x)))))
+            return np.linalg.solve(jacobian(x), -residual(x))
         except (np.linalg.LinAlgError, CourseLibError):
-            return 0.0
-    return step if step > _CONVERGED * max(1.0, float(np.max(np.abs(x)))) else 0.0
+            return None
+
+
+def _left(iterates, saw, theta2, omega2, alpha2, variant) -> float:
+    """How far one more Newton step from the last iterate moves an unknown, 0 below the course's tolerance."""
+    x = iterates[-1]
+    step = _step(*_equations(iterates, saw, theta2, omega2, alpha2, variant), x)
+    moved = 0.0 if step is None else float(np.max(np.abs(step)))
+    return moved if moved > _CONVERGED * max(1.0, float(np.max(np.abs(x)))) else 0.0
 
 
 def _rounded(iterates: np.ndarray) -> int | None:
@@ -296,17 +302,24 @@ def _explained(solve: "_Solve | None", saw: Saw, theta2: float, omega2: float = 
                alpha2: float = 0.0) -> Feedback | None:
     """Why a solve's Newton iterates end at a wrong value, read from the iterates themselves
     (:func:`_reading`); None where they say nothing the value's own diagnosis does not."""
-    reading = None if solve is None else _reading(solve, saw, theta2, omega2, alpha2)
-    if reading is None and solve is not None and solve.iterates is not None and len(solve.iterates) > 1:
-        if _single(solve.iterates):
-            return wrong(f"{solve.what} after the seed are float32 numbers (about 7 digits): keep them in "
-                         "float64 (the check takes each Newton step again from them).")
-        if _rounded(solve.iterates) is not None:
-            return wrong(f"{solve.what} look rounded to {_rounded(solve.iterates)} decimals: keep them "
-                         "unrounded (the check takes each Newton step again from them).")
-    if reading is None or not (reading.slips or reading.left or reading.rounded is not None):
+    if solve is None or solve.iterates is None or len(solve.iterates) < 2:
         return None
-    return wrong(reading.words(solve.what))
+    reading = _reading(solve, saw, theta2, omega2, alpha2)
+    if reading is None:
+        return _unreadable(solve)
+    return wrong(reading.words(solve.what)) if reading.off else None
+
+
+def _unreadable(solve: "_Solve") -> Feedback | None:
+    """Why iterates that are no one's Newton steps may still be the student's Newton run: float32 numbers, or
+    rounded ones (too coarse for :func:`_reading` to read); None where they are neither."""
+    why = ("after the seed are float32 numbers (about 7 digits): keep them in float64"
+           if _single(solve.iterates) else None)
+    decimals = _rounded(solve.iterates)
+    if why is None and decimals is not None:
+        why = f"look rounded to {decimals} decimals: keep them unrounded"
+    return None if why is None else wrong(f"{solve.what} {why} (the check takes each Newton step again "
+                                          "from them).")
 
 
 def _closes(saw: Saw, theta2: float, omega2: float = 0.0, alpha2: float = 0.0, **_) -> None:

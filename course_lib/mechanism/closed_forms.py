@@ -420,21 +420,17 @@ class ClosedForms:
                 name = form.unknowns[0].name
                 wanted = (chosen or {}).get(name)
                 # σ = −sign(det J_b) at the root the block is expected on (the other root's is the opposite)
-                trial = self._trial(plus, minus, paths, target, first, wanted, form, second, orientation,
-                                    q, u)
-                at_trial = q.copy()
-                at_trial[:, first] = plus if trial > 0 else minus
-                if form.second is not None:
-                    at_trial[:, column] = self._second(form, second, at_trial, u, known, memo)
-                # unknowns not found taken as 0 where det J_b reads them (the others not read at all)
-                read = at_trial[:, orientation.reads[0]]
-                at = at_trial if np.isfinite(read).all() else np.where(np.isfinite(at_trial), at_trial, 0.0)
-                side = np.sign(orientation(self._values, at, u, memo=memo)[0])
+                k = self._apart(plus, minus, paths)
+                trial = self._trial(plus, minus, k, target, first, wanted, form, second, orientation, q, u)
+                at_trial, det = self._at_root(form, second, orientation, q, u, plus if trial > 0 else minus,
+                                              known, memo)
+                side = np.sign(det)
                 if trial > 0:
                     side = -side
                 side[side == 0] = 1.0  # σ of the root +√Δ
-                root = (self._pick(plus, minus, paths, target, first, side) if wanted is None
-                        else wanted) * side  # +1: the root +√Δ
+                if wanted is None:  # σ where the roots first differ: the nearer root's (+1 without a target)
+                    picked = 1 if target is None or k is None else int(trial * side[k])
+                root = (picked if wanted is None else wanted) * side  # +1: the root +√Δ
                 if wanted is None:  # σ named by assembly= holds at every instant; else it follows the motion
                     following = True
                     self._follow(root, level, paths, u, first, notes, level_at, outer)
@@ -588,24 +584,31 @@ class ClosedForms:
         k = None if target is None else self._apart(plus, minus, paths)
         return 1 if k is None else int(self._nearer(plus, minus, k, target, first) * side[k])
 
-    def _trial(self, plus, minus, paths, target, first, wanted, form, second, orientation, q, u) -> int:
+    def _trial(self, plus, minus, k, target, first, wanted, form, second, orientation, q, u) -> int:
         """The root (+1: +√Δ, −1 the other) the block is expected on at every instant, where σ is decided
-        once for the whole sweep: the root nearer ``target`` where the two first differ, or the one with the
-        ``wanted`` σ there (det J_b at that one instant).  Only a saving: the block's σ is decided by det J_b
-        at this root, and the values computed for it are kept where it is the root chosen."""
-        k = self._apart(plus, minus, paths)
+        once for the whole sweep: at ``k``, the first instant where the two differ (None: none does), the
+        root nearer ``target``, or the one with the ``wanted`` σ (det J_b at that one instant).  Only a
+        saving: the block's σ is decided by det J_b at this root, and the values computed for it are kept
+        where it is the root chosen."""
         if k is None:
             return 1
         if wanted is None and target is not None:
             return self._nearer(plus, minus, k, target, first)
-        at = q[k:k + 1].copy()
-        at[:, first] = plus[k]
-        if form.second is not None:
-            at[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, at, u[k:k + 1])
-        at = np.where(np.isfinite(at), at, 0.0)
-        det = orientation(self._values, at, u[k:k + 1])[0][0]
+        _, det = self._at_root(form, second, orientation, q[k:k + 1], u[k:k + 1], plus[k:k + 1])
         sigma = 1 if wanted is None else int(np.ravel(wanted)[k if np.size(wanted) > 1 else 0])
-        return sigma if det <= 0 else -sigma
+        return sigma if det[0] <= 0 else -sigma
+
+    def _at_root(self, form, second, orientation, q, u, values, known=None, memo=None
+                 ) -> tuple[np.ndarray, np.ndarray]:
+        """``q`` with the block's first unknown set to ``values`` (a root) and its second solved from it, and
+        det J_b there (unknowns not found taken as 0 where det J_b reads them; the others not read at all)."""
+        at = q.copy()
+        at[:, self.unknowns.index(form.unknowns[0])] = values
+        if form.second is not None:
+            at[:, self.unknowns.index(form.unknowns[1])] = self._second(form, second, at, u, known, memo)
+        read = at[:, orientation.reads[0]]
+        finite = at if np.isfinite(read).all() else np.where(np.isfinite(at), at, 0.0)
+        return at, orientation(self._values, finite, u, memo=memo)[0]
 
     def _level_at(self, index: int, sigmas: Mapping, tol, max_iter) -> Callable:
         """(points (K, m), left (K,)) → the level of block ``index`` at the inputs ``points``, the blocks

@@ -71,7 +71,7 @@ class Routes:
         first = failed[0]
         where = self._where(u, first)
         if batch:
-            what = ("the Jacobian became singular" if result.ill_conditioned[first]
+            what = ("the Jacobian became ill-conditioned" if result.ill_conditioned[first]
                     else "Newton did not converge")
             message = (f"{stage} stage at {where}: {what} ({failed.size} of {len(start)} points, first at "
                        f"index {first})")
